@@ -1,0 +1,125 @@
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "image_io.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/pipeline.hpp"
+
+namespace sf::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The output must never overwrite one of the inputs.
+void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const auto& in : inputs) {
+    if (in.empty()) continue;
+    if (fs::exists(out, ec) && fs::equivalent(out, in, ec))
+      throw InputError("output '" + out + "' is the input '" + in + "'; refusing to overwrite an input");
+  }
+}
+
+std::string method_summary(const FilterOptions& o) {
+  std::ostringstream s;
+  s << o.method;
+  if (o.method == "esm") s << " c=" << o.esm.c;
+  if (o.blur.radius > 0) {
+    const float sigma = o.blur.sigma > 0 ? o.blur.sigma : default_blur_sigma(o.blur.radius);
+    s << ", gaussian R=" << o.blur.radius << " sigma=" << sigma;
+  } else {
+    s << ", no prefilter";
+  }
+  s << ", bilinear lookup";
+  return s.str();
+}
+
+}  // namespace
+
+CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
+  CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
+  c->add_option("--shadow-map", a.shadow_map, "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel")
+      ->required();
+  auto* rx = c->add_option("--receivers", a.receivers,
+                           "Receiver image: float EXR/TIFF/PFM with channels u v d [f] (or RGB[A])");
+  auto* rd = c->add_option("--receiver-depth", a.receiver_depth,
+                           "Planar-receiver depth image of the shadow map's size");
+  rx->excludes(rd);
+  rd->excludes(rx);
+  c->add_option("-o,--output", a.output, "Visibility image (.exr, .tif, .pfm, .png)")->required();
+  c->add_option("--method", a.options.method, "Filtering method (see `shadowfilter methods`)")
+      ->capture_default_str();
+  c->add_option("--esm-c", a.options.esm.c, "ESM exponent c")->capture_default_str();
+  c->add_option("--blur-radius", a.options.blur.radius, "Gaussian prefilter radius R (taps -R..R)")
+      ->capture_default_str();
+  c->add_option("--blur-sigma", a.options.blur.sigma, "Gaussian sigma in texels (0 = (2R+1)/6)")
+      ->capture_default_str();
+  c->add_option("--encoding", a.encoding, "Depth encoding of the inputs: linear|perspective|reversed")
+      ->capture_default_str();
+  c->add_option("--near", a.near_plane, "Near plane (perspective/reversed encodings)")->capture_default_str();
+  c->add_option("--far", a.far_plane, "Far plane (perspective/reversed encodings)")->capture_default_str();
+  c->add_option("--nonfinite", a.nonfinite, "Non-finite shadow-map texels: error|far")
+      ->capture_default_str();
+  c->add_option("--device", a.device, "OpenCL device: P:D, index, gpu, cpu or a name substring "
+                                      "(default: $SHADOWFILTER_DEVICE, else first GPU, else CPU)");
+  c->add_option("--vector-width", a.options.schedule.blur_vector_width,
+                "Blur texels per work-item (4, 8, 16)")
+      ->capture_default_str();
+  c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  return c;
+}
+
+int run_filter(const FilterArgs& a) {
+  const auto t0 = Clock::now();
+  if (a.receivers.empty() == a.receiver_depth.empty())
+    throw InputError("give exactly one of --receivers or --receiver-depth");
+  check_output_is_not_an_input(a.output, {a.shadow_map, a.receivers, a.receiver_depth});
+
+  io::DepthLoadOptions load;
+  load.encoding = io::parse_depth_encoding(a.encoding);
+  load.near_plane = a.near_plane;
+  load.far_plane = a.far_plane;
+  if (a.nonfinite == "far")
+    load.nonfinite = io::NonFinitePolicy::Far;
+  else if (a.nonfinite != "error")
+    throw InputError("--nonfinite must be 'error' or 'far', got '" + a.nonfinite + "'");
+
+  const HostImage depth = io::load_depth_map(a.shadow_map, load);
+  const Receivers receivers = a.receivers.empty()
+                                  ? io::load_receiver_depth(a.receiver_depth, depth.width, depth.height, load)
+                                  : io::load_receiver_image(a.receivers);
+  const double load_ms = ms_since(t0);
+
+  auto runtime = Runtime::create(a.device);
+  const auto t_run = Clock::now();
+  FilterResult r = filter(runtime, a.options, depth, receivers);
+  const double run_ms = ms_since(t_run);
+
+  const auto t_write = Clock::now();
+  io::write_image(a.output, r.visibility);
+  const double write_ms = ms_since(t_write);
+
+  if (!a.quiet) {
+    std::printf(
+        "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside) | device %s | "
+        "device ms: transform %.3f, blur %.3f, reconstruct %.3f, upload %.3f, download %.3f | "
+        "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
+        method_summary(a.options).c_str(), depth.width, depth.height, receivers.width, receivers.height,
+        receivers.grid ? " (planar)" : "", r.background, r.outside, runtime->info().device_name.c_str(),
+        r.times.transform * 1e3, r.times.blur * 1e3, r.times.reconstruct * 1e3, r.times.upload * 1e3,
+        r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace sf::cli

@@ -1,0 +1,48 @@
+// `shadowfilter`: a thin command-line client of the library.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/runtime.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"shadowfilter: pre-filtered shadow maps on OpenCL devices"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Help for every command");
+  sf::cli::DevicesArgs devices_args;
+  sf::cli::MethodsArgs methods_args;
+  sf::cli::FilterArgs filter_args;
+  CLI::App* devices = sf::cli::add_devices_command(app, devices_args);
+  CLI::App* methods = sf::cli::add_methods_command(app, methods_args);
+  CLI::App* filter = sf::cli::add_filter_command(app, filter_args);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "shadowfilter: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  try {
+    if (devices->parsed()) return sf::cli::run_devices(devices_args);
+    if (methods->parsed()) return sf::cli::run_methods(methods_args);
+    if (filter->parsed()) return sf::cli::run_filter(filter_args);
+  } catch (const sf::InputError& e) {
+    std::cerr << "shadowfilter: error: " << e.what() << "\n";
+    return 2;
+  } catch (const sf::DeviceError& e) {
+    std::cerr << "shadowfilter: device error: " << e.what() << "\n";
+    return 3;
+  } catch (const cl::Error& e) {
+    std::cerr << "shadowfilter: OpenCL error " << e.err() << " in " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "shadowfilter: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}

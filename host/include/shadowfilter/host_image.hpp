@@ -1,0 +1,45 @@
+#pragma once
+// Plain host-side images shared by the I/O layer, the reference and the CLI.
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace sf {
+
+// An interleaved float image: texel (x, y) channel c is data[(y * width + x) * channels + c].
+// Row y = 0 is the first row of the file.
+struct HostImage {
+  int width = 0;
+  int height = 0;
+  int channels = 1;
+  std::vector<float> data;
+  std::vector<std::string> channel_names;  // optional; empty = default names
+  // Optional per-channel storage when writing EXR: "float" (default) or "half".
+  std::vector<std::string> channel_formats;
+  // Header metadata written as string attributes (e.g. near/far of a generated scene).
+  std::map<std::string, std::string> attributes;
+
+  HostImage() = default;
+  HostImage(int w, int h, int c = 1, float fill = 0.0f)
+      : width(w), height(h), channels(c), data(static_cast<size_t>(w) * h * c, fill) {}
+  size_t texels() const { return static_cast<size_t>(width) * height; }
+  float& at(int x, int y, int c = 0) { return data[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c = 0) const {
+    return data[(static_cast<size_t>(y) * width + x) * channels + c];
+  }
+};
+
+// Receiver samples as structure-of-arrays (what the reconstruction kernels read).
+// u, v: shadow-map texture coordinates; d: light-space depth (linear, [0,1]; NaN = background);
+// f: footprint in level-0 texels (1 when the input has none).
+struct Receivers {
+  int width = 0;   // output image size (receiver image size, or shadow-map size)
+  int height = 0;
+  bool grid = false;  // true: --receiver-depth mode, u/v are the texel centres of a WxH grid
+  bool has_footprint = false;
+  std::vector<float> u, v, d, f;  // u, v, f empty in grid mode
+  size_t count() const { return static_cast<size_t>(width) * height; }
+};
+
+}  // namespace sf

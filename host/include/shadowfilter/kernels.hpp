@@ -1,0 +1,56 @@
+#pragma once
+// Thin typed wrappers, one per kernel: each enqueues on the runtime's queue after `wait` and
+// returns its event(s), so a caller can chain its own kernels. Buffers are the caller's.
+// Images are planar float: channel c of a W x H image starts at c * W * H floats.
+#include <vector>
+
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/options.hpp"
+#include "shadowfilter/runtime.hpp"
+
+namespace sf {
+
+using EventList = std::vector<cl::Event>;
+
+struct ImageShape {
+  int width = 0;
+  int height = 0;
+  int channels = 1;
+  size_t plane_texels() const { return static_cast<size_t>(width) * height; }
+  size_t bytes() const { return plane_texels() * channels * sizeof(float); }
+};
+
+// Normalised Gaussian weights w[0..R] for taps -R..R (w[k] = w[-k]); sigma <= 0 means
+// the default (2R+1)/6.
+std::vector<float> gaussian_weights(int radius, float sigma);
+float default_blur_sigma(int radius);
+constexpr int kMaxBlurRadius = 64;
+
+// depth (W*H floats) -> basis (method.channels planes).
+cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                            const cl::Buffer& depth, int width, int height,
+                            const cl::Buffer& basis, const EventList* wait = nullptr);
+
+// Separable Gaussian: rows src -> tmp, then columns tmp -> dst (dst may be src).
+// Returns {rows event, columns event}; radius 0 copies src to dst (one event, twice).
+struct BlurEvents {
+  cl::Event rows, cols;
+};
+BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
+                        const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
+                        const ImageShape& shape, const EventList* wait = nullptr);
+
+// Visibility of `count` receivers given as (u, v, d) arrays, bilinear lookup of the filtered basis.
+cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                                     const cl::Buffer& basis, int width, int height,
+                                     const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                                     const cl::Buffer& visibility, size_t count,
+                                     const EventList* wait = nullptr);
+
+// Visibility of one receiver per shadow-map texel (depth image d of the map's size).
+cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                                   const cl::Buffer& basis, int width, int height,
+                                   const cl::Buffer& d, const cl::Buffer& visibility,
+                                   const EventList* wait = nullptr);
+
+}  // namespace sf

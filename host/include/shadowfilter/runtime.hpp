@@ -1,0 +1,73 @@
+#pragma once
+// OpenCL runtime: device choice, program building with an on-disk binary cache.
+// A Runtime either creates its own context/queue (CLI, tests) or wraps a caller's.
+#include <CL/opencl.hpp>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace sf {
+
+struct DeviceInfo {
+  int platform_index = 0;
+  int device_index = 0;
+  std::string platform_name;
+  std::string device_name;
+  std::string driver_version;
+  std::string type;  // "GPU", "CPU", "accelerator", "other"
+  cl_ulong global_mem_bytes = 0;
+  cl_ulong max_alloc_bytes = 0;
+  size_t max_work_group_size = 0;
+  cl_uint compute_units = 0;
+};
+
+// Every OpenCL device on every platform, in platform/device order.
+std::vector<DeviceInfo> list_devices();
+
+class Runtime {
+ public:
+  // Picks a device: `selector` is "" (use $SHADOWFILTER_DEVICE, else first GPU, else first CPU),
+  // "P:D" (platform P, device D), a plain index into list_devices(), "gpu", "cpu", or a
+  // case-insensitive substring of the device name. Throws InputError when nothing matches.
+  static std::shared_ptr<Runtime> create(const std::string& selector = "");
+
+  // Wraps a caller's context and queue (the queue's device is used). Profiling is used for the
+  // stage timings only if the caller's queue has CL_QUEUE_PROFILING_ENABLE.
+  Runtime(cl::Context context, cl::CommandQueue queue);
+
+  const cl::Context& context() const { return context_; }
+  const cl::Device& device() const { return device_; }
+  cl::CommandQueue& queue() { return queue_; }
+  const DeviceInfo& info() const { return info_; }
+  bool profiling() const { return profiling_; }
+
+  // Builds (or fetches from the in-memory and disk caches) a program made of the named embedded
+  // kernel files concatenated in order (e.g. {"common.clh", "methods/esm.clh", "transform.cl"}),
+  // compiled with `options` (-D knobs). Throws DeviceError with the build log on failure.
+  cl::Program program(const std::vector<std::string>& files, const std::string& options);
+
+  // The directory of the on-disk program cache ($SHADOWFILTER_CACHE_DIR, else
+  // $XDG_CACHE_HOME/shadowfilter, else ~/.cache/shadowfilter); empty string disables it.
+  static std::string cache_dir();
+
+ private:
+  cl::Context context_;
+  cl::Device device_;
+  cl::CommandQueue queue_;
+  DeviceInfo info_;
+  bool profiling_ = false;
+  std::mutex mutex_;
+  std::map<std::string, cl::Program> programs_;  // key: cache key
+};
+
+// The source of one embedded kernel file (throws std::out_of_range for unknown names).
+const std::string& kernel_source(const std::string& file);
+
+// Seconds between an event's start and end (profiling queues), 0 otherwise.
+double event_seconds(const cl::Event& e);
+double event_seconds(const cl::Event& first, const cl::Event& last);
+
+}  // namespace sf

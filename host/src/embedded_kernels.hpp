@@ -1,0 +1,11 @@
+#pragma once
+#include <string>
+#include <vector>
+
+namespace sf::detail {
+struct EmbeddedKernel {
+  const char* path;    // relative to kernels/, e.g. "methods/esm.clh"
+  const char* source;
+};
+const std::vector<EmbeddedKernel>& embedded_kernels();
+}  // namespace sf::detail

@@ -1,0 +1,150 @@
+#include "shadowfilter/kernels.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "shadowfilter/errors.hpp"
+
+namespace sf {
+namespace {
+
+size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+cl::NDRange local_1d(const ScheduleOptions& s) {
+  return s.work_group_size > 0 ? cl::NDRange(s.work_group_size) : cl::NullRange;
+}
+cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
+  return cl::NDRange(s.work_group_size > 0 ? round_up(n, s.work_group_size) : n);
+}
+
+std::string method_options(const MethodDesc& m) { return "-cl-std=CL1.2 -DSF_METHOD_" + m.name; }
+
+cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const char* file, const char* name) {
+  cl::Program p = rt.program({"common.clh", m.header, "lookup.clh", file}, method_options(m));
+  return cl::Kernel(p, name);
+}
+
+void set_params(cl::Kernel& k, cl_uint index, const MethodDesc& m, const FilterOptions& opt) {
+  m.validate(opt);
+  auto bytes = m.pack_params(opt);
+  k.setArg(index, bytes.size(), bytes.data());
+}
+
+}  // namespace
+
+float default_blur_sigma(int radius) { return (2.0f * radius + 1.0f) / 6.0f; }
+
+std::vector<float> gaussian_weights(int radius, float sigma) {
+  if (radius < 0 || radius > kMaxBlurRadius)
+    throw InputError("--blur-radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
+                     std::to_string(radius));
+  if (sigma <= 0.0f) sigma = default_blur_sigma(radius);
+  std::vector<double> w(radius + 1);
+  double sum = 0.0;
+  for (int k = 0; k <= radius; ++k) {
+    w[k] = std::exp(-double(k) * k / (2.0 * double(sigma) * sigma));
+    sum += (k == 0 ? 1.0 : 2.0) * w[k];
+  }
+  std::vector<float> out(radius + 1);
+  for (int k = 0; k <= radius; ++k) out[k] = static_cast<float>(w[k] / sum);
+  return out;
+}
+
+cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                            const cl::Buffer& depth, int width, int height, const cl::Buffer& basis,
+                            const EventList* wait) {
+  cl::Kernel k = method_kernel(rt, method, "transform.cl", "sf_transform");
+  const int texels = width * height;
+  k.setArg(0, depth);
+  k.setArg(1, basis);
+  k.setArg(2, texels);
+  k.setArg(3, texels);
+  set_params(k, 4, method, opt);
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(texels, opt.schedule),
+                                  local_1d(opt.schedule), wait, &e);
+  return e;
+}
+
+BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
+                        const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
+                        const ImageShape& shape, const EventList* wait) {
+  BlurEvents ev;
+  if (blur.radius == 0) {
+    if (src() != dst()) {
+      rt.queue().enqueueCopyBuffer(src, dst, 0, 0, shape.bytes(), wait, &ev.rows);
+    } else {
+      rt.queue().enqueueMarkerWithWaitList(wait, &ev.rows);
+    }
+    ev.cols = ev.rows;
+    return ev;
+  }
+  const int vec = sched.blur_vector_width;
+  if (vec != 4 && vec != 8 && vec != 16)
+    throw InputError("blur vector width must be 4, 8 or 16, got " + std::to_string(vec));
+  const std::vector<float> w = gaussian_weights(blur.radius, blur.sigma);
+  cl::Buffer weights(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
+                     const_cast<float*>(w.data()));
+  const std::string opts = "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) +
+                           " -DSF_VEC=" + std::to_string(vec);
+  cl::Program p = rt.program({"common.clh", "blur.cl"}, opts);
+  cl::Kernel rows(p, "sf_blur_rows"), cols(p, "sf_blur_cols");
+  const int stride = static_cast<int>(shape.plane_texels());
+  const cl::NDRange global((shape.width + vec - 1) / vec, shape.height, shape.channels);
+  rows.setArg(0, src);
+  rows.setArg(1, tmp);
+  cols.setArg(0, tmp);
+  cols.setArg(1, dst);
+  for (cl::Kernel* k : {&rows, &cols}) {
+    k->setArg(2, shape.width);
+    k->setArg(3, shape.height);
+    k->setArg(4, stride);
+    k->setArg(5, weights);
+  }
+  rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, global, cl::NullRange, wait, &ev.rows);
+  EventList after_rows{ev.rows};
+  rt.queue().enqueueNDRangeKernel(cols, cl::NullRange, global, cl::NullRange, &after_rows, &ev.cols);
+  return ev;
+}
+
+cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                                     const cl::Buffer& basis, int width, int height,
+                                     const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                                     const cl::Buffer& visibility, size_t count,
+                                     const EventList* wait) {
+  cl::Kernel k = method_kernel(rt, method, "reconstruct.cl", "sf_reconstruct_points");
+  k.setArg(0, basis);
+  k.setArg(1, width);
+  k.setArg(2, height);
+  k.setArg(3, width * height);
+  k.setArg(4, u);
+  k.setArg(5, v);
+  k.setArg(6, d);
+  k.setArg(7, visibility);
+  k.setArg(8, static_cast<int>(count));
+  set_params(k, 9, method, opt);
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(count, opt.schedule),
+                                  local_1d(opt.schedule), wait, &e);
+  return e;
+}
+
+cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
+                                   const cl::Buffer& basis, int width, int height,
+                                   const cl::Buffer& d, const cl::Buffer& visibility,
+                                   const EventList* wait) {
+  cl::Kernel k = method_kernel(rt, method, "reconstruct.cl", "sf_reconstruct_grid");
+  k.setArg(0, basis);
+  k.setArg(1, width);
+  k.setArg(2, height);
+  k.setArg(3, width * height);
+  k.setArg(4, d);
+  k.setArg(5, visibility);
+  set_params(k, 6, method, opt);
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
+                                  &e);
+  return e;
+}
+
+}  // namespace sf

@@ -1,0 +1,268 @@
+#include "shadowfilter/runtime.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "embedded_kernels.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf {
+namespace {
+
+std::string device_type_name(cl_device_type t) {
+  if (t & CL_DEVICE_TYPE_GPU) return "GPU";
+  if (t & CL_DEVICE_TYPE_CPU) return "CPU";
+  if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+struct FoundDevice {
+  DeviceInfo info;
+  cl::Device device;
+};
+
+std::vector<FoundDevice> enumerate() {
+  std::vector<FoundDevice> out;
+  std::vector<cl::Platform> platforms;
+  if (cl::Platform::get(&platforms) != CL_SUCCESS) return out;
+  for (size_t p = 0; p < platforms.size(); ++p) {
+    std::vector<cl::Device> devices;
+    try {
+      platforms[p].getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;  // a platform without devices
+    }
+    for (size_t d = 0; d < devices.size(); ++d) {
+      DeviceInfo i;
+      i.platform_index = static_cast<int>(p);
+      i.device_index = static_cast<int>(d);
+      i.platform_name = platforms[p].getInfo<CL_PLATFORM_NAME>();
+      i.device_name = devices[d].getInfo<CL_DEVICE_NAME>();
+      i.driver_version = devices[d].getInfo<CL_DRIVER_VERSION>();
+      i.type = device_type_name(devices[d].getInfo<CL_DEVICE_TYPE>());
+      i.global_mem_bytes = devices[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+      i.max_alloc_bytes = devices[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      i.max_work_group_size = devices[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+      i.compute_units = devices[d].getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      out.push_back({i, devices[d]});
+    }
+  }
+  return out;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool is_number(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+const FoundDevice* select(const std::vector<FoundDevice>& all, const std::string& selector) {
+  if (selector.empty()) {
+    for (const auto& f : all)
+      if (f.info.type == "GPU") return &f;
+    for (const auto& f : all)
+      if (f.info.type == "CPU") return &f;
+    return all.empty() ? nullptr : &all.front();
+  }
+  const std::string s = lower(selector);
+  if (s == "gpu" || s == "cpu") {
+    for (const auto& f : all)
+      if (lower(f.info.type) == s) return &f;
+    return nullptr;
+  }
+  auto colon = s.find(':');
+  if (colon != std::string::npos && is_number(s.substr(0, colon)) && is_number(s.substr(colon + 1))) {
+    int p = std::stoi(s.substr(0, colon)), d = std::stoi(s.substr(colon + 1));
+    for (const auto& f : all)
+      if (f.info.platform_index == p && f.info.device_index == d) return &f;
+    return nullptr;
+  }
+  if (is_number(s)) {
+    size_t idx = std::stoul(s);
+    return idx < all.size() ? &all[idx] : nullptr;
+  }
+  for (const auto& f : all)
+    if (lower(f.info.device_name).find(s) != std::string::npos) return &f;
+  return nullptr;
+}
+
+uint64_t fnv1a(const std::string& s, uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string hex64(uint64_t v) {
+  std::ostringstream o;
+  o << std::hex;
+  o.width(16);
+  o.fill('0');
+  o << v;
+  return o.str();
+}
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream o;
+  o << in.rdbuf();
+  return o.str();
+}
+
+void write_file_atomic(const std::filesystem::path& p, const std::string& bytes) {
+  std::error_code ec;
+  std::filesystem::create_directories(p.parent_path(), ec);
+  auto tmp = p;
+  tmp += ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) return;  // the cache is an optimisation: never fail a run over it
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) {
+      std::filesystem::remove(tmp, ec);
+      return;
+    }
+  }
+  std::filesystem::rename(tmp, p, ec);
+  if (ec) std::filesystem::remove(tmp, ec);
+}
+
+std::string one_line(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> out;
+  for (auto& f : enumerate()) out.push_back(f.info);
+  return out;
+}
+
+std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) {
+  std::string selector = selector_arg;
+  if (selector.empty()) {
+    if (const char* env = std::getenv("SHADOWFILTER_DEVICE")) selector = env;
+  }
+  auto all = enumerate();
+  if (all.empty())
+    throw InputError("no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+  const FoundDevice* f = select(all, selector);
+  if (!f) throw InputError("no OpenCL device matches '" + selector + "' (see `shadowfilter devices`)");
+  cl::Context ctx(f->device);
+  cl::CommandQueue q(ctx, f->device, CL_QUEUE_PROFILING_ENABLE);
+  return std::make_shared<Runtime>(ctx, q);
+}
+
+Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
+    : context_(std::move(context)), queue_(std::move(queue)) {
+  device_ = queue_.getInfo<CL_QUEUE_DEVICE>();
+  profiling_ = (queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
+  for (const auto& f : enumerate()) {
+    if (f.device() == device_()) {
+      info_ = f.info;
+      break;
+    }
+  }
+  if (info_.device_name.empty()) {  // a device not reachable by enumeration (sub-device, ...)
+    info_.device_name = device_.getInfo<CL_DEVICE_NAME>();
+    info_.driver_version = device_.getInfo<CL_DRIVER_VERSION>();
+    info_.type = device_type_name(device_.getInfo<CL_DEVICE_TYPE>());
+    info_.global_mem_bytes = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+    info_.max_alloc_bytes = device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+    info_.max_work_group_size = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+    info_.compute_units = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+  }
+}
+
+std::string Runtime::cache_dir() {
+  if (const char* d = std::getenv("SHADOWFILTER_CACHE_DIR")) return d;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/shadowfilter";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/shadowfilter";
+  return {};
+}
+
+const std::string& kernel_source(const std::string& file) {
+  static const std::map<std::string, std::string> table = [] {
+    std::map<std::string, std::string> t;
+    for (const auto& k : detail::embedded_kernels()) t.emplace(k.path, k.source);
+    return t;
+  }();
+  auto it = table.find(file);
+  if (it == table.end()) throw std::out_of_range("no embedded kernel file '" + file + "'");
+  return it->second;
+}
+
+cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& options) {
+  std::string source;
+  for (const auto& f : files) {
+    source += "// ---- " + f + "\n";
+    source += kernel_source(f);
+    source += "\n";
+  }
+  const std::string key = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' +
+                                      info_.device_name + '\0' + info_.driver_version));
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = programs_.find(key); it != programs_.end()) return it->second;
+
+  const std::string dir = cache_dir();
+  const std::filesystem::path cached = dir.empty() ? std::filesystem::path() : std::filesystem::path(dir) / (key + ".bin");
+  if (!dir.empty()) {
+    std::string bin = read_file(cached);
+    if (!bin.empty()) {
+      try {
+        cl::Program::Binaries bins{std::vector<unsigned char>(bin.begin(), bin.end())};
+        cl::Program p(context_, {device_}, bins);
+        p.build({device_}, options.c_str());
+        programs_[key] = p;
+        return p;
+      } catch (const cl::Error&) {
+        // stale or foreign binary: fall through to a source build, which rewrites it
+      }
+    }
+  }
+
+  cl::Program p(context_, source);
+  try {
+    p.build({device_}, options.c_str());
+  } catch (const cl::Error&) {
+    std::string log = p.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+    throw DeviceError("OpenCL build of [" + [&] {
+      std::string n;
+      for (const auto& f : files) n += (n.empty() ? "" : " ") + f;
+      return n;
+    }() + "] with '" + options + "' failed:\n" + one_line(log));
+  }
+  if (!dir.empty()) {
+    auto bins = p.getInfo<CL_PROGRAM_BINARIES>();
+    if (!bins.empty() && !bins[0].empty())
+      write_file_atomic(cached, std::string(bins[0].begin(), bins[0].end()));
+  }
+  programs_[key] = p;
+  return p;
+}
+
+double event_seconds(const cl::Event& e) { return event_seconds(e, e); }
+
+double event_seconds(const cl::Event& first, const cl::Event& last) {
+  try {
+    cl_ulong a = first.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    cl_ulong b = last.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    return b > a ? (b - a) * 1e-9 : 0.0;
+  } catch (const cl::Error&) {
+    return 0.0;
+  }
+}
+
+}  // namespace sf

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian packages shadowfilter needs, only those that are missing.
+# Usage: scripts/install-deps.sh [core|bench|all]   (default: core)
+set -euo pipefail
+set_name="${1:-core}"
+core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers
+      pocl-opencl-icd clinfo libopenimageio-dev openimageio-tools libcli11-dev libgtest-dev
+      libgmock-dev)
+bench=(libbenchmark-dev libopencv-dev)
+case "$set_name" in
+  core) want=("${core[@]}") ;;
+  bench) want=("${core[@]}" "${bench[@]}") ;;
+  all) want=("${core[@]}" "${bench[@]}") ;;
+  *) echo "install-deps: unknown set '$set_name' (core|bench|all)" >&2; exit 2 ;;
+esac
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

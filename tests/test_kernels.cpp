@@ -1,0 +1,208 @@
+// Each kernel against the scalar reference (tolerances stated per test).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "reference.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/pipeline.hpp"
+
+namespace sf::test {
+namespace {
+
+FilterOptions esm_options(float c, int radius = 0) {
+  FilterOptions o;
+  o.method = "esm";
+  o.esm.c = c;
+  o.blur.radius = radius;
+  return o;
+}
+
+// Depth maps that stress the transform: exact 0 and 1, constants, a 0/1 checkerboard.
+std::vector<HostImage> structured_depths() {
+  std::vector<HostImage> out;
+  out.push_back(HostImage(17, 9, 1, 0.0f));
+  out.push_back(HostImage(17, 9, 1, 1.0f));
+  out.push_back(HostImage(17, 9, 1, 0.5f));
+  HostImage checker(33, 31, 1);
+  for (int y = 0; y < checker.height; ++y)
+    for (int x = 0; x < checker.width; ++x) checker.at(x, y) = float((x + y) % 2);
+  out.push_back(checker);
+  out.push_back(random_depth(61, 47, 7));
+  return out;
+}
+
+class EsmTransform : public ::testing::TestWithParam<float> {};
+
+// float32 exp(c (z - 1/2)): the argument is rounded to half an ulp of |c/2| <= 44, so the
+// relative error is about 6e-8 * c/2 plus a few ulp of exp: tolerance 1e-6 + 1e-7 c.
+TEST_P(EsmTransform, MatchesReference) {
+  const float c = GetParam();
+  const double tol = 1e-6 + 1e-7 * c;
+  for (const HostImage& depth : structured_depths()) {
+    const auto opt = esm_options(c);
+    cl::Buffer z = to_device(depth.data);
+    cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * sizeof(float));
+    enqueue_transform(runtime(), find_method("esm"), opt, z, depth.width, depth.height, basis).wait();
+    const auto got = from_device(basis, depth.texels());
+    const auto want = ref::esm_basis(depth, c);
+    for (size_t i = 0; i < got.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(got[i])) << "texel " << i;
+      ASSERT_NEAR(got[i], want.data[i], tol * want.data[i]) << "texel " << i << " z=" << depth.data[i];
+    }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Exponents, EsmTransform, ::testing::Values(1.0f, 40.0f, 80.0f, 88.0f, 174.0f));
+
+TEST(EsmTransform, RefusesExponentsBeyondTheFloat32Limit) {
+  auto opt = esm_options(200.0f);
+  try {
+    find_method("esm").validate(opt);
+    FAIL() << "c = 200 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("174"), std::string::npos) << e.what();
+  }
+}
+
+struct BlurCase {
+  int width, height, channels, radius, vec;
+};
+
+class Blur : public ::testing::TestWithParam<BlurCase> {};
+
+// Float32 separable sums of at most 2R+1 positive terms per pass against double: relative 1e-5.
+TEST_P(Blur, MatchesReference) {
+  const BlurCase bc = GetParam();
+  ref::Planes in(bc.width, bc.height, bc.channels);
+  std::vector<float> host(in.data.size());
+  std::mt19937 rng(bc.width * 131 + bc.radius);
+  std::uniform_real_distribution<float> dist(0.05f, 1.0f);
+  for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
+
+  ImageShape shape{bc.width, bc.height, bc.channels};
+  cl::Buffer src = to_device(host);
+  cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  BlurOptions blur{bc.radius, 0.0f};
+  ScheduleOptions sched;
+  sched.blur_vector_width = bc.vec;
+  enqueue_blur(runtime(), blur, sched, src, tmp, dst, shape).cols.wait();
+  const auto got = from_device(dst, host.size());
+  const auto want = ref::blur(in, bc.radius, 0.0);
+  for (size_t i = 0; i < got.size(); ++i)
+    ASSERT_NEAR(got[i], want.data[i], 1e-5 * want.data[i]) << "index " << i;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, Blur,
+    ::testing::Values(BlurCase{1, 1, 1, 3, 16}, BlurCase{1, 9, 1, 2, 16}, BlurCase{9, 1, 1, 2, 16},
+                      BlurCase{7, 5, 1, 32, 16}, BlurCase{37, 29, 3, 1, 16}, BlurCase{37, 29, 1, 0, 16},
+                      BlurCase{64, 64, 1, 3, 16}, BlurCase{130, 70, 2, 7, 16},
+                      BlurCase{130, 70, 1, 15, 8}, BlurCase{101, 67, 1, 7, 4},
+                      BlurCase{257, 33, 1, 32, 16}, BlurCase{40, 300, 1, 64, 16}));
+
+TEST(Blur, InPlaceEqualsOutOfPlace) {
+  const HostImage img = random_depth(53, 41, 3);
+  ImageShape shape{53, 41, 1};
+  cl::Buffer a = to_device(img.data), b = to_device(img.data), out = to_device(img.data);
+  cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  enqueue_blur(runtime(), {5, 2.0f}, {}, a, tmp, a, shape).cols.wait();
+  enqueue_blur(runtime(), {5, 2.0f}, {}, b, tmp, out, shape).cols.wait();
+  EXPECT_EQ(from_device(a, img.texels()), from_device(out, img.texels()));
+}
+
+TEST(Blur, WeightsAreNormalisedAndDefaultSigmaSpansThreeSigma) {
+  for (int r : {1, 3, 7, 32}) {
+    auto w = gaussian_weights(r, 0.0f);
+    double sum = w[0];
+    for (int k = 1; k <= r; ++k) sum += 2 * w[k];
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+    EXPECT_FLOAT_EQ(default_blur_sigma(r), (2 * r + 1) / 6.0f);
+    // At the last tap (R ~ 3 sigma) the weight is about exp(-4.5) of the centre's.
+    EXPECT_NEAR(w[r] / w[0], std::exp(-double(r) * r / (2 * std::pow((2 * r + 1) / 6.0, 2))), 1e-5);
+  }
+  EXPECT_THROW(gaussian_weights(-1, 0.0f), InputError);
+  EXPECT_THROW(gaussian_weights(kMaxBlurRadius + 1, 0.0f), InputError);
+}
+
+// Receivers covering the odd cases of methods.md sec. 1 plus random interior points.
+Receivers odd_and_random_receivers(unsigned seed) {
+  Receivers rx;
+  const float nan = std::nanf("");
+  std::vector<std::array<float, 3>> pts = {
+      {0.5f, 0.5f, nan},  {0.5f, 0.5f, INFINITY}, {-0.1f, 0.5f, 0.5f}, {0.5f, 1.2f, 0.5f},
+      {0.0f, 0.0f, 0.3f}, {1.0f, 1.0f, 0.3f},     {0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, 1.5f},
+      {nan, 0.5f, 0.5f},  {0.999f, 0.001f, 1.0f}, {0.25f, 0.75f, 0.0f}};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 500; ++i) pts.push_back({unit(rng), unit(rng), unit(rng)});
+  rx.width = int(pts.size());
+  rx.height = 1;
+  for (auto& p : pts) {
+    rx.u.push_back(p[0]);
+    rx.v.push_back(p[1]);
+    rx.d.push_back(p[2]);
+  }
+  rx.f.assign(pts.size(), 1.0f);
+  return rx;
+}
+
+class EsmPipeline : public ::testing::TestWithParam<std::tuple<float, int>> {};
+
+// Transform + blur + bilinear reconstruction against the double reference. The blurred basis
+// has relative error ~1e-5 and the log-space reconstruction adds ~1e-7 c: visibility in [0,1]
+// is compared with an absolute tolerance 2e-5 + 1e-7 c.
+TEST_P(EsmPipeline, PointsAndGridMatchReference) {
+  const auto [c, radius] = GetParam();
+  const auto opt = esm_options(c, radius);
+  const double tol = 2e-5 + 1e-7 * c;
+  HostImage depth = random_depth(45, 38, 11, 0.2f, 0.8f);
+  for (int y = 10; y < 25; ++y)  // an occluder block well in front
+    for (int x = 5; x < 20; ++x) depth.at(x, y) = 0.1f;
+
+  const Receivers rx = odd_and_random_receivers(5);
+  const auto got = filter(runtime_ptr(), opt, depth, rx);
+  const auto want = ref::filter(opt, depth, rx);
+  for (size_t i = 0; i < want.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(got.visibility.data[i]));
+    ASSERT_NEAR(got.visibility.data[i], want[i], tol) << "receiver " << i;
+  }
+  EXPECT_EQ(got.background, 2u);
+  EXPECT_EQ(got.outside, 3u);
+
+  Receivers grid;
+  grid.grid = true;
+  grid.width = depth.width;
+  grid.height = depth.height;
+  grid.d = random_depth(depth.width, depth.height, 9).data;
+  grid.d[7] = std::nanf("");
+  const auto got_grid = filter(runtime_ptr(), opt, depth, grid);
+  const auto want_grid = ref::filter(opt, depth, grid);
+  for (size_t i = 0; i < want_grid.size(); ++i)
+    ASSERT_NEAR(got_grid.visibility.data[i], want_grid[i], tol) << "texel " << i;
+  EXPECT_EQ(got_grid.visibility.data[7], 1.0f);
+}
+
+INSTANTIATE_TEST_SUITE_P(ExponentsAndRadii, EsmPipeline,
+                         ::testing::Combine(::testing::Values(1.0f, 40.0f, 80.0f, 88.0f),
+                                            ::testing::Values(0, 1, 4)));
+
+TEST(Pipeline, RefusesMapsThatDoNotFitTheDevice) {
+  const auto& info = runtime().info();
+  const size_t texels = info.max_alloc_bytes / sizeof(float) + 1;
+  const int side = int(std::ceil(std::sqrt(double(texels))));
+  try {
+    Pipeline p(runtime_ptr(), esm_options(80), side, side);
+    FAIL() << "a " << side << "x" << side << " map was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_TRUE(msg.find("MiB") != std::string::npos || msg.find("too large") != std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace sf::test

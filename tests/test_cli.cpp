@@ -1,0 +1,229 @@
+// The `shadowfilter` command: every input error gives exit code 2, a one-line message naming
+// the problem, and no output file; success writes exactly the output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "image_io.hpp"
+#include "sf_test_env.hpp"
+
+namespace sf::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+RunResult run_cli(const std::string& args, const std::string& dir) {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+size_t count_lines(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += (c == '\n');
+  return n;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = temp_dir(std::string("cli_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    HostImage depth(24, 16, 1);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 24; ++x) depth.at(x, y) = (x > 8 && x < 16 && y > 4 && y < 12) ? 0.2f : 0.7f;
+    io::write_image(path("sm.exr"), depth);
+    io::write_image(path("rd.exr"), HostImage(24, 16, 1, 0.7f));
+    HostImage rx(5, 4, 4);
+    rx.channel_names = {"u", "v", "d", "f"};
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 5; ++x) {
+        rx.at(x, y, 0) = (x + 0.5f) / 5;
+        rx.at(x, y, 1) = (y + 0.5f) / 4;
+        rx.at(x, y, 2) = 0.7f;
+        rx.at(x, y, 3) = 1.0f;
+      }
+    io::write_image(path("rx.exr"), rx);
+  }
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+
+  // An input error: exit 2, one line on stderr containing `expect`, no output, no temp file.
+  void expect_input_error(const std::string& args, const std::string& expect) {
+    const size_t files_before = count_files();
+    RunResult r = run_cli(args + " -o " + path("out.exr"), dir_);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    EXPECT_EQ(count_files(), files_before) << "a temporary or partial file was left behind";
+  }
+  size_t count_files() const {
+    size_t n = 0;
+    for (auto& e : fs::directory_iterator(dir_)) n += e.is_regular_file();
+    return n;
+  }
+  std::string dir_;
+};
+
+TEST_F(Cli, FiltersBothReceiverModesAndPrintsASummary) {
+  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                            " -o " + path("vis.exr") + " --method esm --esm-c 80 --blur-radius 2",
+                        dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(count_lines(r.out), 1u) << r.out;
+  for (const char* word : {"esm c=80", "R=2", "24x16", "5x4", "transform", "blur", "reconstruct"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word << " missing from: " << r.out;
+  HostImage vis = io::load_depth_map(path("vis.exr"), {});
+  EXPECT_EQ(vis.width, 5);
+  EXPECT_EQ(vis.height, 4);
+
+  r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") + " -o " +
+                  path("planar.tif"),
+              dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  HostImage planar = io::load_depth_map(path("planar.tif"), {});
+  EXPECT_EQ(planar.width, 24);
+  EXPECT_NEAR(planar.at(12, 8), 0.0f, 1e-6);  // under the 0.2 occluder, receiver at 0.7
+  EXPECT_NEAR(planar.at(2, 2), 1.0f, 1e-6);   // lit
+}
+
+TEST_F(Cli, MissingShadowMap) {
+  expect_input_error("filter --shadow-map " + path("nope.exr") + " --receivers " + path("rx.exr"),
+                     "not found");
+}
+
+TEST_F(Cli, UnreadableShadowMap) {
+  std::ofstream(path("junk.exr")) << "this is not an image\n";
+  expect_input_error("filter --shadow-map " + path("junk.exr") + " --receivers " + path("rx.exr"),
+                     "junk.exr");
+}
+
+TEST_F(Cli, TruncatedShadowMap) {
+  HostImage big = random_depth(256, 256, 1);
+  io::write_image(path("big.exr"), big);
+  fs::resize_file(path("big.exr"), fs::file_size(path("big.exr")) / 2);
+  expect_input_error("filter --shadow-map " + path("big.exr") + " --receivers " + path("rx.exr"),
+                     "truncated");
+}
+
+TEST_F(Cli, EmptyFile) {
+  std::ofstream(path("empty.exr")).close();
+  expect_input_error("filter --shadow-map " + path("empty.exr") + " --receivers " + path("rx.exr"),
+                     "empty.exr");
+}
+
+TEST_F(Cli, WrongChannelCount) {
+  io::write_image(path("two.exr"), HostImage(8, 8, 2, 0.5f));
+  expect_input_error("filter --shadow-map " + path("two.exr") + " --receivers " + path("rx.exr"),
+                     "2 channels");
+}
+
+TEST_F(Cli, NonFiniteDepthIsAnErrorUnlessAskedFar) {
+  HostImage depth(8, 8, 1, 0.5f);
+  depth.at(3, 2) = std::nanf("");
+  depth.at(4, 2) = INFINITY;
+  io::write_image(path("nan.exr"), depth);
+  io::write_image(path("rd8.exr"), HostImage(8, 8, 1, 0.6f));
+  expect_input_error("filter --shadow-map " + path("nan.exr") + " --receiver-depth " + path("rd8.exr"),
+                     "--nonfinite far");
+  RunResult r = run_cli("filter --shadow-map " + path("nan.exr") + " --receiver-depth " + path("rd8.exr") +
+                            " --nonfinite far -q -o " + path("ok.exr"),
+                        dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  HostImage vis = io::load_depth_map(path("ok.exr"), {});
+  for (float v : vis.data) EXPECT_TRUE(std::isfinite(v) && v >= 0 && v <= 1);
+  EXPECT_NEAR(vis.at(3, 2), 1.0f, 1e-6);  // the NaN texel became the far plane: lit
+  EXPECT_NEAR(vis.at(0, 0), 0.0f, 1e-2);  // receiver 0.6 behind 0.5: exp(-8) = 3e-4
+}
+
+TEST_F(Cli, ReceiverImageMustBeFloat) {
+  HostImage rx(5, 4, 3, 0.5f);
+  io::write_image(path("rx16.png"), rx);
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx16.png"),
+                     "float");
+}
+
+TEST_F(Cli, ReceiverDepthSizeMustMatch) {
+  io::write_image(path("small.exr"), HostImage(12, 16, 1, 0.7f));
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("small.exr"),
+                     "12x16");
+}
+
+TEST_F(Cli, ArgumentErrors) {
+  expect_input_error("filter --shadow-map " + path("sm.exr"), "--receivers or --receiver-depth");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --method nosuch",
+                     "unknown method");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --esm-c 500",
+                     "174");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --blur-radius 1000",
+                     "--blur-radius");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --encoding weird",
+                     "weird");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --device no-such-device",
+                     "no-such-device");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --bogus-flag",
+                     "bogus");
+}
+
+TEST_F(Cli, NeverOverwritesAnInput) {
+  const auto before = fs::file_size(path("sm.exr"));
+  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") +
+                            " -o " + path("rd.exr"),
+                        dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("refusing"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::file_size(path("sm.exr")), before);
+  HostImage rd = io::load_depth_map(path("rd.exr"), {});
+  EXPECT_EQ(rd.at(0, 0), 0.7f);
+}
+
+TEST_F(Cli, UnwritableOutputLeavesNothing) {
+  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                            " -o " + path("no/such/dir/out.exr"),
+                        dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+}
+
+TEST_F(Cli, HelpAndDevices) {
+  for (const char* cmd : {"--help", "filter --help", "devices --help", "methods --help"}) {
+    RunResult r = run_cli(cmd, dir_);
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd << ": " << r.out;
+  }
+  RunResult r = run_cli("devices", dir_);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("(default)"), std::string::npos) << r.out;
+  r = run_cli("methods", dir_);
+  EXPECT_NE(r.out.find("esm"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace sf::test

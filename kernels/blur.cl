@@ -1,83 +1,158 @@
-// Separable Gaussian blur of planar N-channel float images, clamp-to-edge (methods.md sec. 2).
-// Knobs: SF_RADIUS (taps -R..R, required), SF_VEC (texels per work-item along a row: 4, 8, 16).
-// Weights w[0..R] (normalised, symmetric) come in a __constant buffer.
-// NDRange: (ceil(width / SF_VEC), height, channels); any local size works (no local memory).
+// Separable Gaussian blur of planar N-channel float images, clamp-to-edge (methods.md sec. 2),
+// both passes fused in one kernel. A work-item owns a strip of SF_STRIP vectors (SF_VEC texels
+// each) across SF_ROWS output rows: it blurs each input row it needs along x (rows clamped to
+// the image) into a ring of row vectors in private memory, and every output row is the weighted
+// sum down 2R+1 consecutive ring rows. The intermediate image never leaves the cache.
+//
+// Compile-time knobs (none changes a result: every texel is computed by the same fma sequence
+// whatever the schedule and whichever path computes it):
+//   SF_RADIUS   taps -R..R (>= 1)
+//   SF_WEIGHTS  w[0..R], the normalised symmetric weights, comma-separated float literals
+//   SF_VEC      texels per vector: 4, 8 or 16
+//   SF_STRIP    vectors per work-item along a row
+//   SF_ROWS     output rows per work-item
+//   SF_VROWS    output rows per step (1, 2 or 4): rows of one step share their ring loads
+//   SF_STREAM   defined when every row starts on a vector boundary (width % SF_VEC == 0):
+//               results are then written with aligned streaming (non-temporal) stores
+// NDRange: (ceil(width / (SF_STRIP * SF_VEC)), ceil(height / SF_ROWS), channels), local size
+// (1, 1, 1): PoCL replicates private arrays per work-item of a group, and one ring is enough.
 
 #if SF_VEC == 16
-#define SF_VT float16
-#define SF_VLOAD vload16
-#define SF_VSTORE vstore16
+typedef float16 sf_vec;
 #elif SF_VEC == 8
-#define SF_VT float8
-#define SF_VLOAD vload8
-#define SF_VSTORE vstore8
+typedef float8 sf_vec;
 #elif SF_VEC == 4
-#define SF_VT float4
-#define SF_VLOAD vload4
-#define SF_VSTORE vstore4
+typedef float4 sf_vec;
 #else
 #error "SF_VEC must be 4, 8 or 16"
 #endif
 
-// Along x. Interior segments use vector loads at every tap; segments within R of the
-// image border take the scalar clamped path.
-__kernel void sf_blur_rows(__global const float* restrict src, __global float* restrict dst,
-                           const int width, const int height, const int plane_stride,
-                           __constant const float* restrict w) {
-  const int x0 = get_global_id(0) * SF_VEC;
-  const int y = get_global_id(1);
-  if (x0 >= width || y >= height) return;
-  const size_t row_start = (size_t)get_global_id(2) * plane_stride + (size_t)y * width;
-  __global const float* row = src + row_start;
-  __global float* out = dst + row_start;
+// The vector type aligned to one float: loads and stores through it compile to single unaligned
+// vector moves (PoCL's vloadN is split into 64-bit pieces).
+typedef sf_vec __attribute__((aligned(4))) sf_vec_u;
 
-  if (x0 >= SF_RADIUS && x0 + SF_VEC - 1 + SF_RADIUS < width) {
-    SF_VT acc = w[0] * SF_VLOAD(0, row + x0);
-#pragma unroll
-    for (int k = 1; k <= SF_RADIUS; ++k)
-      acc += w[k] * (SF_VLOAD(0, row + x0 - k) + SF_VLOAD(0, row + x0 + k));
-    SF_VSTORE(acc, 0, out + x0);
-    return;
+__constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
+
+// Every helper must inline: a call per vector costs more than the vector's arithmetic.
+#define SF_INLINE inline __attribute__((always_inline))
+
+// Ring rows of one step: the 2R+1 taps of its first output row plus one per further row.
+#define SF_SPAN (2 * SF_RADIUS + SF_VROWS)
+
+// Blur along x of the SF_VEC texels at p[0..SF_VEC-1], reading p[-R .. SF_VEC-1+R]: the same
+// function for global rows (interior vectors) and private padded copies (edge vectors).
+#define SF_DEFINE_HBLUR(NAME, SPACE)                                                          \
+  SF_INLINE sf_vec NAME(SPACE const float* p) {                                               \
+    sf_vec acc = sf_w[0] * *(SPACE const sf_vec_u*)p;                                         \
+    _Pragma("unroll") for (int k = 1; k <= SF_RADIUS; ++k) {                                  \
+      const sf_vec pair = *(SPACE const sf_vec_u*)(p - k) + *(SPACE const sf_vec_u*)(p + k); \
+      acc = fma((sf_vec)sf_w[k], pair, acc);                                                  \
+    }                                                                                         \
+    return acc;                                                                               \
   }
-  const int last = width - 1;
-  for (int j = 0; j < SF_VEC && x0 + j < width; ++j) {
-    const int x = x0 + j;
-    float acc = w[0] * row[x];
-    for (int k = 1; k <= SF_RADIUS; ++k)
-      acc += w[k] * (row[sf_clampi(x - k, 0, last)] + row[sf_clampi(x + k, 0, last)]);
-    out[x] = acc;
+SF_DEFINE_HBLUR(sf_hblur_global, __global)
+SF_DEFINE_HBLUR(sf_hblur_private, __private)
+
+// Vectors within R of a border (or past the right edge): copy the clamped span into a
+// private row, then blur it like an interior vector.
+SF_INLINE sf_vec sf_hblur_edge(__global const float* row, int x, int width) {
+#ifdef SF_FAKE_EDGE
+  return (sf_vec)row[x];
+#endif
+  float pad[SF_VEC + 2 * SF_RADIUS];
+  for (int j = 0; j < SF_VEC + 2 * SF_RADIUS; ++j)
+    pad[j] = row[sf_clampi(x - SF_RADIUS + j, 0, width - 1)];
+  return sf_hblur_private(pad + SF_RADIUS);
+}
+
+// Blurs the strip's `vecs` vectors of one input row along x into both copies of a ring slot
+// (each row is stored twice so that every window is contiguous in the ring).
+SF_INLINE void sf_hblur_strip(__global const float* row, int x0, int vecs, int width, sf_vec* slot) {
+  for (int v = 0; v < vecs; ++v) {
+    const int x = x0 + v * SF_VEC;
+    const bool interior = x >= SF_RADIUS && x + SF_VEC + SF_RADIUS <= width;
+    const sf_vec h = interior ? sf_hblur_global(row + x) : sf_hblur_edge(row, x, width);
+    slot[v] = h;
+    slot[v + SF_SPAN * SF_STRIP] = h;
   }
 }
 
-// Along y: each work-item blurs SF_VEC neighbouring columns of one row with vector loads
-// from the 2R+1 rows above and below (clamped row indices).
-__kernel void sf_blur_cols(__global const float* restrict src, __global float* restrict dst,
-                           const int width, const int height, const int plane_stride,
-                           __constant const float* restrict w) {
-  const int x0 = get_global_id(0) * SF_VEC;
-  const int y = get_global_id(1);
-  if (x0 >= width || y >= height) return;
-  const size_t plane = (size_t)get_global_id(2) * plane_stride;
-  __global const float* img = src + plane;
-  __global float* out = dst + plane + (size_t)y * width;
-  const int last = height - 1;
+// Input row i of the work-item starting at output row y0 into its ring slot.
+SF_INLINE void sf_hblur_input(__global const float* img, int y0, int i, int x0, int vecs, int width,
+                           int height, sf_vec* ring) {
+  const int y = sf_clampi(y0 - SF_RADIUS + i, 0, height - 1);
+  sf_hblur_strip(img + (size_t)y * width, x0, vecs, width, ring + i % SF_SPAN * SF_STRIP);
+}
 
-  if (x0 + SF_VEC <= width) {
-    SF_VT acc = w[0] * SF_VLOAD(0, img + (size_t)y * width + x0);
-#pragma unroll
-    for (int k = 1; k <= SF_RADIUS; ++k) {
-      const size_t up = (size_t)sf_clampi(y - k, 0, last) * width + x0;
-      const size_t down = (size_t)sf_clampi(y + k, 0, last) * width + x0;
-      acc += w[k] * (SF_VLOAD(0, img + up) + SF_VLOAD(0, img + down));
-    }
-    SF_VSTORE(acc, 0, out + x0);
+SF_INLINE void sf_store(__global float* out, int x, int width, sf_vec v) {
+#ifdef SF_STREAM
+  if (x + SF_VEC <= width) {
+#if defined(__clang__)
+    __builtin_nontemporal_store(v, (__global sf_vec*)(out + x));
+#else
+    *(__global sf_vec*)(out + x) = v;
+#endif
     return;
   }
-  for (int x = x0; x < width; ++x) {
-    float acc = w[0] * img[(size_t)y * width + x];
-    for (int k = 1; k <= SF_RADIUS; ++k)
-      acc += w[k] * (img[(size_t)sf_clampi(y - k, 0, last) * width + x] +
-                     img[(size_t)sf_clampi(y + k, 0, last) * width + x]);
-    out[x] = acc;
+#else
+  if (x + SF_VEC <= width) {
+    *(__global sf_vec_u*)(out + x) = v;
+    return;
   }
+#endif
+  float lanes[SF_VEC];
+  *(sf_vec_u*)lanes = v;
+  for (int j = 0; x + j < width; ++j) out[x + j] = lanes[j];
+}
+
+// Sums down the window win[m * SF_STRIP] (m = 0 .. SF_SPAN-1) for the SF_VROWS output rows of
+// one step, vector v of the strip: row r takes taps m = r .. r + 2R. The rows' loads overlap,
+// and the compiler loads each ring row once for all of them.
+SF_INLINE void sf_vblur_step(const sf_vec* win, int v, sf_vec* acc) {
+#pragma unroll
+  for (int r = 0; r < SF_VROWS; ++r) acc[r] = sf_w[0] * win[(r + SF_RADIUS) * SF_STRIP + v];
+#pragma unroll
+  for (int k = 1; k <= SF_RADIUS; ++k) {
+#pragma unroll
+    for (int r = 0; r < SF_VROWS; ++r) {
+      const sf_vec pair = win[(r + SF_RADIUS - k) * SF_STRIP + v] + win[(r + SF_RADIUS + k) * SF_STRIP + v];
+      acc[r] = fma((sf_vec)sf_w[k], pair, acc[r]);
+    }
+  }
+}
+
+// Writes output rows y .. y + rows - 1 (rows <= SF_VROWS) of the strip from window `win`.
+SF_INLINE void sf_vblur_strip(const sf_vec* win, int x0, int vecs, int width, int rows,
+                           __global float* out) {
+  for (int v = 0; v < vecs; ++v) {
+    sf_vec acc[SF_VROWS];
+    sf_vblur_step(win, v, acc);
+    for (int r = 0; r < rows; ++r) sf_store(out + (size_t)r * width, x0 + v * SF_VEC, width, acc[r]);
+  }
+}
+
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur(
+    __global const float* restrict src, __global float* restrict dst, const int width,
+    const int height, const int plane_stride) {
+  const int x0 = get_global_id(0) * (SF_STRIP * SF_VEC);
+  const int y0 = get_global_id(1) * SF_ROWS;
+  if (x0 >= width || y0 >= height) return;
+  const size_t plane = (size_t)get_global_id(2) * plane_stride;
+  __global const float* img = src + plane;
+  __global float* out = dst + plane;
+  const int vecs = min(SF_STRIP, (width - x0 + SF_VEC - 1) / SF_VEC);
+  const int rows_out = min(SF_ROWS, height - y0);
+
+  // Input row i (image row y0 - R + i, clamped) lives in ring slot i % SF_SPAN and its copy.
+  sf_vec ring[2 * SF_SPAN * SF_STRIP];
+  for (int i = 0; i < 2 * SF_RADIUS; ++i) sf_hblur_input(img, y0, i, x0, vecs, width, height, ring);
+  for (int y = 0; y < rows_out; y += SF_VROWS) {  // output rows y0 + y ...
+    for (int r = 0; r < SF_VROWS; ++r)
+      sf_hblur_input(img, y0, y + 2 * SF_RADIUS + r, x0, vecs, width, height, ring);
+    sf_vblur_strip(ring + y % SF_SPAN * SF_STRIP, x0, vecs, width, min(SF_VROWS, rows_out - y),
+                   out + (size_t)(y0 + y) * width);
+  }
+#ifdef SF_STREAM
+  write_mem_fence(CLK_GLOBAL_MEM_FENCE);  // streaming stores are weakly ordered
+#endif
 }

@@ -1,11 +1,27 @@
 // Basis transform: depth z (W*H floats) -> SF_CHANNELS planes of basis values.
 // Needs a method header (sf_basis, sf_method_params, SF_CHANNELS) before it.
 
+inline void sf_store_basis(__global float* restrict basis, int plane_stride, size_t i,
+                           const float* b) {
+  for (int c = 0; c < SF_CHANNELS; ++c) basis[c * (size_t)plane_stride + i] = b[c];
+}
+
+// One texel per work-item. The global size is `texels`, or rounded up to a multiple of the
+// work-group size when the caller fixes one. The exact launch (the usual one) has its own
+// branch without a per-item bounds check: the condition is uniform, so the compiler unswitches
+// the work-item loop and the vectorised loop has no masked loads and stores (about 20% faster
+// on PoCL). In the padded launch, padding items transform 0 and store nothing; the two branches
+// are written differently on purpose, so that they are not merged back into one masked loop.
 __kernel void sf_transform(__global const float* restrict depth, __global float* restrict basis,
                            const int texels, const int plane_stride, const sf_method_params P) {
-  const int i = get_global_id(0);
-  if (i >= texels) return;
+  const size_t i = get_global_id(0);
+  const size_t n = (size_t)texels;
   float b[SF_CHANNELS];
-  sf_basis(depth[i], P, b);
-  for (int c = 0; c < SF_CHANNELS; ++c) basis[c * plane_stride + i] = b[c];
+  if (get_global_size(0) == n) {
+    sf_basis(depth[i], P, b);
+    sf_store_basis(basis, plane_stride, i, b);
+    return;
+  }
+  sf_basis(i < n ? depth[i] : 0.0f, P, b);
+  if (i < n) sf_store_basis(basis, plane_stride, i, b);
 }

@@ -1,6 +1,9 @@
 #include "shadowfilter/kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "shadowfilter/errors.hpp"
@@ -66,6 +69,50 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   return e;
 }
 
+namespace {
+
+// How the fused blur kernel is scheduled (blur.cl); no field changes a result.
+struct BlurSchedule {
+  int vec = 16;    // texels per vector
+  int strip = 1;   // vectors per work-item along a row
+  int rows = 64;   // output rows per work-item
+  int vrows = 2;   // output rows per step
+  bool stream = false;
+};
+
+int env_int(const char* name, int fallback) {  // EXPERIMENT
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : fallback;
+}
+
+BlurSchedule blur_schedule(const BlurOptions& blur, const ScheduleOptions& sched,
+                           const ImageShape& shape) {
+  BlurSchedule s;
+  s.vec = sched.blur_vector_width;
+  const int taps = 2 * blur.radius + 1;
+  s.strip = env_int("SF_STRIP", std::max(1, 24576 / (2 * taps * s.vec * 4)));
+  s.rows = env_int("SF_ROWS", 64);
+  s.vrows = env_int("SF_VROWS", 2);
+  s.stream = shape.width % s.vec == 0 && env_int("SF_NT", 1) != 0;
+  return s;
+}
+
+// The blur's compile-time constants: radius, the weights as exact hex-float literals, schedule.
+std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s) {
+  std::string weights;
+  for (float w : gaussian_weights(blur.radius, blur.sigma)) {
+    char lit[32];
+    std::snprintf(lit, sizeof lit, "%af", w);
+    weights += (weights.empty() ? "" : ",") + std::string(lit);
+  }
+  return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weights +
+         " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
+         " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(s.vrows) +
+         (s.stream ? " -DSF_STREAM" : "") + (std::getenv("SF_FAKE_EDGE") ? " -DSF_FAKE_EDGE" : "");
+}
+
+}  // namespace
+
 BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
                         const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
                         const ImageShape& shape, const EventList* wait) {
@@ -82,28 +129,26 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   const int vec = sched.blur_vector_width;
   if (vec != 4 && vec != 8 && vec != 16)
     throw InputError("blur vector width must be 4, 8 or 16, got " + std::to_string(vec));
-  const std::vector<float> w = gaussian_weights(blur.radius, blur.sigma);
-  cl::Buffer weights(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
-                     const_cast<float*>(w.data()));
-  const std::string opts = "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) +
-                           " -DSF_VEC=" + std::to_string(vec);
-  cl::Program p = rt.program({"common.clh", "blur.cl"}, opts);
-  cl::Kernel rows(p, "sf_blur_rows"), cols(p, "sf_blur_cols");
-  const int stride = static_cast<int>(shape.plane_texels());
-  const cl::NDRange global((shape.width + vec - 1) / vec, shape.height, shape.channels);
-  rows.setArg(0, src);
-  rows.setArg(1, tmp);
-  cols.setArg(0, tmp);
-  cols.setArg(1, dst);
-  for (cl::Kernel* k : {&rows, &cols}) {
-    k->setArg(2, shape.width);
-    k->setArg(3, shape.height);
-    k->setArg(4, stride);
-    k->setArg(5, weights);
+  const BlurSchedule bs = blur_schedule(blur, sched, shape);
+  cl::Program p = rt.program({"common.clh", "blur.cl"}, blur_build_options(blur, bs));
+  cl::Kernel k(p, "sf_blur");
+  // Both passes in one kernel, which cannot run in place: in place goes through tmp.
+  const bool in_place = src() == dst();
+  k.setArg(0, src);
+  k.setArg(1, in_place ? tmp : dst);
+  k.setArg(2, shape.width);
+  k.setArg(3, shape.height);
+  k.setArg(4, static_cast<int>(shape.plane_texels()));
+  const int strip_texels = bs.vec * bs.strip;
+  const cl::NDRange global((shape.width + strip_texels - 1) / strip_texels,
+                           (shape.height + bs.rows - 1) / bs.rows, shape.channels);
+  const cl::NDRange local(1, 1, 1);  // reqd_work_group_size: see blur.cl
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local, wait, &ev.rows);
+  ev.cols = ev.rows;
+  if (in_place) {
+    EventList after{ev.rows};
+    rt.queue().enqueueCopyBuffer(tmp, dst, 0, 0, shape.bytes(), &after, &ev.cols);
   }
-  rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, global, cl::NullRange, wait, &ev.rows);
-  EventList after_rows{ev.rows};
-  rt.queue().enqueueNDRangeKernel(cols, cl::NullRange, global, cl::NullRange, &after_rows, &ev.cols);
   return ev;
 }
 

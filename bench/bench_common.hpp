@@ -1,0 +1,58 @@
+#pragma once
+// Shared pieces of sf_bench: one OpenCL runtime, the reference copy bandwidth, timing loops
+// that report device (or host) seconds as manual time, and the throughput counters.
+#include <benchmark/benchmark.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/runtime.hpp"
+
+namespace sf::bench {
+
+Runtime& runtime();
+std::shared_ptr<Runtime> runtime_ptr();
+
+// Device copy bandwidth in bytes/s (read + written bytes per second), the denominator of
+// every bw_fraction counter; set once by main before the benchmarks run.
+double reference_bandwidth();
+void set_reference_bandwidth(double bytes_per_second);
+
+// One timed run: enqueues, waits, returns the seconds it took (device time from profiling
+// events, or host wall time for CPU baselines).
+using TimedRun = std::function<double()>;
+// Warm-up runs, then one run per benchmark iteration, reported with SetIterationTime.
+// Returns the mean seconds of the timed runs.
+double time_runs(benchmark::State& state, const TimedRun& run, int warmups = 2);
+// Median of `runs` timed runs after `warmups` (for values needed outside a benchmark).
+double median_seconds(const TimedRun& run, int runs, int warmups = 2);
+// Host wall seconds of one call.
+double wall_seconds(const std::function<void()>& work);
+
+// bytes_per_second, Mtexel/s and bw_fraction for `bytes` read + written per run over `texels`
+// in `seconds` per run (what time_runs returned).
+void set_throughput(benchmark::State& state, double bytes, double texels, double seconds);
+
+// Deterministic uniform random floats in [lo, hi].
+std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float hi = 1.0f);
+// A device buffer holding `host`, and an uninitialised one of `bytes`.
+cl::Buffer to_device(const std::vector<float>& host);
+cl::Buffer device_buffer(size_t bytes);
+
+// Every benchmark uses these settings: manual time in ms, median over repetitions.
+benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b);
+
+// Registration, one per file, called by main in this order.
+void register_copy();
+void register_transform();
+void register_blur();
+void register_opencv();  // only with SF_HAVE_OPENCV
+void register_reconstruct();
+void register_pipeline();
+
+// Measures the copy bandwidth (clEnqueueCopyBuffer and a copy kernel, the better one).
+double measure_copy_bandwidth();
+
+}  // namespace sf::bench

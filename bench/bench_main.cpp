@@ -1,0 +1,35 @@
+// sf_bench entry point: measures the reference copy bandwidth first (every bw_fraction is
+// relative to it), then registers the suites in a fixed order (device work before the OpenCV
+// baselines, whose thread pool would otherwise compete with PoCL's) and runs them.
+#include <cstdio>
+#include <string>
+
+#include "bench_common.hpp"
+
+int main(int argc, char** argv) {
+  using namespace sf::bench;
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+
+  const auto& info = runtime().info();
+  const double bw = measure_copy_bandwidth();
+  set_reference_bandwidth(bw);
+  benchmark::AddCustomContext("opencl_device", info.device_name + " (" + info.platform_name + " " +
+                                                   info.driver_version + ")");
+  benchmark::AddCustomContext("opencl_compute_units", std::to_string(info.compute_units));
+  benchmark::AddCustomContext("reference_copy_GBps", std::to_string(bw * 1e-9));
+  std::fprintf(stderr, "device: %s, reference copy bandwidth %.2f GB/s (read + write)\n",
+               info.device_name.c_str(), bw * 1e-9);
+
+  register_copy();
+  register_transform();
+  register_blur();
+  register_reconstruct();
+  register_pipeline();
+#ifdef SF_HAVE_OPENCV
+  register_opencv();
+#endif
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

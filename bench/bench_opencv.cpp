@@ -1,0 +1,38 @@
+// 3b. The CPU baseline: cv::GaussianBlur on the same CV_32F image, ksize 2R+1, the same sigma
+// ((2R+1)/6), BORDER_REPLICATE (= clamp-to-edge), on both cores. Host wall time.
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "bench_common.hpp"
+#include "shadowfilter/kernels.hpp"
+
+namespace sf::bench {
+namespace {
+
+void BM_OpenCvGaussianBlur(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int radius = static_cast<int>(state.range(1));
+  cv::setNumThreads(2);
+  const auto values = random_floats(size_t(n) * n, 3);
+  const cv::Mat src(n, n, CV_32F, const_cast<float*>(values.data()));
+  cv::Mat dst(n, n, CV_32F);
+  const int ksize = 2 * radius + 1;
+  const double sigma = default_blur_sigma(radius);
+  const double s = time_runs(state, [&] {
+    return wall_seconds([&] {
+      cv::GaussianBlur(src, dst, cv::Size(ksize, ksize), sigma, sigma, cv::BORDER_REPLICATE);
+    });
+  });
+  state.counters["threads"] = cv::getNumThreads();
+  set_throughput(state, 4.0 * sizeof(float) * n * n, double(n) * n, s);
+}
+
+}  // namespace
+
+void register_opencv() {
+  configure(benchmark::RegisterBenchmark("blur/opencv_GaussianBlur", BM_OpenCvGaussianBlur))
+      ->ArgNames({"size", "R"})
+      ->ArgsProduct({{512, 2048, 4096}, {1, 3, 7, 15, 31}});
+}
+
+}  // namespace sf::bench

@@ -1,0 +1,34 @@
+// 2. ESM basis transform, depth -> exp(c (z - 1/2)): 1 float read + 1 float written per texel.
+#include "bench_common.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/methods.hpp"
+
+namespace sf::bench {
+namespace {
+
+void BM_EsmTransform(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const size_t texels = size_t(n) * n;
+  FilterOptions opt;  // esm, c = 80
+  const MethodDesc& esm = find_method("esm");
+  cl::Buffer depth = to_device(random_floats(texels, 2));
+  cl::Buffer basis = device_buffer(texels * sizeof(float));
+  const double s = time_runs(state, [&] {
+    cl::Event e = enqueue_transform(runtime(), esm, opt, depth, n, n, basis);
+    e.wait();
+    return event_seconds(e);
+  });
+  set_throughput(state, 2.0 * sizeof(float) * texels, texels, s);
+}
+
+}  // namespace
+
+void register_transform() {
+  configure(benchmark::RegisterBenchmark("esm_transform", BM_EsmTransform))
+      ->ArgName("size")
+      ->Arg(512)
+      ->Arg(2048)
+      ->Arg(4096);
+}
+
+}  // namespace sf::bench

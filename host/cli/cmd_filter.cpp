@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "filter_options.hpp"
 #include "image_io.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::cli {
@@ -30,20 +30,6 @@ void check_output_is_not_an_input(const std::string& out, const std::vector<std:
   }
 }
 
-std::string method_summary(const FilterOptions& o) {
-  std::ostringstream s;
-  s << o.method;
-  if (o.method == "esm") s << " c=" << o.esm.c;
-  if (o.blur.radius > 0) {
-    const float sigma = o.blur.sigma > 0 ? o.blur.sigma : default_blur_sigma(o.blur.radius);
-    s << ", gaussian R=" << o.blur.radius << " sigma=" << sigma;
-  } else {
-    s << ", no prefilter";
-  }
-  s << ", bilinear lookup";
-  return s.str();
-}
-
 }  // namespace
 
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
@@ -57,13 +43,8 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   rx->excludes(rd);
   rd->excludes(rx);
   c->add_option("-o,--output", a.output, "Visibility image (.exr, .tif, .pfm, .png)")->required();
-  c->add_option("--method", a.options.method, "Filtering method (see `shadowfilter methods`)")
-      ->capture_default_str();
-  c->add_option("--esm-c", a.options.esm.c, "ESM exponent c")->capture_default_str();
-  c->add_option("--blur-radius", a.options.blur.radius, "Gaussian prefilter radius R (taps -R..R)")
-      ->capture_default_str();
-  c->add_option("--blur-sigma", a.options.blur.sigma, "Gaussian sigma in texels (0 = (2R+1)/6)")
-      ->capture_default_str();
+  add_method_options(*c, a.options);
+  add_prefilter_options(*c, a.options);
   c->add_option("--encoding", a.encoding, "Depth encoding of the inputs: linear|perspective|reversed")
       ->capture_default_str();
   c->add_option("--near", a.near_plane, "Near plane (perspective/reversed encodings)")->capture_default_str();
@@ -114,7 +95,7 @@ int run_filter(const FilterArgs& a) {
         "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside) | device %s | "
         "device ms: transform %.3f, blur %.3f, reconstruct %.3f, upload %.3f, download %.3f | "
         "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
-        method_summary(a.options).c_str(), depth.width, depth.height, receivers.width, receivers.height,
+        (method_summary(a.options) + ", " + prefilter_summary(a.options)).c_str(), depth.width, depth.height, receivers.width, receivers.height,
         receivers.grid ? " (planar)" : "", r.background, r.outside, runtime->info().device_name.c_str(),
         r.times.transform * 1e3, r.times.blur * 1e3, r.times.reconstruct * 1e3, r.times.upload * 1e3,
         r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());

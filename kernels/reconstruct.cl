@@ -1,9 +1,9 @@
 // Reconstruction: filtered basis + receiver depth -> visibility in [0,1].
-// Needs common.clh, lookup.clh and a method header (sf_visibility, sf_method_params) before it.
+// Needs common.clh, storage.clh, lookup.clh and a method header (sf_visibility, sf_method_params) before it.
 // Receivers that are background (non-finite d) or outside the light frustum get 1.
 
 // Receivers given as (u, v, d) arrays.
-__kernel void sf_reconstruct_points(__global const float* restrict basis, const int width,
+__kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, const int width,
                                     const int height, const int plane_stride,
                                     __global const float* restrict u, __global const float* restrict v,
                                     __global const float* restrict d, __global float* restrict out,
@@ -21,7 +21,7 @@ __kernel void sf_reconstruct_points(__global const float* restrict basis, const 
 }
 
 // --receiver-depth mode: one receiver per shadow-map texel, at the texel centre.
-__kernel void sf_reconstruct_grid(__global const float* restrict basis, const int width,
+__kernel void sf_reconstruct_grid(__global const sf_stored* restrict basis, const int width,
                                   const int height, const int plane_stride,
                                   __global const float* restrict d, __global float* restrict out,
                                   const sf_method_params P) {

@@ -1,9 +1,11 @@
 // Basis transform: depth z (W*H floats) -> SF_CHANNELS planes of basis values.
-// Needs a method header (sf_basis, sf_method_params, SF_CHANNELS) before it.
+// Needs storage.clh and a method header (sf_basis, sf_method_params, SF_CHANNELS) before it.
+// The method's sf_basis already maps into [0,1] for unorm storage; sf_store rounds.
 
-inline void sf_store_basis(__global float* restrict basis, int plane_stride, size_t i,
+inline void sf_store_basis(__global sf_stored* restrict basis, int plane_stride, size_t i,
                            const float* b) {
-  for (int c = 0; c < SF_CHANNELS; ++c) basis[c * (size_t)plane_stride + i] = b[c];
+#pragma unroll
+  for (int c = 0; c < SF_CHANNELS; ++c) sf_store(basis + c * (size_t)plane_stride, i, b[c]);
 }
 
 // One texel per work-item. The global size is `texels`, or rounded up to a multiple of the
@@ -12,7 +14,7 @@ inline void sf_store_basis(__global float* restrict basis, int plane_stride, siz
 // the work-item loop and the vectorised loop has no masked loads and stores (about 20% faster
 // on PoCL). In the padded launch, padding items transform 0 and store nothing; the two branches
 // are written differently on purpose, so that they are not merged back into one masked loop.
-__kernel void sf_transform(__global const float* restrict depth, __global float* restrict basis,
+__kernel void sf_transform(__global const float* restrict depth, __global sf_stored* restrict basis,
                            const int texels, const int plane_stride, const sf_method_params P) {
   const size_t i = get_global_id(0);
   const size_t n = (size_t)texels;

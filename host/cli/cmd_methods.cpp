@@ -1,4 +1,5 @@
 #include <iostream>
+#include <sstream>
 
 #include "commands.hpp"
 #include "shadowfilter/methods.hpp"
@@ -11,9 +12,24 @@ CLI::App* add_methods_command(CLI::App& app, MethodsArgs&) {
 
 int run_methods(const MethodsArgs&) {
   for (const auto& m : methods()) {
-    std::cout << m.name << ": " << m.summary << "\n    parameters: " << m.parameters
-              << "\n    basis: " << m.channels << " channel(s), " << m.channels * 4
-              << " bytes per texel in float32\n";
+    FilterOptions o;  // defaults
+    o.method = m.name;
+    std::cout << m.name << ": " << m.summary << "\n    parameters: " << m.parameters;
+    if (m.raw_depth) {
+      std::cout << "\n    memory: no basis images (tests the float32 depth map, 4 bytes per texel)\n";
+      continue;
+    }
+    std::ostringstream mem;
+    const int ch = m.channels(o);
+    std::istringstream st(m.storages);
+    for (std::string s; st >> s;) {
+      o.storage = parse_storage(s);
+      mem << (mem.tellp() > 0 ? ", " : "") << s << " " << basis_bytes_per_texel(m, o);
+    }
+    std::cout << "\n    basis: " << ch << " channel(s)";
+    if (m.name == "csm") std::cout << " at the default order " << o.csm.order << " (2M in general)";
+    std::cout << "; bytes per texel by --storage: " << mem.str()
+              << " (twice that while prefiltering)\n";
   }
   return 0;
 }

@@ -1,18 +1,49 @@
 #include <sstream>
 
 #include "filter_options.hpp"
+#include "shadowfilter/methods.hpp"
 
 namespace sf::cli {
 
 void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--method", o.method, "Filtering method (see `shadowfilter methods`)")->capture_default_str();
+  c.add_option_function<std::string>(
+       "--storage", [&o](const std::string& s) { o.storage = parse_storage(s); },
+       "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
+  c.add_option("--bias", o.depth_test.bias, "Depth bias b for sm, pcf (H(z - d + b)) and msm")
+      ->capture_default_str();
   c.add_option("--esm-c", o.esm.c, "ESM exponent c")->capture_default_str();
+  c.add_option("--vsm-min-variance", o.vsm.min_variance,
+               "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");
+  c.add_option("--lbr", o.vsm.lbr, "Light-bleeding reduction a in [0,1) (vsm, evsm)")->capture_default_str();
+  c.add_option("--evsm-pos", o.evsm.pos, "EVSM positive exponent (clamped to the storage's limit)")
+      ->capture_default_str();
+  c.add_option("--evsm-neg", o.evsm.neg, "EVSM negative exponent (clamped to the storage's limit)")
+      ->capture_default_str();
+  c.add_option("--msm-bias", o.msm.moment_bias, "MSM moment bias (default 3e-6 f32, 6e-5 unorm16)");
+  c.add_option("--csm-order", o.csm.order, "CSM order M (2M basis planes), 1..32")->capture_default_str();
+  c.add_option("--csm-alpha", o.csm.alpha, "CSM ringing attenuation alpha")->capture_default_str();
+  c.add_option("--csm-offset", o.csm.offset, "CSM depth offset (default: measured per order)");
+  c.add_option("--csm-scale", o.csm.scale, "CSM scale (default: measured per order)");
 }
 
 std::string method_summary(const FilterOptions& o) {
   std::ostringstream s;
   s << o.method;
+  const MethodDesc* m = nullptr;
+  for (const auto& d : methods())
+    if (d.name == o.method) m = &d;
+  if (!m) return s.str();
+  if (o.method == "sm" || o.method == "pcf" || o.method.rfind("msm", 0) == 0)
+    s << " bias=" << o.depth_test.bias;
   if (o.method == "esm") s << " c=" << o.esm.c;
+  if (o.method == "vsm" || o.method.rfind("evsm", 0) == 0) s << " lbr=" << o.vsm.lbr;
+  if (o.method.rfind("evsm", 0) == 0) s << " c+=" << o.evsm.pos << " c-=" << o.evsm.neg;
+  if (o.method == "csm") {
+    const CsmParameters p = csm_parameters(o);
+    s << " M=" << o.csm.order << " alpha=" << p.alpha << " offset=" << p.offset << " scale=" << p.scale;
+  }
+  if (!m->raw_depth) s << " storage=" << storage_name(o.storage);
   return s.str();
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+// Filters, lookups, the pipeline and s_ref; the methods live in methods_*.cpp.
 namespace sf::ref {
 namespace {
 
@@ -41,17 +42,6 @@ BilinearTaps bilinear_taps(int width, int height, double u, double v) {
 }
 
 }  // namespace
-
-Planes esm_basis(const HostImage& depth, double c) {
-  Planes out(depth.width, depth.height, 1);
-  for (int y = 0; y < depth.height; ++y)
-    for (int x = 0; x < depth.width; ++x) out.at(0, x, y) = std::exp(c * (depth.at(x, y) - 0.5));
-  return out;
-}
-
-double esm_visibility(double filtered_basis, double d, double c) {
-  return std::clamp(std::exp(-c * (d - 0.5)) * filtered_basis, 0.0, 1.0);
-}
 
 std::vector<double> gaussian_weights(int radius, double sigma) {
   if (sigma <= 0) sigma = (2.0 * radius + 1.0) / 6.0;
@@ -109,14 +99,32 @@ void receiver_at(const Receivers& rx, size_t i, double& u, double& v, double& d)
 }  // namespace
 
 std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, const Receivers& rx) {
-  if (opt.method != "esm") throw std::invalid_argument("reference: unknown method " + opt.method);
-  const Planes filtered = blur(esm_basis(depth, opt.esm.c), opt.blur.radius, opt.blur.sigma);
   std::vector<double> out(rx.count(), 1.0);
+  if (opt.method == "sm" || opt.method == "pcf") {
+    BlurOptions weights = opt.blur;
+    if (opt.method == "sm") weights.radius = 0;
+    for (size_t i = 0; i < rx.count(); ++i) {
+      double u, v, d;
+      receiver_at(rx, i, u, v, d);
+      out[i] = pcf(depth, weights, u, v, d, opt.depth_test.bias);
+    }
+    return out;
+  }
+  // Stored, filtered (and stored again when prefiltered), looked up, reconstructed.
+  const MethodRef m = method_ref(opt);
+  Planes filtered = transform(opt, depth);
+  quantise(filtered, opt.storage);
+  if (opt.blur.radius > 0) {
+    filtered = blur(filtered, opt.blur.radius, opt.blur.sigma);
+    quantise(filtered, opt.storage);
+  }
+  std::vector<double> b(m.channels);
   for (size_t i = 0; i < rx.count(); ++i) {
     double u, v, d;
     receiver_at(rx, i, u, v, d);
     if (receiver_outside(u, v, d)) continue;
-    out[i] = esm_visibility(bilinear(filtered, 0, u, v), std::clamp(d, 0.0, 1.0), opt.esm.c);
+    for (int c = 0; c < m.channels; ++c) b[c] = bilinear(filtered, c, u, v);
+    out[i] = m.visibility(b.data(), std::clamp(d, 0.0, 1.0));
   }
   return out;
 }

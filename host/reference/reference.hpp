@@ -1,6 +1,7 @@
 #pragma once
 // The scalar reference: plain double-precision loops over the same math as the kernels
 // (methods.md). Deliberately straightforward; tests compare every kernel against it.
+#include <functional>
 #include <vector>
 
 #include "shadowfilter/host_image.hpp"
@@ -23,6 +24,28 @@ struct Planes {
 Planes esm_basis(const HostImage& depth, double c);
 // Visibility from a filtered stored basis value: exp(-c (d - 1/2)) bar(B), clamped to [0,1].
 double esm_visibility(double filtered_basis, double d, double c);
+
+// --- every method (methods_*.cpp, one file per kernels/methods/*.clh) -----------
+// The same two functions as the method's header, in double, with the parameters the registry
+// resolves (defaults, clamps) for `opt`: basis values as the kernel stores them before rounding
+// (mapped into [0,1] where the method does so for unorm storage), and the visibility from
+// filtered stored values, clamped to [0,1].
+struct MethodRef {
+  int channels = 1;
+  std::function<void(double z, double* b)> basis;
+  std::function<double(const double* b, double d)> visibility;
+};
+MethodRef method_ref(const FilterOptions& opt);  // basis methods (not sm, pcf)
+// The basis planes of a depth map (unrounded).
+Planes transform(const FilterOptions& opt, const HostImage& depth);
+// The value a basis value reads back as after sf_store / sf_load in storage s (f16: round to
+// nearest even; unorm: round(v * max) / max with v clamped to [0,1]).
+double quantise(double v, Storage s);
+void quantise(Planes& p, Storage s);
+
+// sm and pcf (methods_pcf.cpp): sum_t W_x(t) H(z_t - d + bias) under the composite weights of
+// `blur` (sm: pass radius 0), brute force. Background / outside = 1. bias 0 gives s_ref.
+double pcf(const HostImage& depth, const BlurOptions& blur, double u, double v, double d, double bias);
 
 // --- filters and lookups -----------------------------------------------------
 std::vector<double> gaussian_weights(int radius, double sigma);  // w[0..R]; sigma <= 0: default

@@ -20,10 +20,18 @@ cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
   return cl::NDRange(s.work_group_size > 0 ? round_up(n, s.work_group_size) : n);
 }
 
-std::string method_options(const MethodDesc& m) { return "-cl-std=CL1.2 -DSF_METHOD_" + m.name; }
+// -DSF_METHOD_<name> ('-' becomes '_'), the storage format and the method's own knobs.
+std::string method_options(const MethodDesc& m, const FilterOptions& opt) {
+  std::string id = m.name;
+  std::replace(id.begin(), id.end(), '-', '_');
+  return "-cl-std=CL1.2 -DSF_METHOD_" + id + " -DSF_STORAGE=" +
+         std::to_string(static_cast<int>(opt.storage)) + m.defines(opt);
+}
 
-cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const char* file, const char* name) {
-  cl::Program p = rt.program({"common.clh", m.header, "lookup.clh", file}, method_options(m));
+cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt,
+                         const char* file, const char* name) {
+  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file},
+                             method_options(m, opt));
   return cl::Kernel(p, name);
 }
 
@@ -56,8 +64,14 @@ std::vector<float> gaussian_weights(int radius, float sigma) {
 cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                             const cl::Buffer& depth, int width, int height, const cl::Buffer& basis,
                             const EventList* wait) {
-  cl::Kernel k = method_kernel(rt, method, "transform.cl", "sf_transform");
   const int texels = width * height;
+  if (method.raw_depth) {  // sm, pcf: the "basis" is the depth map itself
+    method.validate(opt);
+    cl::Event e;
+    rt.queue().enqueueCopyBuffer(depth, basis, 0, 0, size_t(texels) * sizeof(float), wait, &e);
+    return e;
+  }
+  cl::Kernel k = method_kernel(rt, method, opt, "transform.cl", "sf_transform");
   k.setArg(0, depth);
   k.setArg(1, basis);
   k.setArg(2, texels);
@@ -157,7 +171,9 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                      const cl::Buffer& visibility, size_t count,
                                      const EventList* wait) {
-  cl::Kernel k = method_kernel(rt, method, "reconstruct.cl", "sf_reconstruct_points");
+  if (method.raw_depth)
+    return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait);
+  cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points");
   k.setArg(0, basis);
   k.setArg(1, width);
   k.setArg(2, height);
@@ -178,7 +194,8 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
                                    const cl::Buffer& basis, int width, int height,
                                    const cl::Buffer& d, const cl::Buffer& visibility,
                                    const EventList* wait) {
-  cl::Kernel k = method_kernel(rt, method, "reconstruct.cl", "sf_reconstruct_grid");
+  if (method.raw_depth) return enqueue_pcf_grid(rt, opt, basis, width, height, d, visibility, wait);
+  cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_grid");
   k.setArg(0, basis);
   k.setArg(1, width);
   k.setArg(2, height);

@@ -26,13 +26,18 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
                      std::to_string(height));
   method_->validate(options_);
   gaussian_weights(options_.blur.radius, options_.blur.sigma);  // validates the radius
-  shape_ = {width, height, method_->channels};
+  shape_ = {width, height, method_->channels(options_),
+            method_->raw_depth ? 4 : storage_bytes(options_.storage)};
+  if (options_.blur.radius > 0 && options_.storage != Storage::F32 && !method_->raw_depth)
+    throw InputError(std::string("--storage ") + storage_name(options_.storage) +
+                     " with --blur-radius needs the storage-aware blur, not wired yet: use "
+                     "--storage f32 to prefilter");
   if (shape_.plane_texels() * shape_.channels > size_t(1) << 31)
     throw InputError("shadow map " + std::to_string(width) + "x" + std::to_string(height) +
                      " is too large (more than 2^31 basis values)");
   check_fits_device(*rt_, shape_.bytes(), 2 * shape_.bytes(), "the basis images");
   basis_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
-  if (options_.blur.radius > 0) scratch_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
+  if (options_.blur.radius > 0 && !method_->raw_depth) scratch_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
@@ -40,7 +45,8 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
                                       basis_, wait);
   EventList after{transform_done_};
   blur_done_ = BlurEvents{};
-  if (options_.blur.radius == 0) return transform_done_;
+  // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
+  if (options_.blur.radius == 0 || method_->raw_depth) return transform_done_;
   blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, basis_, shape_,
                             &after);
   return blur_done_.cols;

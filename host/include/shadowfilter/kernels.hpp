@@ -1,7 +1,8 @@
 #pragma once
 // Thin typed wrappers, one per kernel: each enqueues on the runtime's queue after `wait` and
 // returns its event(s), so a caller can chain its own kernels. Buffers are the caller's.
-// Images are planar float: channel c of a W x H image starts at c * W * H floats.
+// Images are planar: channel c of a W x H image starts at c * W * H values of the storage format
+// (FilterOptions::storage; float32 by default).
 #include <vector>
 
 #include "shadowfilter/methods.hpp"
@@ -16,8 +17,9 @@ struct ImageShape {
   int width = 0;
   int height = 0;
   int channels = 1;
+  int value_bytes = 4;  // bytes per stored value (storage_bytes of the storage format)
   size_t plane_texels() const { return static_cast<size_t>(width) * height; }
-  size_t bytes() const { return plane_texels() * channels * sizeof(float); }
+  size_t bytes() const { return plane_texels() * channels * value_bytes; }
 };
 
 // Normalised Gaussian weights w[0..R] for taps -R..R (w[k] = w[-k]); sigma <= 0 means
@@ -52,5 +54,16 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
                                    const cl::Buffer& basis, int width, int height,
                                    const cl::Buffer& d, const cl::Buffer& visibility,
                                    const EventList* wait = nullptr);
+
+// sm and pcf (kernels/pcf.cl): H(z - d + bias) per depth texel, weighted by the composite
+// Gaussian(opt.blur) (x) bilinear weights of s_ref (methods.md sec. 2), brute force. sm uses the
+// bilinear weights only (the prefilter radius does not apply to it). opt.method picks which.
+cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
+                             int width, int height, const cl::Buffer& u, const cl::Buffer& v,
+                             const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
+                             const EventList* wait = nullptr);
+cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
+                           int height, const cl::Buffer& d, const cl::Buffer& visibility,
+                           const EventList* wait = nullptr);
 
 }  // namespace sf

@@ -11,6 +11,53 @@ struct EsmOptions {
   float c = 80.0f;
 };
 
+// Storage format of the basis images (kernels/storage.clh). Filters compute in float whatever
+// the storage; f16 halves and unorm8 quarters the memory and bandwidth of every pass.
+enum class Storage { F32 = 0, F16 = 1, Unorm16 = 2, Unorm8 = 3 };
+const char* storage_name(Storage s);        // "f32", "f16", "unorm16", "unorm8"
+Storage parse_storage(const std::string&);  // throws InputError for other names
+int storage_bytes(Storage s);               // bytes per stored value
+
+// Depth bias b of the methods that test depths directly (sm, pcf: H(z - d + b); msm: the
+// receiver depth becomes d - b). 0 by default: sm/pcf then equal s_ref exactly, and the moment
+// bias already keeps msm lit on a flat receiver (docs/methods.md has the measurement).
+struct DepthTestOptions {
+  float bias = 0.0f;
+};
+
+struct VsmOptions {
+  // Minimum variance v_min; negative = the method's default for the storage (docs/methods.md).
+  // vsm: absolute floor of bar(z^2) - bar(z)^2, default 2e-5 (a flat receiver stays lit when
+  // its stored mean is rounded by half a float16 ulp). evsm: relative, the floor per side is
+  // (v_min c |warped d|)^2, default 1e-4 in float32 and 2e-3 in float16.
+  float min_variance = -1.0f;
+  // Light-bleeding reduction a in [0, 1): v = clamp((p - a) / (1 - a), 0, 1). 0 = none.
+  float lbr = 0.0f;
+};
+
+struct EvsmOptions {
+  // Exponents of the positive and negative warps (seed 000 / Lauritzen). Clamped to what the
+  // storage holds: exp(2 c w) must stay finite, c <= 42 in float32 and 5.54 in float16.
+  float pos = 40.0f;
+  float neg = 5.0f;
+};
+
+struct MsmOptions {
+  // Moment bias a: b = (1 - a) bar(B) + a (1/2, ...). Negative = the storage's default,
+  // 3e-6 in float32 and 6e-5 in unorm16 (Peters & Klein 2015 with the optimised quantisation).
+  float moment_bias = -1.0f;
+};
+
+struct CsmOptions {
+  int order = 8;          // M: 2M basis planes (sin, cos of (2k - 1) pi z), 1..32
+  float alpha = 0.0f;     // ringing attenuation g_k = exp(-alpha (k/M)^2); 0 = none
+  // Offset and scale of the reconstruction (v = clamp(scale f(d - offset), 0, 1)). Negative =
+  // the measured default for the order (docs/methods.md: lit receivers reconstruct to
+  // >= 1 - 1/255 with the least error against s_ref on the bundled scene).
+  float offset = -1.0f;
+  float scale = -1.0f;
+};
+
 struct BlurOptions {
   // Gaussian taps -R..R applied to the basis images before the lookup; 0 = no prefilter.
   int radius = 0;
@@ -29,6 +76,12 @@ struct ScheduleOptions {
 struct FilterOptions {
   std::string method = "esm";  // see `shadowfilter methods`
   EsmOptions esm;
+  DepthTestOptions depth_test;
+  VsmOptions vsm;
+  EvsmOptions evsm;
+  MsmOptions msm;
+  CsmOptions csm;
+  Storage storage = Storage::F32;  // basis images, see `shadowfilter methods` for what fits
   BlurOptions blur;
   ScheduleOptions schedule;
 };

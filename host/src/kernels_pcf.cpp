@@ -1,0 +1,79 @@
+// Host wrappers of kernels/pcf.cl (sm and pcf): one program for every radius and bias, the
+// Gaussian weights travel by value in a kernel argument.
+#include <algorithm>
+
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/kernels.hpp"
+
+namespace sf {
+namespace {
+
+struct PcfWeights {
+  float w[kMaxBlurRadius + 1] = {};  // matches sf_pcf_weights (SF_PCF_MAX_RADIUS = 64)
+};
+static_assert(kMaxBlurRadius == 64, "kernels/pcf.cl assumes SF_PCF_MAX_RADIUS = kMaxBlurRadius");
+
+struct PcfSetup {
+  cl::Kernel kernel;
+  int radius = 0;
+  float bias = 0;
+  PcfWeights weights;
+};
+
+PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name) {
+  const MethodDesc& m = find_method(opt.method);
+  if (!m.raw_depth) throw InputError("method " + opt.method + " does not read the depth map itself");
+  m.validate(opt);
+  PcfSetup s;
+  s.kernel = cl::Kernel(rt.program({"common.clh", "pcf.cl"}, "-cl-std=CL1.2"), name);
+  s.radius = opt.method == "sm" ? 0 : opt.blur.radius;
+  s.bias = opt.depth_test.bias;
+  const auto w = gaussian_weights(s.radius, opt.blur.sigma);
+  std::copy(w.begin(), w.end(), s.weights.w);
+  return s;
+}
+
+}  // namespace
+
+cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
+                             int width, int height, const cl::Buffer& u, const cl::Buffer& v,
+                             const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
+                             const EventList* wait) {
+  PcfSetup s = pcf_setup(rt, opt, "sf_pcf_points");
+  cl::Kernel& k = s.kernel;
+  k.setArg(0, depth);
+  k.setArg(1, width);
+  k.setArg(2, height);
+  k.setArg(3, u);
+  k.setArg(4, v);
+  k.setArg(5, d);
+  k.setArg(6, visibility);
+  k.setArg(7, static_cast<int>(count));
+  k.setArg(8, s.bias);
+  k.setArg(9, s.radius);
+  k.setArg(10, sizeof(PcfWeights), &s.weights);
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), cl::NullRange, wait, &e);
+  return e;
+}
+
+cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
+                           int height, const cl::Buffer& d, const cl::Buffer& visibility,
+                           const EventList* wait) {
+  PcfSetup s = pcf_setup(rt, opt, "sf_pcf_grid");
+  cl::Kernel& k = s.kernel;
+  k.setArg(0, depth);
+  k.setArg(1, width);
+  k.setArg(2, height);
+  k.setArg(3, d);
+  k.setArg(4, visibility);
+  k.setArg(5, s.bias);
+  k.setArg(6, s.radius);
+  k.setArg(7, sizeof(PcfWeights), &s.weights);
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
+                                  &e);
+  return e;
+}
+
+}  // namespace sf

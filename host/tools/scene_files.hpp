@@ -1,0 +1,57 @@
+#pragma once
+// Output side of the scene generator: metadata (EXR header attributes, scene.json) and the
+// staging directory that makes a generated scene appear all at once.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scene_render.hpp"
+
+namespace sf::scene {
+
+inline constexpr const char* kGeneratorVersion = "sf_make_scene 1.0";
+
+struct OutputFile {
+  std::string name;
+  std::string description;
+};
+
+// What scene.json records besides the scene setup.
+struct SceneRecord {
+  unsigned seed = 1;
+  double min_occluder_floor_gap = 0.0;
+  std::vector<OutputFile> files;
+};
+
+// Shortest decimal text that reads back to the same double (locale-independent).
+std::string format_number(double value);
+
+// Header attributes of the light-view images: scene, generator, near, far, light direction,
+// light basis and ortho extents (all plain strings, no time stamps).
+std::map<std::string, std::string> light_attributes(const SceneSetup& setup);
+
+void write_scene_json(const std::filesystem::path& path, const SceneSetup& setup,
+                      const SceneRecord& record);
+
+// A hidden directory beside the destination that collects the output files. commit() moves
+// them into place: the whole directory is renamed when the destination does not exist yet,
+// otherwise each file is renamed over its old version (other files there are left alone).
+// Without commit() (an error on the way) the staging directory is removed again.
+class StagingDirectory {
+ public:
+  explicit StagingDirectory(const std::filesystem::path& destination);
+  ~StagingDirectory();
+  StagingDirectory(const StagingDirectory&) = delete;
+  StagingDirectory& operator=(const StagingDirectory&) = delete;
+
+  std::filesystem::path file(const std::string& name) const { return staging_ / name; }
+  void commit(const std::vector<OutputFile>& files);
+
+ private:
+  std::filesystem::path destination_;
+  std::filesystem::path staging_;
+  bool committed_ = false;
+};
+
+}  // namespace sf::scene

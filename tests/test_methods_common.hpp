@@ -1,0 +1,115 @@
+#pragma once
+// Helpers shared by the method tests: every basis method x storage the registry accepts, reading
+// stored planes back in any storage format, and structured depth maps.
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "reference.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/options.hpp"
+
+namespace sf::test {
+
+struct MethodCase {
+  std::string method;
+  Storage storage = Storage::F32;
+  int csm_order = 8;
+  FilterOptions options() const {
+    FilterOptions o;
+    o.method = method;
+    o.storage = storage;
+    o.csm.order = csm_order;
+    if (method == "esm" && storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
+    return o;
+  }
+  std::string label() const {
+    std::string s = method + "_" + storage_name(storage);
+    if (method == "csm") s += "_M" + std::to_string(csm_order);
+    for (char& c : s)
+      if (c == '-') c = '_';
+    return s;
+  }
+};
+
+// Every basis method with every storage it accepts (csm at M = 4; more orders in f32).
+inline std::vector<MethodCase> basis_cases() {
+  std::vector<MethodCase> out;
+  for (const auto& m : methods()) {
+    if (m.raw_depth) continue;
+    for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8})
+      if (m.storages.find(storage_name(s)) != std::string::npos)
+        out.push_back({m.name, s, m.name == "csm" ? 4 : 8});
+  }
+  for (int M : {1, 2, 8, 16, 32}) out.push_back({"csm", Storage::F32, M});
+  return out;
+}
+
+inline float half_to_float(uint16_t h) {
+  const int sign = h >> 15, exp = (h >> 10) & 31, mant = h & 1023;
+  float v;
+  if (exp == 0) {
+    v = std::ldexp(float(mant), -24);
+  } else if (exp == 31) {
+    v = mant ? NAN : INFINITY;
+  } else {
+    v = std::ldexp(float(mant + 1024), exp - 25);
+  }
+  return sign ? -v : v;
+}
+
+// `count` stored values read back as the floats sf_load gives.
+inline std::vector<float> read_stored(const cl::Buffer& buf, size_t count, Storage s) {
+  std::vector<uint8_t> raw(count * storage_bytes(s));
+  runtime().queue().enqueueReadBuffer(buf, CL_TRUE, 0, raw.size(), raw.data());
+  std::vector<float> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    switch (s) {
+      case Storage::F32: std::memcpy(&out[i], &raw[4 * i], 4); break;
+      case Storage::F16: {
+        uint16_t h;
+        std::memcpy(&h, &raw[2 * i], 2);
+        out[i] = half_to_float(h);
+        break;
+      }
+      case Storage::Unorm16: {
+        uint16_t h;
+        std::memcpy(&h, &raw[2 * i], 2);
+        out[i] = h * (1.0f / 65535.0f);  // exactly as sf_load
+        break;
+      }
+      case Storage::Unorm8: out[i] = raw[i] * (1.0f / 255.0f); break;
+    }
+  }
+  return out;
+}
+
+// One step of the storage format at value v: the most a correct rounding can differ from another
+// correct rounding of a value within float error of the same number.
+inline double storage_step(double v, Storage s) {
+  switch (s) {
+    case Storage::F32: return 0;
+    case Storage::F16: return std::max(std::fabs(v) * std::ldexp(1.0, -10), std::ldexp(1.0, -24));
+    case Storage::Unorm16: return 1.0 / 65535;
+    case Storage::Unorm8: return 1.0 / 255;
+  }
+  return 0;
+}
+
+// Depth maps that stress every method: exact 0 and 1, a constant, a 0/1 checkerboard, random.
+inline std::vector<HostImage> stress_depths() {
+  std::vector<HostImage> out;
+  out.push_back(HostImage(17, 9, 1, 0.0f));
+  out.push_back(HostImage(17, 9, 1, 1.0f));
+  out.push_back(HostImage(17, 9, 1, 0.37f));
+  HostImage checker(33, 31, 1);
+  for (int y = 0; y < checker.height; ++y)
+    for (int x = 0; x < checker.width; ++x) checker.at(x, y) = float((x + y) % 2);
+  out.push_back(checker);
+  out.push_back(random_depth(61, 47, 7));
+  return out;
+}
+
+}  // namespace sf::test

@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 OUT ?= out
 
-.PHONY: deps deps-bench configure build run test bench data clean
+.PHONY: deps deps-bench configure build run test bench data meshes mesh-scenes clean
 
 deps:
 	@scripts/install-deps.sh core
@@ -37,9 +37,29 @@ bench: build deps-bench
 	@mkdir -p $(OUT)
 	$(BUILD)/sf_bench --benchmark_out=$(OUT)/bench.json --benchmark_out_format=json
 
-# Regenerates the bundled scenes in data/ (deterministic).
+# Regenerates the bundled scenes in data/ (deterministic: same files, byte for byte).
+DATA_SCENES ?= spheres fence backyard contact thin
 data: build
-	$(BUILD)/sf_make_scene --out data/spheres
+	@for s in $(DATA_SCENES); do \
+	  $(BUILD)/shadowfilter scene $$s -o data/$$s --size 512 --receivers 640x480 --samples 64 --seed 1 || exit 1; \
+	done
+
+# Scanned meshes from Debian's libcgal-demo (not committed): extracted into $(BUILD)/meshes,
+# scenes written to $(OUT)/mesh-scenes/NAME at the issue's full size.
+MESHES ?= bunny00 ChineseDragon-10kv armadillo elephant
+MESH_ARGS ?= --size 2048 --receivers 1920x1080 --samples 64
+CGAL_DATA ?= /usr/share/doc/libcgal-demo/data.tar.gz
+meshes: build
+	@scripts/install-deps.sh meshes
+	@mkdir -p $(BUILD)/meshes
+	@tar xzf $(CGAL_DATA) -C $(BUILD)/meshes --strip-components 2 \
+	    $(foreach m,$(MESHES),data/meshes/$(m).off)
+	@ls -l $(BUILD)/meshes
+
+mesh-scenes: meshes
+	@for m in $(MESHES); do \
+	  $(BUILD)/shadowfilter scene $(BUILD)/meshes/$$m.off -o $(OUT)/mesh-scenes/$$m $(MESH_ARGS) || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log

@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian packages shadowfilter needs, only those that are missing.
 # Usage: scripts/install-deps.sh [core|bench|all]   (default: core)
+#        meshes: core + libcgal-demo (scanned meshes for `make mesh-scenes`)
 set -euo pipefail
 set_name="${1:-core}"
 core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers
       pocl-opencl-icd clinfo libopenimageio-dev openimageio-tools libcli11-dev libgtest-dev
-      libgmock-dev)
+      libgmock-dev libembree-dev libassimp-dev)
 bench=(libbenchmark-dev libopencv-dev)
+# Scanned meshes (Stanford bunny, Chinese dragon, armadillo, ...) in data.tar.gz of the docs.
+meshes=(libcgal-demo)
 case "$set_name" in
   core) want=("${core[@]}") ;;
   bench) want=("${core[@]}" "${bench[@]}") ;;
-  all) want=("${core[@]}" "${bench[@]}") ;;
-  *) echo "install-deps: unknown set '$set_name' (core|bench|all)" >&2; exit 2 ;;
+  meshes) want=("${core[@]}" "${meshes[@]}") ;;
+  all) want=("${core[@]}" "${bench[@]}" "${meshes[@]}") ;;
+  *) echo "install-deps: unknown set '$set_name' (core|bench|meshes|all)" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${want[@]}"; do

@@ -1,7 +1,9 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "shadowfilter/options.hpp"
 
@@ -24,5 +26,17 @@ struct FilterArgs {
 };
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& args);
 int run_filter(const FilterArgs& args);
+
+struct SceneArgs {
+  std::string scene, out_dir, receivers = "1920x1080", light = "ortho";
+  int map_size = 2048, samples = 64, threads = 0;
+  unsigned seed = 1;
+  std::vector<double> light_dir, light_pos;
+  double fov = 0.0;
+  double light_size = std::numeric_limits<double>::quiet_NaN();  // NaN: the scene's default
+  bool quiet = false;
+};
+CLI::App* add_scene_command(CLI::App& app, SceneArgs& args);
+int run_scene(const SceneArgs& args);
 
 }  // namespace sf::cli

@@ -14,9 +14,11 @@ int main(int argc, char** argv) {
   sf::cli::DevicesArgs devices_args;
   sf::cli::MethodsArgs methods_args;
   sf::cli::FilterArgs filter_args;
+  sf::cli::SceneArgs scene_args;
   CLI::App* devices = sf::cli::add_devices_command(app, devices_args);
   CLI::App* methods = sf::cli::add_methods_command(app, methods_args);
   CLI::App* filter = sf::cli::add_filter_command(app, filter_args);
+  CLI::App* scene = sf::cli::add_scene_command(app, scene_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
     if (devices->parsed()) return sf::cli::run_devices(devices_args);
     if (methods->parsed()) return sf::cli::run_methods(methods_args);
     if (filter->parsed()) return sf::cli::run_filter(filter_args);
+    if (scene->parsed()) return sf::cli::run_scene(scene_args);
   } catch (const sf::InputError& e) {
     std::cerr << "shadowfilter: error: " << e.what() << "\n";
     return 2;

@@ -1,5 +1,5 @@
 #pragma once
-// Minimal double-precision 3-vector for the scene generator's ray casting.
+// Minimal double-precision 3-vector for the scene generator.
 #include <cmath>
 
 namespace sf::scene {
@@ -28,6 +28,11 @@ struct Ray {
   Vec3 origin;
   Vec3 direction;  // unit length
   Vec3 at(double t) const { return origin + t * direction; }
+};
+
+struct Interval {
+  double lo = 0.0;
+  double hi = 0.0;
 };
 
 }  // namespace sf::scene

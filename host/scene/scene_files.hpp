@@ -6,11 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "scene_render.hpp"
+#include "scene_math.hpp"
 
 namespace sf::scene {
 
-inline constexpr const char* kGeneratorVersion = "sf_make_scene 1.0";
+struct SceneSetup;
+
+inline constexpr const char* kGeneratorVersion = "shadowfilter scene 2.0";
 
 struct OutputFile {
   std::string name;
@@ -19,16 +21,19 @@ struct OutputFile {
 
 // What scene.json records besides the scene setup.
 struct SceneRecord {
-  unsigned seed = 1;
+  std::string source;   // "built-in" or the mesh file
+  std::string purpose;
   double min_occluder_floor_gap = 0.0;
   std::vector<OutputFile> files;
 };
 
 // Shortest decimal text that reads back to the same double (locale-independent).
 std::string format_number(double value);
+std::string json_string(const std::string& text);
+std::string json_vector(Vec3 v);
 
-// Header attributes of the light-view images: scene, generator, near, far, light direction,
-// light basis and ortho extents (all plain strings, no time stamps).
+// Header attributes of the light-view images: scene, generator, light type, near, far, basis,
+// extents or position/fov (plain strings, no time stamps).
 std::map<std::string, std::string> light_attributes(const SceneSetup& setup);
 
 void write_scene_json(const std::filesystem::path& path, const SceneSetup& setup,

@@ -1,0 +1,41 @@
+#include "progress.hpp"
+
+#include <cstdio>
+
+namespace sf::scene {
+
+using Clock = std::chrono::steady_clock;
+
+Progress::Progress(std::string label, size_t total, bool enabled)
+    : label_(std::move(label)), total_(total), enabled_(enabled), start_(Clock::now()),
+      last_draw_(start_) {}
+
+Progress::~Progress() {
+  if (shown_) draw(total_, true);
+}
+
+void Progress::add(size_t done) {
+  const size_t now_done = done_ += done;
+  if (!enabled_) return;
+  const auto now = Clock::now();
+  if (now - start_ < std::chrono::seconds(1)) return;
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  draw(now_done, false);
+}
+
+void Progress::draw(size_t done, bool final) {
+  constexpr int kWidth = 40;
+  const double fraction = total_ ? double(done) / double(total_) : 1.0;
+  const int filled = int(fraction * kWidth + 0.5);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %.1f s", label_.c_str(),
+               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
+               int(fraction * 100 + 0.5), seconds);
+  if (final) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+  shown_ = true;
+}
+
+}  // namespace sf::scene

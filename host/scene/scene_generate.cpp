@@ -1,0 +1,201 @@
+#include "scene_generate.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <utility>
+
+#include "image_io.hpp"
+#include "scene_files.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::scene {
+namespace {
+
+constexpr int kMaxImageSide = 16384;
+// The light frustum is widened by this fraction of its extent on every side.
+constexpr double kFrustumMargin = 0.01;
+
+void require_valid_side(long long side, const std::string& what) {
+  if (side <= 0 || side > kMaxImageSide)
+    throw InputError(what + " must be between 1 and " + std::to_string(kMaxImageSide) + ", got " +
+                     std::to_string(side));
+}
+
+bool all_digits(const std::string& text) {
+  if (text.empty() || text.size() > 9) return false;
+  for (char c : text)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+
+std::pair<int, int> parse_size(const std::string& text, const std::string& option) {
+  const size_t separator = text.find('x');
+  const std::string width = text.substr(0, separator);
+  const std::string height = separator == std::string::npos ? "" : text.substr(separator + 1);
+  if (!all_digits(width) || !all_digits(height))
+    throw InputError(option + " expects WIDTHxHEIGHT (e.g. 640x480), got '" + text + "'");
+  const int w = std::stoi(width), h = std::stoi(height);
+  require_valid_side(w, option + " width");
+  require_valid_side(h, option + " height");
+  return {w, h};
+}
+
+std::string builtin_list() {
+  std::string list;
+  for (const std::string& n : builtin_scene_names()) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+SceneDefaults load_defaults(const std::string& scene) {
+  if (is_builtin_scene(scene)) return make_builtin_scene(scene);
+  const bool looks_like_file = scene.find('/') != std::string::npos ||
+                               scene.find('.') != std::string::npos;
+  if (!looks_like_file)
+    throw InputError("unknown scene '" + scene + "' (built-in: " + builtin_list() +
+                     "; or a mesh file: OBJ, PLY, OFF, STL)");
+  return load_mesh_scene(scene);
+}
+
+std::vector<OutputFile> output_files(bool has_ground) {
+  std::vector<OutputFile> files = {
+      {"shadowmap.exr",
+       "shadow map: 1 channel Z, float32 linear light depth (methods.md sec. 1), 1 = nothing hit; "
+       "near/far and the light in the header"},
+  };
+  if (has_ground)
+    files.push_back({"receiver_depth.exr",
+                     "planar receivers (shadow-map size): 1 channel Z, depth of the ground (floor "
+                     "or terrain) alone, NaN = ground not hit"});
+  files.push_back({"receivers.exr",
+                   "camera-view receivers: u v d (float32) f (half, footprint in level-0 texels "
+                   "from the shadow-map coordinates of the pixel's neighbourhood on the hit "
+                   "tangent plane); NaN = background"});
+  files.push_back({"reference_hard.exr",
+                   "camera view: ray-traced point-light visibility Y (half; 1 lit, 0 occluded or "
+                   "facing away, 1 background)"});
+  files.push_back({"reference_soft.exr",
+                   "camera view: ray-traced fraction of the square area light visible Y (half; "
+                   "stratified samples, 1 background)"});
+  files.push_back({"scene.json", "every parameter of the scene"});
+  return files;
+}
+
+// OpenImageIO stamps EXR files with the current time (capDate) unless DateTime is given: an
+// empty one keeps the files byte-identical between runs.
+void write_deterministic(const std::string& path, HostImage image,
+                         std::map<std::string, std::string> attributes) {
+  attributes["DateTime"] = "";
+  image.attributes = std::move(attributes);
+  io::write_image(path, image);
+}
+
+}  // namespace
+
+SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) {
+  require_valid_side(request.map_size, "--size");
+  const auto [cw, ch] = parse_size(request.receivers, "--receivers");
+  if (request.light != "ortho" && request.light != "perspective")
+    throw InputError("--light must be ortho or perspective, got '" + request.light + "'");
+  const bool ortho = request.light == "ortho";
+  if (ortho && request.light_pos)
+    throw InputError("--light-pos needs --light perspective (an orthographic light has a "
+                     "direction, --light-dir)");
+  if (ortho && request.fov_degrees != 0.0)
+    throw InputError("--fov needs --light perspective");
+  if (!ortho && request.fov_degrees != 0.0 &&
+      !(request.fov_degrees > 0.0 && request.fov_degrees < 170.0))
+    throw InputError("--fov must be between 0 and 170 degrees");
+  if (request.light_size && !(*request.light_size >= 0.0 && std::isfinite(*request.light_size)))
+    throw InputError("--light-size must be a finite number >= 0");
+  if (request.samples <= 0)
+    throw InputError("--samples must be a positive square number, got " +
+                     std::to_string(request.samples));
+  if (request.out_dir.empty()) throw InputError("-o DIR is required");
+
+  SceneDefaults defaults = load_defaults(request.scene);
+  SceneSetup setup;
+  setup.geometry = defaults.geometry;
+  const Vec3 direction = request.light_dir ? *request.light_dir : defaults.light_direction;
+  if (!(length(direction) > 0.0)) throw InputError("--light-dir must not be the zero vector");
+  if (ortho) {
+    setup.light = LightView::fit_ortho(setup.geometry, direction, kFrustumMargin);
+  } else {
+    // Default position: along -direction from the centre of the scene's bounding box, 2.5
+    // bounding radii away.
+    const Vec3 dir = normalize(direction);
+    const Interval x = project_onto(setup.geometry, {1, 0, 0});
+    const Interval y = project_onto(setup.geometry, {0, 1, 0});
+    const Interval z = project_onto(setup.geometry, {0, 0, 1});
+    const Vec3 centre{0.5 * (x.lo + x.hi), 0.5 * (y.lo + y.hi), 0.5 * (z.lo + z.hi)};
+    const double radius = 0.5 * length({x.hi - x.lo, y.hi - y.lo, z.hi - z.lo});
+    const Vec3 position = request.light_pos ? *request.light_pos : centre - (2.5 * radius) * dir;
+    setup.light = LightView::fit_perspective(setup.geometry, position, centre,
+                                             request.fov_degrees, kFrustumMargin);
+  }
+  setup.camera = defaults.camera;
+  setup.camera.width = cw;
+  setup.camera.height = ch;
+  setup.map_width = request.map_size;
+  setup.map_height = request.map_size;
+  setup.light_size = request.light_size ? *request.light_size : defaults.light_size;
+  setup.samples = request.samples;
+  setup.seed = request.seed;
+  setup.progress = request.progress;
+  setup.threads = request.threads;
+  if (defaults_out) *defaults_out = std::move(defaults);
+  return setup;
+}
+
+SceneSummary generate_scene(const SceneRequest& request) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneDefaults defaults;
+  SceneSummary summary;
+  summary.setup = make_setup(request, &defaults);
+  const SceneSetup& setup = summary.setup;
+  const SceneRenderer renderer(setup);  // validates --samples
+  const bool ground = setup.geometry.has_ground();
+
+  // Everything that can fail on input is checked before anything is created.
+  StagingDirectory staging(request.out_dir);
+  const HostImage shadow_map = renderer.shadow_map();
+  write_deterministic(staging.file("shadowmap.exr").string(), shadow_map, light_attributes(setup));
+  SceneRecord record;
+  record.source = defaults.source;
+  record.purpose = defaults.purpose;
+  if (ground) {
+    const HostImage receiver_depth = renderer.receiver_depth();
+    record.min_occluder_floor_gap = min_occluder_floor_gap(shadow_map, receiver_depth);
+    write_deterministic(staging.file("receiver_depth.exr").string(), receiver_depth,
+                        light_attributes(setup));
+  } else {
+    record.min_occluder_floor_gap = std::nan("");
+  }
+  record.files = output_files(ground);
+  CameraImages camera = renderer.camera_view(true);
+  const std::map<std::string, std::string> camera_attributes = {
+      {"scene", setup.geometry.name}, {"generator", kGeneratorVersion}};
+  write_deterministic(staging.file("receivers.exr").string(), std::move(camera.receivers),
+                      camera_attributes);
+  write_deterministic(staging.file("reference_hard.exr").string(),
+                      std::move(camera.reference_hard), camera_attributes);
+  auto soft_attributes = camera_attributes;
+  soft_attributes["light_size"] = format_number(setup.light_size);
+  soft_attributes["samples"] = std::to_string(setup.samples);
+  soft_attributes["seed"] = std::to_string(setup.seed);
+  write_deterministic(staging.file("reference_soft.exr").string(),
+                      std::move(camera.reference_soft), soft_attributes);
+  write_scene_json(staging.file("scene.json"), setup, record);
+  staging.commit(record.files);
+  if (!ground) {  // a stale planar-receiver file from an earlier scene would not match
+    std::error_code ignored;
+    std::filesystem::remove(std::filesystem::path(request.out_dir) / "receiver_depth.exr", ignored);
+  }
+  summary.min_occluder_floor_gap = record.min_occluder_floor_gap;
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace sf::scene

@@ -1,0 +1,324 @@
+#include "scene_library.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+
+#include "scene_files.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::scene {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFloorHalfSize = 4.0;
+
+// Deterministic generator for procedural geometry (independent of --seed and of the library).
+struct Rng {
+  uint64_t state;
+  double next() {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  }
+  double range(double lo, double hi) { return lo + (hi - lo) * next(); }
+};
+
+// Oblique view from above one corner, so footprints grow with distance; the floor does not
+// fill the frame (background pixels are NaN receivers).
+PerspectiveCamera corner_camera() {
+  PerspectiveCamera camera;
+  camera.position = {7.0, 5.5, 9.0};
+  camera.target = {0.0, 0.4, -0.5};
+  camera.vertical_fov_degrees = 42.0;
+  return camera;
+}
+
+SceneDefaults spheres() {
+  SceneDefaults s;
+  s.geometry.name = "spheres";
+  s.purpose = "basic case: floating sphere and box over a floor (umbra gap >= 0.1 for ESM)";
+  add_floor(s.geometry, kFloorHalfSize);
+  // Both occluders float above the floor so that every occluder-floor pair is at least
+  // 0.15 apart in normalised light depth (ESM with c = 80 is then < 1e-3 in the umbra).
+  add_sphere(s.geometry, "sphere", {-1.3, 2.2, 0.9}, 0.9);
+  add_box(s.geometry, "box", {0.4, 1.2, -2.2}, {2.2, 2.0, -0.6});
+  s.light_direction = {0.35, -1.0, 0.25};
+  s.camera = corner_camera();
+  s.light_size = 0.2;
+  return s;
+}
+
+// A picket fence between the light and a box and a sphere: thin high-frequency occluders in
+// front of other objects (VSM light bleeding, seed 000 fig. 6.9 / 7.8).
+SceneDefaults fence() {
+  SceneDefaults s;
+  s.geometry.name = "fence";
+  s.purpose = "thin high-frequency occluder (picket fence) in front of other objects: VSM light "
+              "bleeding (seed 000 fig. 6.9, 7.8)";
+  add_floor(s.geometry, kFloorHalfSize);
+  for (int k = 0; k < 40; ++k) {
+    const double x = -3.6 + 0.18 * k;
+    add_box(s.geometry, "slat" + std::to_string(k), {x, 0.0, 2.0}, {x + 0.07, 2.4, 2.05});
+  }
+  add_box(s.geometry, "rail_low", {-3.7, 0.6, 2.05}, {3.7, 0.7, 2.1});
+  add_box(s.geometry, "rail_high", {-3.7, 1.9, 2.05}, {3.7, 2.0, 2.1});
+  add_box(s.geometry, "box", {-1.8, 0.0, -0.2}, {-0.2, 0.9, 1.2});
+  add_sphere(s.geometry, "sphere", {1.5, 0.7, 0.5}, 0.7);
+  s.light_direction = {0.2, -1.0, -1.1};
+  s.camera.position = {7.5, 6.0, -6.5};
+  s.camera.target = {0.0, 0.3, 0.6};
+  s.camera.vertical_fov_degrees = 40.0;
+  s.light_size = 0.1;
+  return s;
+}
+
+void add_table(SceneGeometry& g, const std::string& name, Vec3 lo, Vec3 hi, double top,
+               double leg) {
+  add_box(g, name + "_top", {lo.x, hi.y - top, lo.z}, hi);
+  const double xs[2] = {lo.x, hi.x - leg}, zs[2] = {lo.z, hi.z - leg};
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      add_box(g, name + "_leg" + std::to_string(2 * a + b), {xs[a], 0.0, zs[b]},
+              {xs[a] + leg, hi.y - top, zs[b] + leg});
+}
+
+// Several depth layers over each other: tree crown, table top, bench, shed roof, a ball
+// (ESM failure classification, seed 000 table 7.2).
+SceneDefaults backyard() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "backyard";
+  s.purpose = "several depth layers (tree crown over table over bench over floor): ESM failure "
+              "classification (seed 000 table 7.2)";
+  add_floor(g, kFloorHalfSize);
+  add_table(g, "table", {-2.6, 0.0, -2.6}, {-0.6, 1.1, -1.2}, 0.08, 0.1);
+  add_table(g, "bench", {-1.2, 0.0, -0.6}, {0.6, 0.5, -0.1}, 0.06, 0.08);
+  add_box(g, "bench_back", {-1.2, 0.5, -0.1}, {0.6, 1.0, -0.04});
+  TriMesh trunk;
+  trunk.name = "trunk";
+  add_prism(trunk, {-1.0, 0.0, -2.9}, {-1.0, 2.6, -2.9}, 0.16, 0.1, 10);
+  g.meshes.push_back(trunk);
+  g.description.push_back("{\"type\": \"prism\", \"name\": \"trunk\", \"from\": [-1, 0, -2.9], "
+                          "\"to\": [-1, 2.6, -2.9], \"radii\": [0.16, 0.1], \"sides\": 10}");
+  add_sphere(g, "crown", {-1.0, 3.1, -2.6}, 0.95);
+  add_box(g, "shed", {1.2, 0.0, 1.0}, {3.4, 1.5, 3.2});
+  add_quad(g, "shed_roof", {1.0, 1.45, 0.8}, {2.6, 0.0, 0.0}, {0.0, 0.7, 2.6});
+  add_sphere(g, "ball", {1.2, 0.35, -1.6}, 0.35);
+  add_box(g, "planter", {2.0, 0.0, -3.4}, {3.4, 0.4, -2.6});
+  add_sphere(g, "bush", {2.7, 0.75, -3.0}, 0.45);
+  s.light_direction = {-0.3, -1.0, -0.35};
+  s.camera = corner_camera();
+  s.light_size = 0.15;
+  return s;
+}
+
+// A slanted plane whose lower edge lies on the floor, a box and a ball resting on the floor:
+// contact shadows (low-order CSM brightening, seed 000 fig. 6.5).
+SceneDefaults contact() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "contact";
+  s.purpose = "slanted plane touching the floor, box and ball resting on it: contact shadows, "
+              "low-order CSM brightening (seed 000 fig. 6.5)";
+  add_floor(g, kFloorHalfSize);
+  add_quad(g, "ramp", {-2.8, 0.0, -2.0}, {0.0, 0.0, 3.2}, {2.6, 1.5, 0.0});
+  add_box(g, "box", {0.9, 0.0, -2.6}, {2.3, 1.0, -1.2});
+  add_sphere(g, "ball", {1.6, 0.6, 1.6}, 0.6);
+  add_box(g, "plank", {-0.5, 0.0, 2.2}, {2.5, 0.12, 2.6});
+  s.light_direction = {0.45, -1.0, 0.2};
+  s.camera = corner_camera();
+  s.light_size = 0.15;
+  return s;
+}
+
+void grow_branch(TriMesh& mesh, Rng& rng, Vec3 base, Vec3 dir, double len, double radius,
+                 int depth) {
+  const Vec3 tip = base + len * dir;
+  add_prism(mesh, base, tip, radius, radius * 0.75, depth > 3 ? 6 : 4);
+  if (depth == 0) return;
+  const int children = depth > 4 ? 2 : 3;
+  for (int c = 0; c < children; ++c) {
+    const double spin = 2.0 * kPi * (c + rng.next() * 0.5) / children;
+    const double tilt = rng.range(0.45, 0.8);
+    const Vec3 helper = std::abs(dir.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    const Vec3 e1 = normalize(cross(dir, helper));
+    const Vec3 e2 = cross(dir, e1);
+    const Vec3 side = std::cos(spin) * e1 + std::sin(spin) * e2;
+    Vec3 child = normalize(std::cos(tilt) * dir + std::sin(tilt) * side + Vec3{0, 0.15, 0});
+    grow_branch(mesh, rng, tip, child, len * rng.range(0.68, 0.78), radius * 0.72, depth - 1);
+  }
+}
+
+// Two trees of branches down to sub-texel width: aliasing and minification (seed 000
+// fig. 6.6, 6.10).
+SceneDefaults thin() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "thin";
+  s.purpose = "tree-like branches down to sub-texel width: aliasing and minification (seed 000 "
+              "fig. 6.6, 6.10)";
+  add_floor(g, kFloorHalfSize);
+  Rng rng{20240601};
+  const Vec3 roots[2] = {{-1.2, 0.0, -0.8}, {1.6, 0.0, -2.2}};
+  const double heights[2] = {1.4, 1.1};
+  for (int k = 0; k < 2; ++k) {
+    TriMesh tree;
+    tree.name = "tree" + std::to_string(k);
+    grow_branch(tree, rng, roots[k], {0.0, 1.0, 0.0}, heights[k], 0.09, 7);
+    g.description.push_back("{\"type\": \"tree\", \"name\": " + json_string(tree.name) +
+                            ", \"root\": " + json_vector(roots[k]) + ", \"trunk_length\": " +
+                            format_number(heights[k]) + ", \"levels\": 8, \"triangles\": " +
+                            std::to_string(tree.triangles.size()) + "}");
+    g.meshes.push_back(std::move(tree));
+  }
+  s.light_direction = {0.3, -1.0, 0.2};
+  s.camera = corner_camera();
+  s.light_size = 0.1;
+  return s;
+}
+
+double terrain_height(double x, double z) {
+  return 0.9 + 0.55 * std::sin(0.8 * x + 0.4) * std::cos(0.65 * z - 0.3) +
+         0.3 * std::sin(1.7 * x + 1.3 * z + 2.0) + 0.14 * std::sin(3.1 * x - 2.6 * z + 0.7) +
+         0.07 * std::cos(5.3 * x + 4.1 * z + 1.9) + 0.035 * std::sin(9.7 * x - 7.9 * z);
+}
+
+// A self-shadowing height field under a low light: shadow acne and bias (the terrain is the
+// ground: receiver_depth.exr is its own depth).
+SceneDefaults terrain() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "terrain";
+  s.purpose = "self-shadowing height field under a low light: acne and bias";
+  constexpr int kCells = 200;
+  TriMesh mesh;
+  mesh.name = "terrain";
+  mesh.ground = true;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const double x = -kFloorHalfSize + 2.0 * kFloorHalfSize * i / kCells;
+      const double z = -kFloorHalfSize + 2.0 * kFloorHalfSize * j / kCells;
+      mesh.vertices.push_back({x, terrain_height(x, z), z});
+    }
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      mesh.triangles.push_back({a, c, b});
+      mesh.triangles.push_back({b, c, d});
+    }
+  g.meshes.push_back(std::move(mesh));
+  g.description.push_back(
+      "{\"type\": \"height_field\", \"name\": \"terrain\", \"extent\": [-4, 4], \"cells\": 200, "
+      "\"height\": \"0.9 + 0.55 sin(0.8x+0.4) cos(0.65z-0.3) + 0.3 sin(1.7x+1.3z+2) + 0.14 "
+      "sin(3.1x-2.6z+0.7) + 0.07 cos(5.3x+4.1z+1.9) + 0.035 sin(9.7x-7.9z)\"}");
+  s.light_direction = {1.0, -0.55, 0.35};
+  s.camera.position = {-6.5, 5.5, 7.5};
+  s.camera.target = {0.3, 0.6, -0.5};
+  s.camera.vertical_fov_degrees = 45.0;
+  s.light_size = 0.1;
+  return s;
+}
+
+using Maker = std::function<SceneDefaults()>;
+
+const std::vector<std::pair<std::string, Maker>>& makers() {
+  static const std::vector<std::pair<std::string, Maker>> list = {
+      {"spheres", spheres}, {"fence", fence}, {"backyard", backyard},
+      {"contact", contact}, {"thin", thin},   {"terrain", terrain}};
+  return list;
+}
+
+}  // namespace
+
+const std::vector<std::string>& builtin_scene_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& [name, maker] : makers()) n.push_back(name);
+    return n;
+  }();
+  return names;
+}
+
+bool is_builtin_scene(const std::string& name) {
+  const auto& names = builtin_scene_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+SceneDefaults make_builtin_scene(const std::string& name) {
+  for (const auto& [n, maker] : makers()) {
+    if (n == name) {
+      SceneDefaults s = maker();
+      s.source = "built-in";
+      return s;
+    }
+  }
+  throw InputError("unknown scene '" + name + "'");
+}
+
+SceneDefaults load_mesh_scene(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError("cannot read mesh '" + path + "': no such file");
+  Assimp::Importer importer;
+  const aiScene* ai = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
+                aiProcess_SortByPType);
+  if (!ai) throw InputError("cannot read mesh '" + path + "': " + importer.GetErrorString());
+  TriMesh mesh;
+  mesh.name = fs::path(path).stem().string();
+  for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
+    const aiMesh* src = ai->mMeshes[m];
+    const uint32_t base = uint32_t(mesh.vertices.size());
+    for (unsigned v = 0; v < src->mNumVertices; ++v)
+      mesh.vertices.push_back({src->mVertices[v].x, src->mVertices[v].y, src->mVertices[v].z});
+    for (unsigned f = 0; f < src->mNumFaces; ++f) {
+      const aiFace& face = src->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      mesh.triangles.push_back(
+          {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  if (mesh.triangles.empty())
+    throw InputError("cannot read mesh '" + path + "': it holds no triangles");
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const Vec3& v : mesh.vertices) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+  }
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (!(extent > 0.0) || !std::isfinite(extent))
+    throw InputError("cannot use mesh '" + path + "': degenerate bounding box");
+  const double scale = kFloorHalfSize / extent;
+  const Vec3 shift{-0.5 * (lo.x + hi.x), -lo.y, -0.5 * (lo.z + hi.z)};
+  for (Vec3& v : mesh.vertices) v = scale * (v + shift);
+  const double height = scale * (hi.y - lo.y);
+
+  SceneDefaults s;
+  s.geometry.name = mesh.name;
+  s.source = path;
+  s.purpose = "real mesh on a floor";
+  add_floor(s.geometry, kFloorHalfSize);
+  s.geometry.description.push_back(
+      "{\"type\": \"mesh\", \"name\": " + json_string(mesh.name) + ", \"file\": " +
+      json_string(fs::path(path).filename().string()) + ", \"vertices\": " +
+      std::to_string(mesh.vertices.size()) + ", \"triangles\": " +
+      std::to_string(mesh.triangles.size()) + ", \"scale\": " + format_number(scale) +
+      ", \"translation_before_scale\": " + json_vector(shift) + "}");
+  s.geometry.meshes.push_back(std::move(mesh));
+  s.light_direction = {0.35, -1.0, 0.25};
+  s.camera = corner_camera();
+  s.camera.target = {0.0, 0.4 * height, -0.3};
+  s.light_size = 0.2;
+  return s;
+}
+
+}  // namespace sf::scene

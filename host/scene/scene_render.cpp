@@ -1,0 +1,193 @@
+#include "scene_render.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "progress.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::scene {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// Shadow rays start this far (relative to the light depth range) off the surface.
+constexpr double kShadowRayOffset = 1e-4;
+
+uint64_t splitmix64(uint64_t& state) {
+  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// Uniform in [0, 1) from the top 53 bits.
+double uniform(uint64_t& state) { return double(splitmix64(state) >> 11) * 0x1.0p-53; }
+
+}  // namespace
+
+SceneRenderer::SceneRenderer(const SceneSetup& setup) : setup_(setup), tracer_(setup.geometry) {
+  strata_ = int(std::lround(std::sqrt(double(std::max(setup.samples, 0)))));
+  if (strata_ * strata_ != setup.samples || setup.samples <= 0)
+    throw InputError("--samples must be a positive square number (1, 4, 16, 64, 256, ...), got " +
+                     std::to_string(setup.samples));
+  offset_ = kShadowRayOffset * setup.light.depth_range();
+}
+
+template <class RowFn>
+void SceneRenderer::for_each_row(const char* label, int rows, int width, const RowFn& row_fn) const {
+  int workers = setup_.threads > 0 ? setup_.threads : int(std::thread::hardware_concurrency());
+  workers = std::max(1, std::min(rows, workers));
+  Progress progress(label, size_t(rows) * size_t(width), setup_.progress);
+  std::atomic<int> next_row{0};
+  auto work = [&] {
+    for (int y = next_row++; y < rows; y = next_row++) {
+      row_fn(y);
+      progress.add(size_t(width));
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int w = 1; w < workers; ++w) threads.emplace_back(work);
+  work();
+  for (std::thread& t : threads) t.join();
+}
+
+HostImage SceneRenderer::shadow_map() const {
+  HostImage image(setup_.map_width, setup_.map_height, 1);
+  image.channel_names = {"Z"};
+  for_each_row("shadow map", image.height, image.width, [&](int j) {
+    for (int i = 0; i < image.width; ++i) {
+      const Ray ray = setup_.light.texel_ray(i, j, image.width, image.height);
+      const auto hit = tracer_.closest(ray, setup_.light.texel_ray_start(ray),
+                                       std::numeric_limits<double>::infinity(), kMaskAll);
+      image.at(i, j) = hit ? float(std::min(1.0, setup_.light.depth_at(ray, hit->t))) : 1.0f;
+    }
+  });
+  return image;
+}
+
+HostImage SceneRenderer::receiver_depth() const {
+  HostImage image(setup_.map_width, setup_.map_height, 1);
+  image.channel_names = {"Z"};
+  for_each_row("receiver depth", image.height, image.width, [&](int j) {
+    for (int i = 0; i < image.width; ++i) {
+      const Ray ray = setup_.light.texel_ray(i, j, image.width, image.height);
+      const auto hit = tracer_.closest(ray, setup_.light.texel_ray_start(ray),
+                                       std::numeric_limits<double>::infinity(), kMaskGround);
+      image.at(i, j) = hit ? float(setup_.light.depth_at(ray, hit->t)) : kNaN;
+    }
+  });
+  return image;
+}
+
+bool SceneRenderer::lit_hard(Vec3 point, Vec3 normal) const {
+  double distance = 0.0;
+  const Ray to_light = setup_.light.towards_light(point, distance);
+  if (dot(normal, to_light.direction) <= 0.0) return false;  // faces away from the light
+  const Ray shadow_ray{point + offset_ * normal, to_light.direction};
+  return !tracer_.occluded(shadow_ray, 0.0, distance, kMaskAll);
+}
+
+double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const {
+  const Vec3 origin = point + offset_ * normal;
+  uint64_t state = stream;
+  int visible = 0;
+  for (int sy = 0; sy < strata_; ++sy) {
+    for (int sx = 0; sx < strata_; ++sx) {
+      const double s = (sx + uniform(state)) / strata_ - 0.5;
+      const double t = (sy + uniform(state)) / strata_ - 0.5;
+      const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, s, t);
+      const Vec3 delta = target - origin;
+      const double distance = length(delta);
+      if (!(distance > 0.0)) continue;
+      const Vec3 direction = (1.0 / distance) * delta;
+      if (dot(normal, direction) <= 0.0) continue;  // light sample below the surface
+      if (!tracer_.occluded(Ray{origin, direction}, 0.0, distance, kMaskAll)) ++visible;
+    }
+  }
+  return double(visible) / double(strata_ * strata_);
+}
+
+// Footprint of pixel (x, y) in level-0 shadow-map texels, from the shadow-map coordinates of
+// its neighbourhood: the rays through the midpoints of the pixel's left/right edges (and of
+// its top/bottom edges) are intersected with the tangent plane of the hit at the pixel centre
+// -- for a planar surface exactly half-way to the neighbouring pixels' own coordinates -- and
+// each pair's distance in texels (du*W, dv*H) is a footprint width; f = the larger one. Using
+// the tangent plane instead of the neighbours' hits avoids jumps at silhouettes. At grazing
+// angles where an edge ray misses the plane, f is capped at the shadow-map size.
+double SceneRenderer::footprint_texels(int x, int y, Vec3 point, Vec3 normal) const {
+  const double cap = std::max(setup_.map_width, setup_.map_height);
+  auto coords_on_plane = [&](double px, double py) -> std::optional<LightCoords> {
+    const Ray ray = setup_.camera.ray_through(px, py);
+    const double denominator = dot(normal, ray.direction);
+    if (std::abs(denominator) < 1e-12) return std::nullopt;
+    const double t = dot(normal, point - ray.origin) / denominator;
+    if (!(t > 0.0)) return std::nullopt;
+    return setup_.light.project(ray.at(t));
+  };
+  auto width_between = [&](double x0, double y0, double x1, double y1) {
+    const auto a = coords_on_plane(x0, y0);
+    const auto b = coords_on_plane(x1, y1);
+    if (!a || !b) return cap;
+    return std::hypot((a->u - b->u) * setup_.map_width, (a->v - b->v) * setup_.map_height);
+  };
+  const double across = width_between(x, y + 0.5, x + 1.0, y + 0.5);
+  const double down = width_between(x + 0.5, y, x + 0.5, y + 1.0);
+  return std::min(cap, std::max(across, down));
+}
+
+CameraImages SceneRenderer::camera_view(bool with_soft) const {
+  const int w = setup_.camera.width, h = setup_.camera.height;
+  CameraImages out;
+  out.receivers = HostImage(w, h, 4, kNaN);
+  out.receivers.channel_names = {"u", "v", "d", "f"};
+  out.receivers.channel_formats = {"float", "float", "float", "half"};
+  out.reference_hard = HostImage(w, h, 1, 1.0f);
+  out.reference_hard.channel_names = {"Y"};
+  out.reference_hard.channel_formats = {"half"};
+  if (with_soft) {
+    out.reference_soft = HostImage(w, h, 1, 1.0f);
+    out.reference_soft.channel_names = {"Y"};
+    out.reference_soft.channel_formats = {"half"};
+  }
+  for_each_row(with_soft ? "camera + soft" : "camera view", h, w, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const Ray ray = setup_.camera.ray_through(x + 0.5, y + 0.5);
+      const auto hit = tracer_.closest(ray, 0.0, std::numeric_limits<double>::infinity(), kMaskAll);
+      if (!hit) continue;
+      const Vec3 point = ray.at(hit->t);
+      const LightCoords c = setup_.light.project(point);
+      out.receivers.at(x, y, 0) = float(c.u);
+      out.receivers.at(x, y, 1) = float(c.v);
+      out.receivers.at(x, y, 2) = float(c.d);
+      out.receivers.at(x, y, 3) = float(footprint_texels(x, y, point, hit->normal));
+      out.reference_hard.at(x, y) = lit_hard(point, hit->normal) ? 1.0f : 0.0f;
+      if (with_soft) {
+        const uint64_t stream = (uint64_t(setup_.seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);
+        uint64_t mix = stream;
+        out.reference_soft.at(x, y) =
+            float(visible_fraction(point, hit->normal, splitmix64(mix)));
+      }
+    }
+  });
+  return out;
+}
+
+double min_occluder_floor_gap(const HostImage& shadow_map, const HostImage& receiver_depth) {
+  double gap = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < shadow_map.data.size(); ++k) {
+    const float floor_depth = receiver_depth.data[k];
+    const float first_depth = shadow_map.data[k];
+    // Self-shadowing ground (terrain) sits within a hair of its own depth: only count gaps
+    // larger than float noise.
+    if (std::isfinite(floor_depth) && first_depth < floor_depth - 1e-6f)
+      gap = std::min(gap, double(floor_depth) - first_depth);
+  }
+  return gap;
+}
+
+}  // namespace sf::scene

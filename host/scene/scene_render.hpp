@@ -1,0 +1,65 @@
+#pragma once
+// Renders the images of a generated scene by ray casting with Embree (rows spread over
+// threads; every pixel is computed independently and sampled from its own seeded stream, so
+// the result does not depend on the thread count).
+#include <memory>
+
+#include "shadowfilter/host_image.hpp"
+
+#include "ray_tracer.hpp"
+#include "scene_geometry.hpp"
+#include "scene_views.hpp"
+
+namespace sf::scene {
+
+struct SceneSetup {
+  SceneGeometry geometry;
+  LightView light;
+  PerspectiveCamera camera;
+  int map_width = 512;  // shadow-map size in texels
+  int map_height = 512;
+  double light_size = 0.2;  // side of the square area light (world units)
+  int samples = 64;         // area-light samples per pixel, a square number
+  unsigned seed = 1;
+  bool progress = true;     // progress bars on stderr for stages over a second
+  int threads = 0;          // 0 = hardware concurrency
+};
+
+// Camera-view outputs of one pass.
+struct CameraImages {
+  HostImage receivers;       // u v d (float) f (half); NaN on background
+  HostImage reference_hard;  // Y: 1 lit, 0 occluded, 1 background
+  HostImage reference_soft;  // Y: fraction of area-light samples visible, 1 background
+};
+
+class SceneRenderer {
+ public:
+  explicit SceneRenderer(const SceneSetup& setup);
+  // Shadow map: 1 channel "Z", linear light depth of the first hit, 1 where nothing is hit.
+  HostImage shadow_map() const;
+  // Planar receivers: 1 channel "Z", depth of the ground alone (occluders removed) at every
+  // texel centre, NaN where the ray misses the ground.
+  HostImage receiver_depth() const;
+  // receivers, hard and (when with_soft) soft reference in one camera pass.
+  CameraImages camera_view(bool with_soft) const;
+
+  // Single-point queries (for tests): lit by the point light / fraction of the area light seen.
+  bool lit_hard(Vec3 point, Vec3 normal) const;
+  double visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const;
+  const RayTracer& tracer() const { return tracer_; }
+
+ private:
+  template <class RowFn>
+  void for_each_row(const char* label, int rows, int width, const RowFn& row_fn) const;
+  double footprint_texels(int x, int y, Vec3 point, Vec3 normal) const;
+  const SceneSetup& setup_;
+  RayTracer tracer_;
+  int strata_ = 0;
+  double offset_ = 0.0;  // shadow-ray origin offset along the normal
+};
+
+// Smallest (ground depth - shadow-map depth) over texels where an occluder hides the ground:
+// the occluder-ground gap in normalised light depth. +infinity when nothing is shadowed.
+double min_occluder_floor_gap(const HostImage& shadow_map, const HostImage& receiver_depth);
+
+}  // namespace sf::scene

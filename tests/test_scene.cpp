@@ -1,0 +1,239 @@
+// The scene generator (host/scene): analytic checks of the ray-traced references and the
+// agreement between the light view (shadow map) and the camera view (receivers).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "scene_generate.hpp"
+#include "scene_render.hpp"
+
+namespace sf::test {
+namespace {
+
+using namespace sf::scene;
+
+// Orthographic light straight down (-y): right = +x, down = +z, view depth = -y.
+LightView light_straight_down(double extent, double near_y, double far_y) {
+  LightView light;
+  light.type = LightType::Ortho;
+  light.forward = {0, -1, 0};
+  light.right = {1, 0, 0};
+  light.down = {0, 0, 1};
+  light.right_range = {-extent, extent};
+  light.down_range = {-extent, extent};
+  light.near_plane = -near_y;
+  light.far_plane = -far_y;
+  return light;
+}
+
+Vec3 world_on_floor(const LightView& light, double u, double v) {
+  return {light.right_range.lo + u * (light.right_range.hi - light.right_range.lo), 0.0,
+          light.down_range.lo + v * (light.down_range.hi - light.down_range.lo)};
+}
+
+// A sphere of radius r above a floor under an orthographic light casts a disk of radius r:
+// every camera pixel on the floor more than one pixel (its footprint) from the disk's edge is
+// classified correctly by the hard reference; the shadow map holds the same disk.
+TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
+  SceneSetup setup;
+  add_floor(setup.geometry, 4.0);
+  const Vec3 centre{0.3, 2.5, -0.2};
+  const double r = 1.1;
+  add_sphere(setup.geometry, "sphere", centre, r);
+  setup.light = light_straight_down(4.0, 4.0, -0.1);
+  setup.camera.position = {3.5, 7.0, 4.0};
+  setup.camera.target = {0.3, 0.0, -0.2};
+  setup.camera.vertical_fov_degrees = 35.0;
+  setup.camera.width = 320;
+  setup.camera.height = 240;
+  setup.map_width = setup.map_height = 256;
+  setup.samples = 1;
+  setup.progress = false;
+  const SceneRenderer renderer(setup);
+  const CameraImages view = renderer.camera_view(false);
+  const double texel = 8.0 / setup.map_width;
+  size_t inside = 0, outside = 0, wrong = 0;
+  double worst_edge_error = 0.0;  // in pixels, over misclassified pixels
+  for (int y = 0; y < setup.camera.height; ++y)
+    for (int x = 0; x < setup.camera.width; ++x) {
+      const float d = view.receivers.at(x, y, 2);
+      if (!std::isfinite(d)) continue;
+      const double floor_d = (0.0 - setup.light.near_plane) / setup.light.depth_range();
+      if (std::abs(d - floor_d) > 1e-5) continue;  // not the floor
+      const Vec3 p = world_on_floor(setup.light, view.receivers.at(x, y, 0), view.receivers.at(x, y, 1));
+      const double dist = std::hypot(p.x - centre.x, p.z - centre.z);
+      const double pixel = view.receivers.at(x, y, 3) * texel;  // pixel width on the floor
+      const bool lit = view.reference_hard.at(x, y) > 0.5f;
+      (dist < r ? inside : outside)++;
+      if (lit != (dist > r)) {
+        ++wrong;
+        worst_edge_error = std::max(worst_edge_error, std::abs(dist - r) / pixel);
+      }
+    }
+  RecordProperty("disk_edge_error_pixels", std::to_string(worst_edge_error));
+  std::printf("  disk: %zu shadowed, %zu lit floor pixels, %zu on the edge misclassified, worst "
+              "%.4f pixels from the edge\n", inside, outside, wrong, worst_edge_error);
+  EXPECT_GT(inside, 3000u);
+  EXPECT_GT(outside, 10000u);
+  EXPECT_LE(worst_edge_error, 1.0);
+
+  // The shadow map: texels whose centre lies over the disk see the sphere, the others the floor.
+  const HostImage sm = renderer.shadow_map();
+  size_t sm_wrong = 0;
+  for (int j = 0; j < sm.height; ++j)
+    for (int i = 0; i < sm.width; ++i) {
+      const Vec3 p = world_on_floor(setup.light, (i + 0.5) / sm.width, (j + 0.5) / sm.height);
+      const double dist = std::hypot(p.x - centre.x, p.z - centre.z);
+      const bool sphere = sm.at(i, j) < 0.9f * (4.0 / 4.1);
+      if (std::abs(dist - r) > texel && sphere != (dist < r)) ++sm_wrong;
+    }
+  EXPECT_EQ(sm_wrong, 0u);
+}
+
+// Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L
+// 4 units above the floor. Perspective light (a fixed square centred on the light position,
+// seed 003 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light.
+// Orthographic light (the square in the near plane centred over each receiver): L (d_R - d_B)
+// / d_R. Measured as 1 / slope of a least-squares line through the visibility ramp across one
+// edge (x = 1), from floor pixels of the camera view.
+struct PenumbraCase {
+  LightType type;
+  double light_size;
+};
+
+class ScenePenumbra : public ::testing::TestWithParam<PenumbraCase> {};
+
+TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
+  const PenumbraCase c = GetParam();
+  SceneSetup setup;
+  add_floor(setup.geometry, 4.0);
+  const double h = 1.0;
+  add_quad(setup.geometry, "occluder", {-1.0, h, -1.0}, {2.0, 0.0, 0.0}, {0.0, 0.0, 2.0});
+  if (c.type == LightType::Ortho) {
+    setup.light = light_straight_down(4.5, 4.0, -0.1);
+  } else {
+    setup.light = LightView::fit_perspective(setup.geometry, {1.0, 4.0, 0.0}, {1.0, 0.0, 0.0},
+                                             160.0, 0.01);
+  }
+  setup.camera.position = {3.0, 5.0, 0.0};
+  setup.camera.target = {1.0, 0.0, 0.0};
+  setup.camera.up_hint = {0.0, 0.0, -1.0};
+  setup.camera.vertical_fov_degrees = 30.0;
+  setup.camera.width = 240;
+  setup.camera.height = 240;
+  setup.map_width = setup.map_height = 64;
+  setup.light_size = c.light_size;
+  setup.samples = 256;
+  setup.progress = false;
+  const SceneRenderer renderer(setup);
+  const CameraImages view = renderer.camera_view(true);
+  const double d_b = 4.0 - h, d_r = 4.0;
+  const double expected = c.type == LightType::Perspective
+                              ? c.light_size * (d_r - d_b) / d_b
+                              : c.light_size * (d_r - d_b) / d_r;
+  // Over the ramp's inner part (0.1..0.9), |z| < 0.6: away from the perpendicular edges.
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int y = 0; y < setup.camera.height; ++y)
+    for (int x = 0; x < setup.camera.width; ++x) {
+      const Ray ray = setup.camera.ray_through(x + 0.5, y + 0.5);
+      const auto hit = renderer.tracer().closest(ray, 0.0, 1e30);
+      if (!hit || ray.direction.y >= 0.0) continue;
+      const double t_floor = -ray.origin.y / ray.direction.y;
+      if (std::abs(hit->t - t_floor) > 1e-4) continue;  // not the floor
+      const Vec3 p = ray.at(t_floor);
+      const double vis = view.reference_soft.at(x, y);
+      if (std::abs(p.z) > 0.6 || vis < 0.1 || vis > 0.9) continue;
+      n += 1; sx += p.x; sy += vis; sxx += p.x * p.x; sxy += p.x * vis;
+    }
+  ASSERT_GT(n, 200) << "too few penumbra pixels";
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double centre = (0.5 - (sy - slope * sx) / n) / slope;
+  const double measured = 1.0 / slope;
+  std::printf("  penumbra %s L=%.2f: measured %.4f, formula %.4f (%+.2f%%), centre x = %.4f "
+              "(edge at 1), %d ramp pixels\n",
+              c.type == LightType::Ortho ? "ortho" : "perspective", c.light_size, measured,
+              expected, 100.0 * (measured / expected - 1.0), centre, int(n));
+  EXPECT_NEAR(measured, expected, 0.05 * expected);
+  EXPECT_NEAR(centre, 1.0, 0.05 * expected);
+}
+
+INSTANTIATE_TEST_SUITE_P(Lights, ScenePenumbra,
+                         ::testing::Values(PenumbraCase{LightType::Perspective, 0.75},
+                                           PenumbraCase{LightType::Perspective, 1.5},
+                                           PenumbraCase{LightType::Ortho, 1.5}),
+                         [](const auto& info) {
+                           return std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") +
+                                  "_L" + std::to_string(int(info.param.light_size * 100));
+                         });
+
+// Slope-scaled bias: the receiver's depth change over one shadow-map texel, from the camera
+// neighbours' (u, v, d) (a neighbour counts when it lies within 3 texels in the map).
+double slope_bias(const HostImage& rx, int x, int y, int w, int h) {
+  const double u = rx.at(x, y, 0) * w, v = rx.at(x, y, 1) * h, d = rx.at(x, y, 2);
+  double slope = 0.0;
+  for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+    const int nx = x + dx, ny = y + dy;
+    if (nx < 0 || ny < 0 || nx >= rx.width || ny >= rx.height) continue;
+    const double nd = rx.at(nx, ny, 2);
+    if (!std::isfinite(nd)) continue;
+    const double dist = std::hypot(rx.at(nx, ny, 0) * w - u, rx.at(nx, ny, 1) * h - v);
+    if (dist > 3.0 || dist < 1e-6) continue;
+    slope = std::max(slope, std::abs(nd - d) / dist);
+  }
+  return slope;
+}
+
+// Every built-in scene (and one perspective light): a receiver lit in the hard reference
+// passes the plain shadow-map test d <= z(nearest texel) + 1e-3 + (depth slope per texel) at >= 99% of the lit pixels.
+class SceneConsistency : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(SceneConsistency, LitReceiversPassShadowMapTest) {
+  const auto& [name, light] = GetParam();
+  SceneRequest request;
+  request.scene = name;
+  request.out_dir = "unused";
+  request.map_size = 1024;
+  request.receivers = "320x240";
+  request.light = light;
+  request.samples = 1;
+  request.progress = false;
+  const SceneSetup setup = make_setup(request);
+  const SceneRenderer renderer(setup);
+  const HostImage sm = renderer.shadow_map();
+  const CameraImages view = renderer.camera_view(false);
+  const double bias = 1e-3;
+  size_t lit = 0, pass = 0, shadowed = 0;
+  for (int y = 0; y < setup.camera.height; ++y)
+    for (int x = 0; x < setup.camera.width; ++x) {
+      const float u = view.receivers.at(x, y, 0), v = view.receivers.at(x, y, 1),
+                  d = view.receivers.at(x, y, 2);
+      if (!std::isfinite(d)) continue;
+      ASSERT_TRUE(u >= 0 && u <= 1 && v >= 0 && v <= 1 && d >= 0 && d <= 1)
+          << name << ": receiver outside the light frustum at " << x << "," << y;
+      if (view.reference_hard.at(x, y) < 0.5f) { ++shadowed; continue; }
+      ++lit;
+      const int i = std::clamp(int(u * sm.width), 0, sm.width - 1);
+      const int j = std::clamp(int(v * sm.height), 0, sm.height - 1);
+      if (d <= sm.at(i, j) + bias + slope_bias(view.receivers, x, y, sm.width, sm.height)) ++pass;
+    }
+  const double fraction = double(pass) / double(lit);
+  std::printf("  %s (%s): %zu lit, %zu shadowed receivers; %.3f%% of the lit pass the test\n",
+              name.c_str(), light.c_str(), lit, shadowed, 100.0 * fraction);
+  EXPECT_GT(lit, 5000u);
+  EXPECT_GT(shadowed, 500u);
+  EXPECT_GE(fraction, 0.99) << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BuiltIn, SceneConsistency,
+    ::testing::Values(std::make_pair("spheres", "ortho"), std::make_pair("fence", "ortho"),
+                      std::make_pair("backyard", "ortho"), std::make_pair("contact", "ortho"),
+                      std::make_pair("thin", "ortho"), std::make_pair("terrain", "ortho"),
+                      std::make_pair("spheres", "perspective"),
+                      std::make_pair("backyard", "perspective")),
+    [](const auto& info) { return info.param.first + "_" + info.param.second; });
+
+}  // namespace
+}  // namespace sf::test

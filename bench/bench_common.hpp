@@ -51,6 +51,7 @@ void register_blur();
 void register_opencv();  // only with SF_HAVE_OPENCV
 void register_reconstruct();
 void register_pipeline();
+void register_pyramid();  // bench_pyramid.cpp: mips, SAT, footprint lookups
 
 // Measures the copy bandwidth (clEnqueueCopyBuffer and a copy kernel, the better one).
 double measure_copy_bandwidth();

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   register_blur();
   register_reconstruct();
   register_pipeline();
+  register_pyramid();
 #ifdef SF_HAVE_OPENCV
   register_opencv();
 #endif

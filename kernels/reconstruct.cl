@@ -7,7 +7,12 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
                                     const int height, const int plane_stride,
                                     __global const float* restrict u, __global const float* restrict v,
                                     __global const float* restrict d, __global float* restrict out,
-                                    const int count, const sf_method_params P) {
+                                    const int count, const sf_method_params P,
+                                    __global const sf_stored* restrict chain,
+                                    __global const float* restrict sat,
+                                    __global const float* restrict f) {
+  // chain / sat / f: the lookup's mip chain or summed-area table and the receivers' footprints
+  // (lookup.clh, SF_LOOKUP); null when unused (f null = footprint 1).
   const int i = get_global_id(0);
   if (i >= count) return;
   const float ui = u[i], vi = v[i], di = d[i];
@@ -16,7 +21,7 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
     return;
   }
   float b[SF_CHANNELS];
-  sf_lookup_bilinear(basis, width, height, plane_stride, ui, vi, b);
+  sf_lookup(basis, chain, sat, width, height, ui, vi, f ? f[i] : 1.0f, b);
   out[i] = clamp(sf_visibility(b, clamp(di, 0.0f, 1.0f), P), 0.0f, 1.0f);
 }
 

@@ -56,6 +56,8 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   c->add_option("--vector-width", a.options.schedule.blur_vector_width,
                 "Blur texels per work-item (4, 8, 16)")
       ->capture_default_str();
+  c->add_option("--flags-out", a.flags_out,
+                 "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
   return c;
 }
@@ -65,6 +67,11 @@ int run_filter(const FilterArgs& a) {
   if (a.receivers.empty() == a.receiver_depth.empty())
     throw InputError("give exactly one of --receivers or --receiver-depth");
   check_output_is_not_an_input(a.output, {a.shadow_map, a.receivers, a.receiver_depth});
+  if (!a.flags_out.empty()) {
+    if (a.options.esm_classify.mode == EsmClassify::None)
+      throw InputError("--flags-out needs --esm-classify zmax or threshold");
+    check_output_is_not_an_input(a.flags_out, {a.shadow_map, a.receivers, a.receiver_depth, a.output});
+  }
 
   io::DepthLoadOptions load;
   load.encoding = io::parse_depth_encoding(a.encoding);
@@ -88,16 +95,36 @@ int run_filter(const FilterArgs& a) {
 
   const auto t_write = Clock::now();
   io::write_image(a.output, r.visibility);
+  if (!a.flags_out.empty()) io::write_image(a.flags_out, r.flags);
   const double write_ms = ms_since(t_write);
 
   if (!a.quiet) {
+    // Footprint-lookup and classification stages (only those that ran), and the flagged fraction
+    // of all receivers (the seed's table 7.2 counts screen pixels the same way).
+    char flagged[128] = "";
+    std::string stages;
+    auto stage = [&stages](const char* name, double seconds) {
+      char b[48];
+      std::snprintf(b, sizeof b, ", %s %.3f", name, seconds * 1e3);
+      stages += b;
+    };
+    if (r.times.pyramid > 0) stage("mips", r.times.pyramid);
+    if (r.times.sat > 0) stage("sat", r.times.sat);
+    if (r.times.zmax > 0) stage("zmax", r.times.zmax);
+    if (r.classified) stage("classify", r.times.classify);
+    if (r.classified) {
+      const size_t lit_able = receivers.count() - r.background - r.outside;
+      std::snprintf(flagged, sizeof flagged, " | flagged %.2f%% of receivers, %.2f%% of %zu in the map",
+                    receivers.count() ? 100.0 * r.flagged / receivers.count() : 0.0,
+                    lit_able ? 100.0 * r.flagged / lit_able : 0.0, lit_able);
+    }
     std::printf(
-        "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside) | device %s | "
-        "device ms: transform %.3f, blur %.3f, reconstruct %.3f, upload %.3f, download %.3f | "
+        "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside)%s | device %s | "
+        "device ms: transform %.3f, blur %.3f%s, reconstruct %.3f, upload %.3f, download %.3f | "
         "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
         (method_summary(a.options) + ", " + prefilter_summary(a.options)).c_str(), depth.width, depth.height, receivers.width, receivers.height,
-        receivers.grid ? " (planar)" : "", r.background, r.outside, runtime->info().device_name.c_str(),
-        r.times.transform * 1e3, r.times.blur * 1e3, r.times.reconstruct * 1e3, r.times.upload * 1e3,
+        receivers.grid ? " (planar)" : "", r.background, r.outside, flagged, runtime->info().device_name.c_str(),
+        r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(), r.times.reconstruct * 1e3, r.times.upload * 1e3,
         r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());
   }
   return 0;

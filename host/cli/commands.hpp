@@ -22,6 +22,7 @@ struct FilterArgs {
   std::string encoding = "linear", nonfinite = "error";
   double near_plane = 0.1, far_plane = 100.0;
   bool quiet = false;
+  std::string flags_out;  // --flags-out: ESM classification mask (1 = flagged)
   FilterOptions options;
 };
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& args);

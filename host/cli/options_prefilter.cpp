@@ -1,7 +1,10 @@
+#include <iomanip>
+#include <map>
 #include <sstream>
 
 #include "filter_options.hpp"
 #include "shadowfilter/kernels.hpp"
+#include "shadowfilter/pyramids.hpp"
 
 namespace sf::cli {
 
@@ -9,6 +12,28 @@ void add_prefilter_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--blur-radius", o.blur.radius, "Gaussian prefilter radius R (taps -R..R)")
       ->capture_default_str();
   c.add_option("--blur-sigma", o.blur.sigma, "Gaussian sigma in texels (0 = (2R+1)/6)")
+      ->capture_default_str();
+  const std::map<std::string, Lookup> lookups{
+      {"bilinear", Lookup::Bilinear}, {"mips", Lookup::Mips}, {"sat", Lookup::Sat}};
+  c.add_option("--lookup", o.lookup.kind,
+               "Lookup at the receivers: bilinear | mips (trilinear at LOD log2 f) | sat (box of "
+               "side f); f = the receivers' footprint channel, 1 when missing")
+      ->transform(CLI::CheckedTransformer(lookups, CLI::ignore_case))
+      ->default_str("bilinear");
+  const std::map<std::string, EsmClassify> modes{
+      {"none", EsmClassify::None}, {"zmax", EsmClassify::ZMax}, {"threshold", EsmClassify::Threshold}};
+  c.add_option("--esm-classify", o.esm_classify.mode,
+               "ESM failure classification: none | zmax | threshold; flagged receivers fall back "
+               "to a 2x2 PCF of the ESM test")
+      ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case))
+      ->default_str("none");
+  c.add_option("--esm-zmax-offset", o.esm_classify.zmax_offset,
+               "zmax: flag when a texel in the lookup's support has z > d + offset")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0f));
+  c.add_option("--esm-threshold-eps", o.esm_classify.threshold_eps,
+               "threshold: flag when exp(-c d) bar(B) > 1 + eps (negative: exp(c offset)(1+1e-5) - 1, "
+               "a subset of zmax)")
       ->capture_default_str();
 }
 
@@ -20,7 +45,15 @@ std::string prefilter_summary(const FilterOptions& o) {
   } else {
     s << "no prefilter";
   }
-  s << ", bilinear lookup";
+  switch (o.lookup.kind) {
+    case Lookup::Mips: s << ", trilinear (mips) lookup"; break;
+    case Lookup::Sat: s << ", box (sat) lookup"; break;
+    default: s << ", bilinear lookup"; break;
+  }
+  if (o.esm_classify.mode == EsmClassify::ZMax)
+    s << ", zmax classification offset=" << o.esm_classify.zmax_offset;
+  else if (o.esm_classify.mode == EsmClassify::Threshold)
+    s << ", threshold classification eps=" << std::setprecision(4) << esm_threshold_eps(o);
   return s.str();
 }
 

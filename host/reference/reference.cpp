@@ -1,5 +1,9 @@
 #include "reference.hpp"
 
+#include "shadowfilter/methods.hpp"
+
+#include "lookups.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -119,11 +123,13 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
     quantise(filtered, opt.storage);
   }
   std::vector<double> b(m.channels);
+  const LookupRef lookup(filtered, opt.lookup.kind, opt.storage);  // lookups.cpp
   for (size_t i = 0; i < rx.count(); ++i) {
     double u, v, d;
     receiver_at(rx, i, u, v, d);
     if (receiver_outside(u, v, d)) continue;
-    for (int c = 0; c < m.channels; ++c) b[c] = bilinear(filtered, c, u, v);
+    for (int c = 0; c < m.channels; ++c)
+      b[c] = rx.grid ? bilinear(filtered, c, u, v) : lookup.value(c, u, v, footprint_at(rx, i));
     out[i] = m.visibility(b.data(), std::clamp(d, 0.0, 1.0));
   }
   return out;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/pyramids.hpp"
 
 namespace sf {
 namespace {
@@ -29,9 +30,9 @@ std::string method_options(const MethodDesc& m, const FilterOptions& opt) {
 }
 
 cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt,
-                         const char* file, const char* name) {
+                         const char* file, const char* name, const std::string& extra = "") {
   cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file},
-                             method_options(m, opt));
+                             method_options(m, opt) + extra);
   return cl::Kernel(p, name);
 }
 
@@ -170,10 +171,24 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& basis, int width, int height,
                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                      const cl::Buffer& visibility, size_t count,
-                                     const EventList* wait) {
+                                     const EventList* wait, const LookupBuffers* lookup) {
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait);
-  cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points");
+  // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
+  const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
+  cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
+                               kind == Lookup::Bilinear
+                                   ? std::string()
+                                   : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind)));
+  auto buffer_or_null = [&k](cl_uint i, const cl::Buffer* b) {
+    if (b && (*b)())
+      k.setArg(i, *b);
+    else
+      k.setArg(i, sizeof(cl_mem), nullptr);
+  };
+  buffer_or_null(10, kind == Lookup::Mips ? &lookup->chain : nullptr);
+  buffer_or_null(11, kind == Lookup::Sat ? &lookup->sat : nullptr);
+  buffer_or_null(12, lookup ? &lookup->footprint : nullptr);
   k.setArg(0, basis);
   k.setArg(1, width);
   k.setArg(2, height);

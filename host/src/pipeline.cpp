@@ -1,5 +1,6 @@
 #include "shadowfilter/pipeline.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -38,6 +39,30 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
   check_fits_device(*rt_, shape_.bytes(), 2 * shape_.bytes(), "the basis images");
   basis_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
   if (options_.blur.radius > 0 && !method_->raw_depth) scratch_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
+  allocate_lookups();
+}
+
+// Only what the options need: a mean pyramid for mips, a SAT for sat, a z-max pyramid of the
+// depth for zmax classification (raw-depth methods weight their tests directly: none).
+void Pipeline::allocate_lookups() {
+  const auto& cls = options_.esm_classify;
+  if (cls.mode != EsmClassify::None && options_.method != "esm")
+    throw InputError("--esm-classify needs --method esm, got " + options_.method);
+  auto alloc = [this](size_t bytes) {
+    bytes = std::max<size_t>(bytes, 4);
+    lookup_bytes_ += bytes;
+    check_fits_device(*rt_, bytes, 2 * shape_.bytes() + lookup_bytes_, "the lookup tables");
+    return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
+  };
+  if (!method_->raw_depth && options_.lookup.kind == Lookup::Mips)
+    chain_ = alloc(mip_layout(shape_.width, shape_.height, shape_.channels).chain_values * shape_.value_bytes);
+  if (!method_->raw_depth && options_.lookup.kind == Lookup::Sat) {
+    const SatLayout L = sat_layout(shape_);
+    sat_ = alloc(L.table_floats * sizeof(float));
+    sat_bands_ = alloc(L.band_floats * sizeof(float));
+  }
+  if (cls.mode == EsmClassify::ZMax)
+    zmax_chain_ = alloc(mip_layout(shape_.width, shape_.height, 1).chain_values * sizeof(float));
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
@@ -45,24 +70,70 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
                                       basis_, wait);
   EventList after{transform_done_};
   blur_done_ = BlurEvents{};
+  depth_ = depth;
+  pyramid_done_ = sat_done_ = zmax_done_ = PassEvents{};
+  cl::Event filtered = transform_done_;
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
-  if (options_.blur.radius == 0 || method_->raw_depth) return transform_done_;
-  blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, basis_, shape_,
-                            &after);
-  return blur_done_.cols;
+  if (options_.blur.radius > 0 && !method_->raw_depth) {
+    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, basis_,
+                              shape_, &after);
+    filtered = blur_done_.cols;
+  }
+  // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.
+  EventList done{filtered}, after_filter{filtered};
+  if (chain_()) {
+    pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_,
+                                    &after_filter);
+    done.push_back(pyramid_done_.last);
+  }
+  if (sat_()) {
+    sat_done_ = enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter);
+    done.push_back(sat_done_.last);
+  }
+  if (zmax_chain_()) {
+    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_,
+                                 {shape_.width, shape_.height, 1, 4}, wait);
+    done.push_back(zmax_done_.last);
+  }
+  if (done.size() == 1) return filtered;
+  cl::Event all;
+  rt_->queue().enqueueMarkerWithWaitList(&done, &all);
+  return all;
 }
 
 cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility,
                                 const EventList* wait) {
-  if (rx.grid) {
+  LookupBuffers lookup;
+  lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
+  lookup.chain = chain_;
+  lookup.sat = sat_;
+  lookup.footprint = rx.f;
+  if (rx.grid) {  // footprint 1 at texel centres: every lookup reads the texel itself
     reconstruct_done_ = enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width,
                                                  shape_.height, rx.d, visibility, wait);
   } else {
     reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, basis_, shape_.width,
                                                    shape_.height, rx.u, rx.v, rx.d, visibility,
-                                                   rx.count, wait);
+                                                   rx.count, wait, &lookup);
   }
-  return reconstruct_done_;
+  classify_done_ = cl::Event();
+  if (options_.esm_classify.mode == EsmClassify::None) return reconstruct_done_;
+  if (!flags_() || flags_count_ < rx.count) {
+    flags_count_ = std::max<size_t>(rx.count, 1);
+    flags_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, flags_count_);
+  }
+  ClassifyInputs in;
+  in.depth = depth_;
+  in.zmax_chain = zmax_chain_;
+  in.basis = basis_;
+  in.lookup = lookup;
+  in.width = shape_.width;
+  in.height = shape_.height;
+  EventList after{reconstruct_done_};
+  classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, &after)
+                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility,
+                                                         flags_, rx.count, &after);
+  return classify_done_;
 }
 
 StageTimes Pipeline::times() const {
@@ -70,6 +141,10 @@ StageTimes Pipeline::times() const {
   if (transform_done_()) t.transform = event_seconds(transform_done_);
   if (blur_done_.rows()) t.blur = event_seconds(blur_done_.rows, blur_done_.cols);
   if (reconstruct_done_()) t.reconstruct = event_seconds(reconstruct_done_);
+  if (pyramid_done_.first()) t.pyramid = event_seconds(pyramid_done_.first, pyramid_done_.last);
+  if (sat_done_.first()) t.sat = event_seconds(sat_done_.first, sat_done_.last);
+  if (zmax_done_.first()) t.zmax = event_seconds(zmax_done_.first, zmax_done_.last);
+  if (classify_done_()) t.classify = event_seconds(classify_done_);
   return t;
 }
 
@@ -115,6 +190,8 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   if (!receivers.grid) {
     rx.u = upload(rt, receivers.u, uploads);
     rx.v = upload(rt, receivers.v, uploads);
+    if (receivers.has_footprint && options.lookup.kind != Lookup::Bilinear)
+      rx.f = upload(rt, receivers.f, uploads);
   }
   cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, count * sizeof(float));
   cl::Event filtered = pipe.prefilter(depth_buf, &uploads);
@@ -126,6 +203,16 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   cl::Event download;
   rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(),
                                &after_rec, &download);
+  if (options.esm_classify.mode != EsmClassify::None) {
+    std::vector<unsigned char> flags(count);
+    if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data());
+    result.classified = true;
+    result.flags = HostImage(receivers.width, receivers.height, 1);
+    for (size_t i = 0; i < count; ++i) {
+      result.flags.data[i] = flags[i] ? 1.0f : 0.0f;
+      result.flagged += flags[i] ? 1 : 0;
+    }
+  }
   result.times = pipe.times();
   result.times.upload = event_seconds(uploads.front(), uploads.back());
   result.times.download = event_seconds(download);

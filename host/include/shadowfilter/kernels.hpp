@@ -42,12 +42,15 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
                         const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
                         const ImageShape& shape, const EventList* wait = nullptr);
 
-// Visibility of `count` receivers given as (u, v, d) arrays, bilinear lookup of the filtered basis.
+// Visibility of `count` receivers given as (u, v, d) arrays, bilinear lookup of the filtered basis,
+// or the footprint lookup of `lookup` (pyramids.hpp: trilinear over a mip chain, box via a SAT).
+struct LookupBuffers;
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                      const cl::Buffer& basis, int width, int height,
                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                      const cl::Buffer& visibility, size_t count,
-                                     const EventList* wait = nullptr);
+                                     const EventList* wait = nullptr,
+                                     const LookupBuffers* lookup = nullptr);
 
 // Visibility of one receiver per shadow-map texel (depth image d of the map's size).
 cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,

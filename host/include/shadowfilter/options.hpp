@@ -65,10 +65,36 @@ struct BlurOptions {
   float sigma = 0.0f;
 };
 
+// How receivers read the filtered basis (methods.md sec. 2; docs/lookups.md). The receivers'
+// footprint f (level-0 texels, 1 when missing) drives mips and sat; bilinear ignores it.
+enum class Lookup { Bilinear = 0, Mips = 1, Sat = 2 };
+struct LookupOptions {
+  // bilinear: no pyramid (fastest, aliases under minification); mips: trilinear at
+  // LOD log2(f) over the mean pyramid; sat: area-weighted box of side f via a summed-area table.
+  Lookup kind = Lookup::Bilinear;
+};
+
+// ESM failure classification (seed 000 ch. 7.3): flagged receivers fall back to a 2x2 PCF of
+// the ESM test on the raw depth.
+enum class EsmClassify { None = 0, ZMax = 1, Threshold = 2 };
+struct EsmClassifyOptions {
+  EsmClassify mode = EsmClassify::None;
+  // zmax: flag when some texel of the lookup's support has z > d + offset. The offset keeps
+  // lit receivers whose own surface slopes away within the support from being flagged.
+  float zmax_offset = 0.002f;
+  // threshold: flag when exp(-c d) bar(B) > 1 + eps. Negative = automatic,
+  // exp(c offset)(1 + 1e-5) - 1: then threshold flags a subset of zmax.
+  float threshold_eps = -1.0f;
+};
+
 // How the kernels are scheduled (Halide-style: what is computed does not depend on these).
 struct ScheduleOptions {
-  // Texels per work-item along a row in the blur (4, 8 or 16): wide vector loads on CPUs.
+  // Texels per vector in the blur (4, 8 or 16): wide vector loads on CPUs.
   int blur_vector_width = 16;
+  // Blur work-item tile: texels along a row (a multiple of the vector width) and output rows.
+  // 0 = chosen from the radius and the image size (kernels.cpp, enqueue_blur).
+  int blur_strip_texels = 0;
+  int blur_rows = 0;
   // Work-group size for 1-D kernels; 0 lets the driver choose.
   int work_group_size = 0;
 };
@@ -83,6 +109,8 @@ struct FilterOptions {
   CsmOptions csm;
   Storage storage = Storage::F32;  // basis images, see `shadowfilter methods` for what fits
   BlurOptions blur;
+  LookupOptions lookup;
+  EsmClassifyOptions esm_classify;
   ScheduleOptions schedule;
 };
 

@@ -1,0 +1,119 @@
+// 6. Footprint lookups (issue 4): the mip chain and the summed-area table of a 2048x2048 basis
+// with 1 and 4 channels, and trilinear / box vs bilinear ESM reconstruction of 1920x1080 random
+// receivers on a 2048x2048 map.
+// Bytes: mips = level 0 read + every level written (4 * N * (W H + chain)); sat = the image read
+// + the float-float table written (4 N W H + 8 N (W+1)(H+1)), the least any SAT build moves.
+#include <cmath>
+
+#include "bench_common.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/pyramids.hpp"
+
+namespace sf::bench {
+namespace {
+
+constexpr int kMap = 2048;
+
+void BM_MipChain(benchmark::State& state) {
+  const int n = int(state.range(0)), channels = int(state.range(1));
+  const ImageShape shape{n, n, channels, 4};
+  const MipLayout L = mip_layout(n, n, channels);
+  cl::Buffer src = to_device(random_floats(shape.plane_texels() * channels, 11));
+  cl::Buffer chain = device_buffer(std::max<size_t>(L.chain_values, 1) * sizeof(float));
+  const double s = time_runs(state, [&] {
+    PassEvents e = enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, src, chain, shape);
+    e.last.wait();
+    return event_seconds(e.first, e.last);
+  });
+  set_throughput(state, 4.0 * (double(shape.plane_texels()) * channels + double(L.chain_values)),
+                 double(shape.plane_texels()) * channels, s);
+}
+
+void BM_ZMaxChain(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const ImageShape shape{n, n, 1, 4};
+  const MipLayout L = mip_layout(n, n, 1);
+  cl::Buffer src = to_device(random_floats(shape.plane_texels(), 12));
+  cl::Buffer chain = device_buffer(L.chain_values * sizeof(float));
+  const double s = time_runs(state, [&] {
+    PassEvents e = enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, src, chain, shape);
+    e.last.wait();
+    return event_seconds(e.first, e.last);
+  });
+  set_throughput(state, 4.0 * (double(shape.plane_texels()) + double(L.chain_values)),
+                 double(shape.plane_texels()), s);
+}
+
+void BM_Sat(benchmark::State& state) {
+  const int n = int(state.range(0)), channels = int(state.range(1));
+  const ImageShape shape{n, n, channels, 4};
+  const SatLayout L = sat_layout(shape);
+  cl::Buffer src = to_device(random_floats(shape.plane_texels() * channels, 13));
+  cl::Buffer table = device_buffer(L.table_floats * sizeof(float));
+  cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
+  const double s = time_runs(state, [&] {
+    PassEvents e = enqueue_sat(runtime(), Storage::F32, src, table, bands, shape);
+    e.last.wait();
+    return event_seconds(e.first, e.last);
+  });
+  set_throughput(state, 4.0 * double(shape.plane_texels()) * channels + 4.0 * double(L.table_floats),
+                 double(shape.plane_texels()) * channels, s);
+}
+
+// ESM reconstruction with each lookup (the tables built once, outside the timing).
+void BM_ReconstructLookup(benchmark::State& state) {
+  const Lookup kind = static_cast<Lookup>(state.range(0));
+  const size_t count = 1920 * 1080;
+  const ImageShape shape{kMap, kMap, 1, 4};
+  FilterOptions opt;
+  cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
+  cl::Buffer basis = device_buffer(shape.bytes());
+  enqueue_transform(runtime(), find_method("esm"), opt, depth, kMap, kMap, basis).wait();
+  LookupBuffers lk;
+  lk.kind = kind;
+  if (kind == Lookup::Mips) {
+    lk.chain = device_buffer(mip_layout(kMap, kMap, 1).chain_values * sizeof(float));
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, basis, lk.chain, shape).last.wait();
+  } else if (kind == Lookup::Sat) {
+    const SatLayout L = sat_layout(shape);
+    lk.sat = device_buffer(L.table_floats * sizeof(float));
+    cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
+    enqueue_sat(runtime(), Storage::F32, basis, lk.sat, bands, shape).last.wait();
+  }
+  // Footprints 1 .. 64 texels (log-uniform): every LOD of a typical camera view.
+  std::vector<float> f = random_floats(count, 8, 0.0f, 6.0f);
+  for (auto& x : f) x = std::exp2(x);
+  lk.footprint = to_device(f);
+  cl::Buffer u = to_device(random_floats(count, 5)), v = to_device(random_floats(count, 6));
+  cl::Buffer d = to_device(random_floats(count, 7));
+  cl::Buffer vis = device_buffer(count * sizeof(float));
+  const double s = time_runs(state, [&] {
+    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, kMap, kMap,
+                                             u, v, d, vis, count, nullptr, &lk);
+    e.wait();
+    return event_seconds(e);
+  });
+  set_throughput(state, (kind == Lookup::Bilinear ? 4.0 : 5.0) * sizeof(float) * count, count, s);
+}
+
+}  // namespace
+
+void register_pyramid() {
+  configure(benchmark::RegisterBenchmark("mips/chain", BM_MipChain))
+      ->ArgNames({"size", "channels"})
+      ->Args({kMap, 1})
+      ->Args({kMap, 4});
+  configure(benchmark::RegisterBenchmark("mips/zmax_chain", BM_ZMaxChain))->ArgName("size")->Arg(kMap);
+  configure(benchmark::RegisterBenchmark("sat/table", BM_Sat))
+      ->ArgNames({"size", "channels"})
+      ->Args({kMap, 1})
+      ->Args({kMap, 4});
+  configure(benchmark::RegisterBenchmark("esm_reconstruct/lookup_1920x1080_on_2048", BM_ReconstructLookup))
+      ->ArgName("lookup")  // 0 bilinear, 1 mips (trilinear), 2 sat (box)
+      ->Arg(0)
+      ->Arg(1)
+      ->Arg(2);
+}
+
+}  // namespace sf::bench

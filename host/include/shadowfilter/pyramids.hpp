@@ -1,0 +1,91 @@
+#pragma once
+// Pyramids, summed-area tables, footprint lookups and ESM failure classification
+// (methods.md sec. 2-3; docs/lookups.md). Thin typed wrappers like kernels.hpp: buffers are the
+// caller's, every call enqueues after `wait` and returns its events.
+#include <vector>
+
+#include "shadowfilter/kernels.hpp"
+
+namespace sf {
+
+// --- mip pyramids -------------------------------------------------------------
+// Level 0 is the caller's image; levels 1 .. top live one after the other in a "chain" buffer,
+// each as `channels` planes of width x height values (kernels/pyramid.cl).
+struct MipLevel {
+  int width = 0, height = 0;
+  size_t offset = 0;  // values from the start of the chain (levels >= 1; 0 for level 0)
+};
+struct MipLayout {
+  int channels = 1;
+  std::vector<MipLevel> levels;  // levels[0] = the full image
+  size_t chain_values = 0;       // values in the chain (levels >= 1), 0 for a 1x1 image
+  int top() const { return static_cast<int>(levels.size()) - 1; }
+};
+MipLayout mip_layout(int width, int height, int channels);
+
+// Reduction of 2x2 texels: the mean for basis images, max / min for the z-max / z-min pyramids
+// of the raw depth (conservative: every texel bounds the level-0 texels it covers).
+enum class Reduce { Mean = 0, Max = 1, Min = 2 };
+
+struct PassEvents {
+  cl::Event first, last;  // first and last command of a multi-launch build
+};
+
+// Builds levels 1 .. top of `level0` (shape.channels planes in `storage`) into `chain` (at least
+// mip_layout(...).chain_values values, never less than one). Two launches at most for maps up
+// to 4096x4096 (32x32 tiles make five levels per launch; one work-item per channel finishes
+// the levels of 128x128 and below).
+PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
+                           const cl::Buffer& chain, const ImageShape& shape,
+                           const EventList* wait = nullptr);
+
+// --- summed-area tables -------------------------------------------------------
+// Float-float table (hi + lo planes per channel) of (W+1) x (H+1) with zero first row and column.
+struct SatLayout {
+  int bands = 1, band_rows = 1;  // row bands of the two-launch build
+  size_t table_floats = 0;       // 2 channels (W+1)(H+1)
+  size_t band_floats = 0;        // scratch: 2 channels bands W
+};
+SatLayout sat_layout(const ImageShape& shape);
+PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
+                       const cl::Buffer& band_scratch, const ImageShape& shape,
+                       const EventList* wait = nullptr);
+
+// --- lookups ------------------------------------------------------------------
+// What a footprint lookup reads besides level 0 (empty buffers where not needed).
+struct LookupBuffers {
+  Lookup kind = Lookup::Bilinear;
+  cl::Buffer chain;      // mips: the mip chain of the filtered basis
+  cl::Buffer sat;        // sat: the summed-area table of the filtered basis
+  cl::Buffer footprint;  // per receiver f in level-0 texels; empty = 1 everywhere
+};
+// The shape.channels filtered values of `count` receivers (method-agnostic): out holds
+// shape.channels planes of count floats. Used by tests and by callers with their own methods.
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup,
+                                const cl::Buffer& level0, const ImageShape& shape,
+                                const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
+                                size_t count, const EventList* wait = nullptr);
+
+// --- ESM failure classification (seed 000 ch. 7.3) ---------------------------
+// Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
+// z > d + offset, from the z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
+// their visibility by a 2x2 PCF of the ESM test on the raw depth. flags: one uchar per receiver.
+// `zmax_chain` is the Reduce::Max pyramid of `depth` (zmax mode only).
+struct ClassifyInputs {
+  cl::Buffer depth, zmax_chain;
+  cl::Buffer basis;  // level 0 of the filtered basis (threshold mode)
+  LookupBuffers lookup;
+  int width = 0, height = 0;
+};
+cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
+                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                                      const cl::Buffer& visibility, const cl::Buffer& flags,
+                                      size_t count, const EventList* wait = nullptr);
+cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
+                                    const cl::Buffer& d, const cl::Buffer& visibility,
+                                    const cl::Buffer& flags, const EventList* wait = nullptr);
+// The threshold eps in effect: opt.esm_classify.threshold_eps, or when negative the automatic
+// exp(c offset)(1 + 1e-5) - 1, which makes threshold flag a subset of zmax (docs/lookups.md).
+double esm_threshold_eps(const FilterOptions& opt);
+
+}  // namespace sf

@@ -1,0 +1,131 @@
+// Mip pyramids (kernels/pyramid.cl) and the method-agnostic lookup kernel (lookup_values.cl).
+#include <algorithm>
+#include <string>
+
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/pyramids.hpp"
+
+namespace sf {
+namespace {
+
+constexpr int kTile = 32;          // pyramid.cl SF_TILE
+constexpr int kTileLevels = 5;     // levels per tile launch
+constexpr int kTailMaxSide = 128;  // levels this small are finished by one work-item per channel
+
+std::string storage_define(Storage s) { return " -DSF_STORAGE=" + std::to_string(static_cast<int>(s)); }
+
+}  // namespace
+
+MipLayout mip_layout(int width, int height, int channels) {
+  if (width <= 0 || height <= 0 || channels <= 0) throw InputError("mip_layout: empty image");
+  MipLayout L;
+  L.channels = channels;
+  L.levels.push_back({width, height, 0});
+  size_t off = 0;
+  int w = width, h = height;
+  while (w > 1 || h > 1) {
+    w = (w + 1) / 2;
+    h = (h + 1) / 2;
+    L.levels.push_back({w, h, off});
+    off += size_t(channels) * w * h;
+  }
+  L.chain_values = off;
+  return L;
+}
+
+PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
+                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait) {
+  const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
+  PassEvents ev;
+  if (L.top() == 0) {  // 1x1: nothing to build
+    rt.queue().enqueueMarkerWithWaitList(wait, &ev.first);
+    ev.last = ev.first;
+    return ev;
+  }
+  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+                             "-cl-std=CL1.2" + storage_define(storage) +
+                                 " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)));
+  const int W = shape.width, H = shape.height, N = shape.channels;
+  const cl::Buffer* src = &level0;
+  int s = 0, src_off = 0;
+  EventList after;
+  const EventList* deps = wait;
+  auto launched = [&](const cl::Event& e) {
+    if (!ev.first()) ev.first = e;
+    ev.last = e;
+    after = {e};
+    deps = &after;
+  };
+  while (s < L.top() && std::max(L.levels[s].width, L.levels[s].height) > kTailMaxSide) {
+    const int m = std::min(kTileLevels, L.top() - s);
+    cl::Kernel k(p, "sf_pyramid_tiles");
+    k.setArg(0, *src);
+    k.setArg(1, src_off);
+    k.setArg(2, chain);
+    k.setArg(3, W);
+    k.setArg(4, H);
+    k.setArg(5, N);
+    k.setArg(6, s);
+    k.setArg(7, m);
+    const cl::NDRange global((L.levels[s].width + kTile - 1) / kTile,
+                             (L.levels[s].height + kTile - 1) / kTile, N);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), deps, &e);
+    launched(e);
+    src = &chain;
+    s += m;
+    src_off = static_cast<int>(L.levels[s].offset);
+  }
+  if (s < L.top()) {
+    cl::Kernel k(p, "sf_pyramid_tail");
+    k.setArg(0, *src);
+    k.setArg(1, src_off);
+    k.setArg(2, chain);
+    k.setArg(3, W);
+    k.setArg(4, H);
+    k.setArg(5, N);
+    k.setArg(6, s);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(N), cl::NullRange, deps, &e);
+    launched(e);
+  }
+  return ev;
+}
+
+namespace {
+
+void set_buffer_or_null(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
+  if (b())
+    k.setArg(index, b);
+  else
+    k.setArg(index, sizeof(cl_mem), nullptr);
+}
+
+}  // namespace
+
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lk,
+                                const cl::Buffer& level0, const ImageShape& shape,
+                                const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
+                                size_t count, const EventList* wait) {
+  cl::Program p = rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
+                             "-cl-std=CL1.2" + storage_define(storage) +
+                                 " -DSF_CHANNELS=" + std::to_string(shape.channels) +
+                                 " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lk.kind)));
+  cl::Kernel k(p, "sf_lookup_points");
+  k.setArg(0, level0);
+  set_buffer_or_null(k, 1, lk.chain);
+  set_buffer_or_null(k, 2, lk.sat);
+  k.setArg(3, shape.width);
+  k.setArg(4, shape.height);
+  k.setArg(5, u);
+  k.setArg(6, v);
+  set_buffer_or_null(k, 7, lk.footprint);
+  k.setArg(8, out);
+  k.setArg(9, static_cast<int>(count));
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
+                                  cl::NullRange, wait, &e);
+  return e;
+}
+
+}  // namespace sf

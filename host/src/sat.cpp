@@ -1,0 +1,53 @@
+// Summed-area tables (kernels/sat.cl): two launches, float-float accumulation.
+#include <algorithm>
+#include <string>
+
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/pyramids.hpp"
+
+namespace sf {
+
+SatLayout sat_layout(const ImageShape& shape) {
+  SatLayout L;
+  // Bands of rows: one work-item each in the second launch. 16 bands keep two CPU cores busy
+  // while the carries a band reads (the column sums of the bands above it, 8 bytes per column
+  // each) stay a few percent of the image.
+  L.bands = std::clamp(shape.height / 32, 1, 16);
+  L.band_rows = (shape.height + L.bands - 1) / L.bands;
+  L.bands = (shape.height + L.band_rows - 1) / L.band_rows;
+  L.table_floats = 2 * size_t(shape.channels) * (size_t(shape.width) + 1) * (size_t(shape.height) + 1);
+  L.band_floats = 2 * size_t(shape.channels) * L.bands * size_t(shape.width);
+  return L;
+}
+
+PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
+                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait) {
+  const SatLayout L = sat_layout(shape);
+  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat.cl"},
+                             "-cl-std=CL1.2 -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)));
+  PassEvents ev;
+  cl::Kernel bands(p, "sf_sat_bands");
+  bands.setArg(0, src);
+  bands.setArg(1, shape.width);
+  bands.setArg(2, shape.height);
+  bands.setArg(3, L.band_rows);
+  bands.setArg(4, L.bands);
+  bands.setArg(5, band_scratch);
+  rt.queue().enqueueNDRangeKernel(bands, cl::NullRange,
+                                  cl::NDRange((shape.width + 15) / 16, L.bands, shape.channels),
+                                  cl::NDRange(1, 1, 1), wait, &ev.first);
+  cl::Kernel rows(p, "sf_sat_rows");
+  rows.setArg(0, src);
+  rows.setArg(1, shape.width);
+  rows.setArg(2, shape.height);
+  rows.setArg(3, L.band_rows);
+  rows.setArg(4, L.bands);
+  rows.setArg(5, band_scratch);
+  rows.setArg(6, table);
+  EventList after{ev.first};
+  rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(L.bands, shape.channels),
+                                  cl::NDRange(1, 1), &after, &ev.last);
+  return ev;
+}
+
+}  // namespace sf

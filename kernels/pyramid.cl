@@ -1,0 +1,169 @@
+// Mip pyramids of planar N-channel images (methods.md sec. 2): level k+1 texel (i, j) reduces
+// level-k texels (2i..2i+1, 2j..2j+1), indices clamped to level k; sizes ceil(n/2) down to 1x1.
+// Needs common.clh (sf_mip_level), storage.clh and vecio.clh before it.
+//
+// Knob SF_REDUCE: 0 = mean (basis images), 1 = max (z-max pyramid), 2 = min (z-min pyramid).
+// The mean is 0.25 * ((a + b) + (c + d)) with (a, b) the upper pair and (c, d) the lower pair,
+// the order the scalar reference documents.
+//
+// Two kernels build the chain in few launches (PoCL pays ~0.2 ms per launch):
+// - sf_pyramid_tiles: one work-item per 32x32 tile of a level s and channel; produces up to
+//   SF_TILE_LEVELS (5) levels below s from the tile alone. Clamping never leaves a tile: a
+//   level-(s+j) texel reads level-s texels [i 2^j, (i+1) 2^j) clamped to the level, and the
+//   clamped index lies in the last tile. Interior tiles (fully inside level s) take a vector
+//   path with no clamping at any level.
+// - sf_pyramid_tail: one work-item per channel finishes the small levels down to 1x1.
+
+#if SF_REDUCE == 0
+#define SF_RED(a, b, c, d) (0.25f * (((a) + (b)) + ((c) + (d))))
+#elif SF_REDUCE == 1
+#define SF_RED(a, b, c, d) fmax(fmax((a), (b)), fmax((c), (d)))
+#elif SF_REDUCE == 2
+#define SF_RED(a, b, c, d) fmin(fmin((a), (b)), fmin((c), (d)))
+#else
+#error "SF_REDUCE must be 0 (mean), 1 (max) or 2 (min)"
+#endif
+
+#define SF_TILE 32
+#define SF_TILE_LEVELS 5
+
+// Reduces rows 2r, 2r+1 of `n2` texels (vectors a = row 2r, b = row 2r + 1) to n2/2 texels.
+#define SF_RED_VEC(a, b) SF_RED((a).even, (a).odd, (b).even, (b).odd)
+
+// Element pointer of level k's plane c: level 0 is `level0`, levels >= 1 live in `chain`.
+inline __global sf_stored* sf_level_plane(__global sf_stored* level0, __global sf_stored* chain,
+                                          int W, int H, int N, int k, int c, int* w, int* h) {
+  size_t off;
+  sf_mip_level(W, H, N, k, w, h, &off);
+  if (k == 0) return level0 + (size_t)c * W * H;
+  return chain + off + (size_t)c * (*w) * (*h);
+}
+
+// Interior tile at (x0, y0) of level s: vector path, produces `m` levels.
+inline void sf_tile_interior(__global const sf_stored* src, int ws, int x0, int y0, int m,
+                             __global sf_stored* chain, int W, int H, int N, int s, int c) {
+  int w, h;
+  float16 l1[16];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
+    for (int r = 0; r < 16; ++r) {
+      const size_t a = (size_t)(y0 + 2 * r) * ws + x0, b = a + ws;
+      const float16 a0 = SF_VLOAD(16, src, a), a1 = SF_VLOAD(16, src, a + 16);
+      const float16 b0 = SF_VLOAD(16, src, b), b1 = SF_VLOAD(16, src, b + 16);
+      const float16 o = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
+      l1[r] = o;
+      SF_VSTORE(16, o, dst, (size_t)(y0 / 2 + r) * w + x0 / 2);
+    }
+  }
+  if (m < 2) return;
+  float8 l2[8];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 2, c, &w, &h);
+    for (int r = 0; r < 8; ++r) {
+      l2[r] = SF_RED_VEC(l1[2 * r], l1[2 * r + 1]);
+      SF_VSTORE(8, l2[r], dst, (size_t)(y0 / 4 + r) * w + x0 / 4);
+    }
+  }
+  if (m < 3) return;
+  float4 l3[4];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 3, c, &w, &h);
+    for (int r = 0; r < 4; ++r) {
+      l3[r] = SF_RED_VEC(l2[2 * r], l2[2 * r + 1]);
+      SF_VSTORE(4, l3[r], dst, (size_t)(y0 / 8 + r) * w + x0 / 8);
+    }
+  }
+  if (m < 4) return;
+  float2 l4[2];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 4, c, &w, &h);
+    for (int r = 0; r < 2; ++r) {
+      l4[r] = SF_RED_VEC(l3[2 * r], l3[2 * r + 1]);
+      SF_VSTORE(2, l4[r], dst, (size_t)(y0 / 16 + r) * w + x0 / 16);
+    }
+  }
+  if (m < 5) return;
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 5, c, &w, &h);
+    sf_store(dst, (size_t)(y0 / 32) * w + x0 / 32, SF_RED(l4[0].x, l4[0].y, l4[1].x, l4[1].y));
+  }
+}
+
+// Edge tile: scalar, with the clamping of methods.md at every level. The tile is reduced in
+// place (row stride SF_TILE): output (j, i) reads (2j.., 2i..), never an earlier output.
+inline void sf_tile_edge(__global const sf_stored* src, int ws, int hs, int x0, int y0, int m,
+                         __global sf_stored* chain, int W, int H, int N, int s, int c) {
+  float t[SF_TILE * SF_TILE];
+  // Valid extent of the tile in the current level (local coordinates).
+  int vw = min(SF_TILE, ws - x0), vh = min(SF_TILE, hs - y0);
+  for (int j = 0; j < vh; ++j)
+    for (int i = 0; i < vw; ++i) t[j * SF_TILE + i] = sf_load(src, (size_t)(y0 + j) * ws + x0 + i);
+  int size = SF_TILE, lx0 = x0, ly0 = y0;
+  for (int k = 1; k <= m; ++k) {
+    int w, h;
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + k, c, &w, &h);
+    size >>= 1;
+    lx0 >>= 1;
+    ly0 >>= 1;
+    const int nw = min(size, w - lx0), nh = min(size, h - ly0);
+    for (int j = 0; j < nh; ++j) {
+      const int j0 = 2 * j, j1 = min(2 * j + 1, vh - 1);
+      for (int i = 0; i < nw; ++i) {
+        const int i0 = 2 * i, i1 = min(2 * i + 1, vw - 1);
+        const float r = SF_RED(t[j0 * SF_TILE + i0], t[j0 * SF_TILE + i1], t[j1 * SF_TILE + i0],
+                               t[j1 * SF_TILE + i1]);
+        t[j * SF_TILE + i] = r;
+        sf_store(dst, (size_t)(ly0 + j) * w + lx0 + i, r);
+      }
+    }
+    vw = nw;
+    vh = nh;
+  }
+}
+
+// NDRange (ceil(ws / 32), ceil(hs / 32), N), local (1, 1, 1). `src` + `src_off` is level s
+// (level 0's buffer, or the chain itself); writes levels s+1 .. s+m (m <= 5) into `chain`.
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_pyramid_tiles(
+    __global const sf_stored* src, const int src_off, __global sf_stored* chain, const int W,
+    const int H, const int N, const int s, const int m) {
+  const int x0 = get_global_id(0) * SF_TILE, y0 = get_global_id(1) * SF_TILE;
+  const int c = get_global_id(2);
+  int ws, hs;
+  size_t unused;
+  sf_mip_level(W, H, N, s, &ws, &hs, &unused);
+  if (x0 >= ws || y0 >= hs) return;
+  __global const sf_stored* plane = src + src_off + (size_t)c * ws * hs;
+  if (x0 + SF_TILE <= ws && y0 + SF_TILE <= hs)
+    sf_tile_interior(plane, ws, x0, y0, m, chain, W, H, N, s, c);
+  else
+    sf_tile_edge(plane, ws, hs, x0, y0, m, chain, W, H, N, s, c);
+}
+
+// NDRange (N): one work-item per channel reduces level s (at src + src_off) down to 1x1,
+// level by level through global memory (a work-item sees its own writes).
+__kernel void sf_pyramid_tail(__global const sf_stored* src, const int src_off,
+                              __global sf_stored* chain, const int W, const int H, const int N,
+                              const int s) {
+  const int c = get_global_id(0);
+  if (c >= N) return;
+  int pw, ph;
+  size_t poff;
+  sf_mip_level(W, H, N, s, &pw, &ph, &poff);
+  __global const sf_stored* prev = src + src_off + (size_t)c * pw * ph;
+  for (int k = s + 1; pw > 1 || ph > 1; ++k) {
+    int w, h;
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, k, c, &w, &h);
+    for (int j = 0; j < h; ++j) {
+      const size_t r0 = (size_t)(2 * j) * pw, r1 = (size_t)min(2 * j + 1, ph - 1) * pw;
+      for (int i = 0; i < w; ++i) {
+        const int i0 = 2 * i, i1 = min(2 * i + 1, pw - 1);
+        sf_store(dst, (size_t)j * w + i,
+                 SF_RED(sf_load(prev, r0 + i0), sf_load(prev, r0 + i1), sf_load(prev, r1 + i0),
+                        sf_load(prev, r1 + i1)));
+      }
+    }
+    prev = dst;
+    pw = w;
+    ph = h;
+  }
+}

@@ -1,0 +1,157 @@
+// ESM failure classification (kernels/esm_classify.cl, seed 000 ch. 7.3).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lookups.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/pyramids.hpp"
+
+namespace sf::test {
+namespace {
+
+// Depth layers: a far floor with a slope, two blocks in front, noise; receivers at random
+// positions and footprints, with depths near the local surface (so texels behind and in front
+// of them both occur in most supports).
+struct Case {
+  HostImage depth;
+  Receivers rx;
+};
+
+Case layered_case(unsigned seed) {
+  Case c;
+  c.depth = HostImage(96, 80, 1);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> noise(-0.01f, 0.01f);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 96; ++x) {
+      float z = 0.7f + 0.002f * x + noise(rng);
+      if (x > 20 && x < 50 && y > 10 && y < 40) z = 0.35f + noise(rng);
+      if (x > 60 && x < 90 && y > 30 && y < 70) z = 0.5f + 0.003f * y;
+      c.depth.at(x, y) = z;
+    }
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), lf(0.0f, 5.0f), dd(-0.05f, 0.05f);
+  for (int i = 0; i < 2000; ++i) {
+    const float u = unit(rng), v = unit(rng);
+    const int x = std::min(int(u * 96), 95), y = std::min(int(v * 80), 79);
+    c.rx.u.push_back(u);
+    c.rx.v.push_back(v);
+    c.rx.d.push_back(std::clamp(c.depth.at(x, y) + dd(rng), 0.0f, 1.0f));
+    c.rx.f.push_back(i % 5 == 0 ? 1.0f : std::exp2(lf(rng)));
+  }
+  c.rx.width = 2000;
+  c.rx.height = 1;
+  c.rx.has_footprint = true;
+  return c;
+}
+
+FilterOptions classify_options(Lookup kind, int radius, EsmClassify mode) {
+  FilterOptions o;
+  o.method = "esm";
+  o.esm.c = 80.0f;
+  o.blur.radius = radius;
+  o.lookup.kind = kind;
+  o.esm_classify.mode = mode;
+  return o;
+}
+
+class Classify : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
+
+// zmax is conservative: a receiver whose support (every texel with a non-zero composite weight,
+// ref::lookup_taps) holds a texel with z > d + offset is flagged. Exact comparison in float32,
+// as the kernel does it. threshold (automatic eps) flags a subset of zmax.
+TEST_P(Classify, ZMaxFlagsEveryTexelBehindAndThresholdIsASubset) {
+  const auto [kind, radius] = GetParam();
+  const Case c = layered_case(3 + radius);
+  auto zopt = classify_options(kind, radius, EsmClassify::ZMax);
+  auto topt = classify_options(kind, radius, EsmClassify::Threshold);
+  // The SAT's float-float entries hold about 2^-44 of the largest prefix sum: with ESM values
+  // spanning exp(c * 0.55) over this map, c = 80 leaves box means of dark regions with errors far
+  // above 1e-5 relative (docs/lookups.md, "sat and ESM"); the subset property needs c <= ~25 there.
+  if (kind == Lookup::Sat) zopt.esm.c = topt.esm.c = 25.0f;
+  const auto z = filter(runtime_ptr(), zopt, c.depth, c.rx);
+  const auto t = filter(runtime_ptr(), topt, c.depth, c.rx);
+  ASSERT_TRUE(z.classified && t.classified);
+  size_t must = 0, zflag = 0, tflag = 0;
+  for (size_t i = 0; i < c.rx.u.size(); ++i) {
+    const float d = c.rx.d[i];
+    bool behind = false;
+    for (const auto& tap : ref::lookup_taps(c.depth.width, c.depth.height, zopt.blur, kind, c.rx.u[i],
+                                            c.rx.v[i], c.rx.f[i]))
+      behind |= c.depth.at(tap.x, tap.y) > d + zopt.esm_classify.zmax_offset;
+    must += behind;
+    zflag += z.flags.data[i] > 0;
+    tflag += t.flags.data[i] > 0;
+    if (behind) ASSERT_EQ(z.flags.data[i], 1.0f) << "receiver " << i << " f=" << c.rx.f[i];
+    if (t.flags.data[i] > 0) ASSERT_EQ(z.flags.data[i], 1.0f) << "threshold-only flag, receiver " << i;
+  }
+  EXPECT_GT(must, 100u) << "the case must exercise the test";
+  EXPECT_EQ(zflag, z.flagged);
+  EXPECT_LT(tflag, zflag);
+  std::printf("[ classify lookup %d R=%d ] support behind %zu, zmax %zu, threshold %zu of %zu\n",
+              int(kind), radius, must, zflag, tflag, c.rx.u.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(KindsAndRadii, Classify,
+                         ::testing::Combine(::testing::Values(Lookup::Bilinear, Lookup::Mips, Lookup::Sat),
+                                            ::testing::Values(0, 2)));
+
+TEST(Classify, GridReceiversAreClassifiedToo) {
+  const Case c = layered_case(9);
+  Receivers grid;
+  grid.grid = true;
+  grid.width = c.depth.width;
+  grid.height = c.depth.height;
+  grid.d = c.depth.data;
+  for (auto& d : grid.d) d -= 0.02f;  // in front of its own texel: flagged only by neighbours
+  const auto opt = classify_options(Lookup::Bilinear, 1, EsmClassify::ZMax);
+  const auto r = filter(runtime_ptr(), opt, c.depth, grid);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x) {
+      bool behind = false;
+      for (int b = -1; b <= 1; ++b)
+        for (int a = -1; a <= 1; ++a)
+          behind |= c.depth.at(std::clamp(x + a, 0, grid.width - 1), std::clamp(y + b, 0, grid.height - 1)) >
+                    grid.d[size_t(y) * grid.width + x] + opt.esm_classify.zmax_offset;
+      ASSERT_EQ(r.flags.at(x, y) > 0, behind) << x << "," << y;  // exact: the support is the 3x3
+    }
+}
+
+// Seed 000 fig. 7.2 (a): a receiver at d = 0.5 between a blocker (z = 0.3) and a surface behind it
+// (z = 0.9) in its prefilter support. exp(c (z - d)) of the far texels overflows the filtered
+// sum: ESM returns 1 where s_ref is partial. The fall-back (2x2 PCF of the ESM test on the raw
+// depth) returns the bilinear test: exp(-c 0.2) = 1e-7 for blockers, 1 behind.
+TEST(Classify, FallbackRemovesTheEsmOvershoot) {
+  HostImage depth(64, 16, 1);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 64; ++x) depth.at(x, y) = x < 32 ? 0.3f : 0.9f;
+  Receivers rx;
+  for (int i = 0; i < 41; ++i) {  // across the edge, between texel centres too
+    rx.u.push_back((22.0f + 0.5f * i) / 64.0f);
+    rx.v.push_back(0.5f);
+    rx.d.push_back(0.5f);
+  }
+  rx.width = int(rx.u.size());
+  rx.height = 1;
+  FilterOptions opt = classify_options(Lookup::Bilinear, 4, EsmClassify::None);
+  const auto plain = filter(runtime_ptr(), opt, depth, rx);
+  opt.esm_classify.mode = EsmClassify::ZMax;
+  const auto fixed = filter(runtime_ptr(), opt, depth, rx);
+  double worst_plain = 0, worst_fixed = 0;
+  for (size_t i = 0; i < rx.u.size(); ++i) {
+    const double sref = ref::s_ref(depth, opt.blur, Lookup::Bilinear, rx.u[i], rx.v[i], 0.5, 1.0);
+    const double bilinear_test = ref::s_ref(depth, {0, 0.0f}, Lookup::Bilinear, rx.u[i], rx.v[i], 0.5, 1.0);
+    worst_plain = std::max(worst_plain, plain.visibility.data[i] - sref);
+    if (fixed.flags.data[i] > 0) {
+      // Bilinear weights times 1e-7 blocker terms, float32: 1e-5.
+      ASSERT_NEAR(fixed.visibility.data[i], bilinear_test, 1e-5) << "receiver " << i;
+    }
+    worst_fixed = std::max(worst_fixed, fixed.visibility.data[i] - std::max(sref, bilinear_test));
+  }
+  EXPECT_GT(worst_plain, 0.4) << "the case must show the overshoot";
+  EXPECT_LT(worst_fixed, 1e-5);
+}
+
+}  // namespace
+}  // namespace sf::test

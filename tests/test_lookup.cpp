@@ -1,0 +1,166 @@
+// Footprint lookups (lookup.clh: trilinear over the mip chain, box via the SAT) against the
+// scalar reference, and against s_ref with the lookup's composite weights.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lookups.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/pyramids.hpp"
+
+namespace sf::test {
+namespace {
+
+struct Rx {
+  std::vector<float> u, v, f;
+};
+
+// Random receivers, some past the edges of [0,1] (clamp-to-edge), footprints 0.5 .. 2^8 texels
+// (beyond the top level for small maps), exact powers of two and 1.
+Rx random_rx(int n, unsigned seed) {
+  Rx r;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> coord(0.0f, 1.0f), lf(-1.0f, 8.0f);
+  for (int i = 0; i < n; ++i) {
+    r.u.push_back(coord(rng));
+    r.v.push_back(coord(rng));
+    r.f.push_back(i % 7 == 0 ? 1.0f : i % 11 == 0 ? float(1 << (i % 6)) : std::exp2(lf(rng)));
+  }
+  return r;
+}
+
+// Device lookups of `img` (planar, N channels) at the receivers: out[c][i].
+std::vector<std::vector<float>> device_lookup(const ref::Planes& img, Lookup kind, const Rx& rx) {
+  const ImageShape shape{img.width, img.height, img.channels, 4};
+  std::vector<float> host(img.data.begin(), img.data.end());
+  cl::Buffer level0 = to_device(host);
+  LookupBuffers lk;
+  lk.kind = kind;
+  if (kind == Lookup::Mips) {
+    const MipLayout L = mip_layout(img.width, img.height, img.channels);
+    lk.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(L.chain_values, 1) * 4);
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, level0, lk.chain, shape).last.wait();
+  } else if (kind == Lookup::Sat) {
+    const SatLayout L = sat_layout(shape);
+    lk.sat = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * 4);
+    cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * 4);
+    enqueue_sat(runtime(), Storage::F32, level0, lk.sat, bands, shape).last.wait();
+  }
+  lk.footprint = to_device(rx.f);
+  const size_t n = rx.u.size();
+  cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, n * img.channels * 4);
+  enqueue_lookup_points(runtime(), Storage::F32, lk, level0, shape, to_device(rx.u), to_device(rx.v), out, n).wait();
+  const auto flat = from_device(out, n * img.channels);
+  std::vector<std::vector<float>> res(img.channels);
+  for (int c = 0; c < img.channels; ++c) res[c].assign(flat.begin() + c * n, flat.begin() + (c + 1) * n);
+  return res;
+}
+
+class Lookups : public ::testing::TestWithParam<std::tuple<Lookup, int, int, int>> {};
+
+// Values in [0.05, 1]: the trilinear lookup is two bilinear lookups (float weights, ~1e-7) of
+// levels with 1e-6 relative error and a float mix; the box is within 2.5e-7 (test_sat.cpp).
+// The LOD comes from float32 log2 on both sides: tolerance 2e-6.
+TEST_P(Lookups, MatchTheReference) {
+  const auto [kind, w, h, channels] = GetParam();
+  ref::Planes img(w, h, channels);
+  std::mt19937 rng(w * 3 + h);
+  std::uniform_real_distribution<float> dist(0.05f, 1.0f);
+  for (auto& v : img.data) v = dist(rng);
+  const Rx rx = random_rx(400, w + h);
+  const auto got = device_lookup(img, kind, rx);
+  const ref::LookupRef lookup(img, kind);
+  for (int c = 0; c < channels; ++c)
+    for (size_t i = 0; i < rx.u.size(); ++i)
+      ASSERT_NEAR(got[c][i], lookup.value(c, rx.u[i], rx.v[i], rx.f[i]), 2e-6)
+          << "channel " << c << " receiver " << i << " f=" << rx.f[i];
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Kinds, Lookups,
+    ::testing::Values(std::make_tuple(Lookup::Mips, 1, 1, 1), std::make_tuple(Lookup::Mips, 37, 21, 2),
+                      std::make_tuple(Lookup::Mips, 300, 131, 1), std::make_tuple(Lookup::Sat, 1, 1, 1),
+                      std::make_tuple(Lookup::Sat, 37, 21, 3), std::make_tuple(Lookup::Sat, 300, 131, 1),
+                      std::make_tuple(Lookup::Bilinear, 37, 21, 2)));
+
+class StepBasis : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
+
+// A prefiltered method with a step basis B = H(z - d) for one fixed d (what pcf weights): its
+// lookup (prefilter R, then trilinear or box) equals s_ref with the same composite weights,
+// which the reference builds independently (lookup_taps: bilinear weights per level pushed down
+// the pyramid, box coverage, then the Gaussian). Float32 sums of weights: tolerance 3e-6.
+TEST_P(StepBasis, LookupsReproduceSRef) {
+  const auto [kind, radius] = GetParam();
+  HostImage depth = random_depth(67, 45, 21, 0.0f, 1.0f);
+  for (int y = 10; y < 30; ++y)  // structure: a block in front
+    for (int x = 20; x < 50; ++x) depth.at(x, y) = 0.1f;
+  const double d = 0.45;
+  std::vector<float> step(depth.texels());
+  for (size_t i = 0; i < step.size(); ++i) step[i] = depth.data[i] >= d ? 1.0f : 0.0f;
+  // Prefilter on the device (the library's blur), then the lookup.
+  const ImageShape shape{depth.width, depth.height, 1, 4};
+  cl::Buffer src = to_device(step);
+  cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  enqueue_blur(runtime(), {radius, 0.0f}, {}, src, tmp, src, shape).cols.wait();
+  ref::Planes blurred(depth.width, depth.height, 1);
+  const auto b = from_device(src, step.size());
+  for (size_t i = 0; i < b.size(); ++i) blurred.data[i] = b[i];
+  const Rx rx = random_rx(300, 77 + radius);
+  const auto got = device_lookup(blurred, kind, rx);
+  for (size_t i = 0; i < rx.u.size(); ++i) {
+    const double want = ref::s_ref(depth, {radius, 0.0f}, kind, rx.u[i], rx.v[i], d, rx.f[i]);
+    ASSERT_NEAR(got[0][i], want, 3e-6) << "receiver " << i << " f=" << rx.f[i];
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(KindsAndRadii, StepBasis,
+                         ::testing::Combine(::testing::Values(Lookup::Mips, Lookup::Sat, Lookup::Bilinear),
+                                            ::testing::Values(0, 2)));
+
+// The composite weights are a partition of unity and cover what the lookup reads.
+TEST(StepBasis, CompositeWeightsSumToOne) {
+  for (Lookup kind : {Lookup::Bilinear, Lookup::Mips, Lookup::Sat})
+    for (double f : {1.0, 2.5, 17.0, 300.0}) {
+      double sum = 0;
+      for (const auto& t : ref::lookup_taps(53, 29, {3, 0.0f}, kind, 0.31, 0.77, f)) sum += t.w;
+      EXPECT_NEAR(sum, 1.0, 1e-12) << "kind " << int(kind) << " f " << f;
+    }
+}
+
+// ESM through the pipeline with footprints (points mode) against the double reference with the
+// same lookup, as test_kernels.cpp's EsmPipeline: tolerance 2e-5 + 1e-7 c.
+class EsmLookupPipeline : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
+
+TEST_P(EsmLookupPipeline, MatchesReference) {
+  const auto [kind, radius] = GetParam();
+  FilterOptions opt;
+  opt.esm.c = 40.0f;
+  opt.blur.radius = radius;
+  opt.lookup.kind = kind;
+  HostImage depth = random_depth(70, 51, 3, 0.3f, 0.7f);
+  for (int y = 10; y < 25; ++y)
+    for (int x = 5; x < 40; ++x) depth.at(x, y) = 0.1f;
+  const Rx r = random_rx(500, 9);
+  Receivers rx;
+  rx.width = int(r.u.size());
+  rx.height = 1;
+  rx.u = r.u;
+  rx.v = r.v;
+  rx.f = r.f;
+  rx.has_footprint = true;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> dd(0.2f, 0.9f);
+  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  const auto got = filter(runtime_ptr(), opt, depth, rx);
+  const auto want = ref::filter(opt, depth, rx);
+  for (size_t i = 0; i < want.size(); ++i)
+    ASSERT_NEAR(got.visibility.data[i], want[i], 2e-5 + 1e-7 * opt.esm.c) << "receiver " << i << " f=" << r.f[i];
+}
+
+INSTANTIATE_TEST_SUITE_P(KindsAndRadii, EsmLookupPipeline,
+                         ::testing::Combine(::testing::Values(Lookup::Mips, Lookup::Sat),
+                                            ::testing::Values(0, 2)));
+
+}  // namespace
+}  // namespace sf::test

@@ -200,7 +200,7 @@ TEST_P(RawDepth, PointsAndGridMatchReference) {
   opt.method = method;
   opt.blur.radius = radius;
   for (float bias : {0.0f, 0.0625f}) {
-    opt.depth_test.bias = bias;
+    opt.depth_test.bias = bias;  // explicit
     for (const HostImage& depth : stress_depths()) {
       Receivers rx;
       std::mt19937 rng(depth.width + radius);

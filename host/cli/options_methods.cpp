@@ -10,8 +10,9 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option_function<std::string>(
        "--storage", [&o](const std::string& s) { o.storage = parse_storage(s); },
        "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
-  c.add_option("--bias", o.depth_test.bias, "Depth bias b for sm, pcf (H(z - d + b)) and msm")
-      ->capture_default_str();
+  c.add_option_function<float>(
+      "--bias", [&o](float b) { o.depth_test.bias = b; },
+      "Depth bias b for sm, pcf (H(z - d + b)) and msm (default 0; msm unorm16: measured)");
   c.add_option("--esm-c", o.esm.c, "ESM exponent c")->capture_default_str();
   c.add_option("--vsm-min-variance", o.vsm.min_variance,
                "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");
@@ -35,7 +36,7 @@ std::string method_summary(const FilterOptions& o) {
     if (d.name == o.method) m = &d;
   if (!m) return s.str();
   if (o.method == "sm" || o.method == "pcf" || o.method.rfind("msm", 0) == 0)
-    s << " bias=" << o.depth_test.bias;
+    s << " bias=" << depth_bias(o);
   if (o.method == "esm") s << " c=" << o.esm.c;
   if (o.method == "vsm" || o.method.rfind("evsm", 0) == 0) s << " lbr=" << o.vsm.lbr;
   if (o.method.rfind("evsm", 0) == 0) s << " c+=" << o.evsm.pos << " c-=" << o.evsm.neg;

@@ -110,7 +110,7 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
     for (size_t i = 0; i < rx.count(); ++i) {
       double u, v, d;
       receiver_at(rx, i, u, v, d);
-      out[i] = pcf(depth, weights, u, v, d, opt.depth_test.bias);
+      out[i] = pcf(depth, weights, u, v, d, depth_bias(opt));
     }
     return out;
   }

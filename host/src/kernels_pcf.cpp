@@ -27,7 +27,7 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name) {
   PcfSetup s;
   s.kernel = cl::Kernel(rt.program({"common.clh", "pcf.cl"}, "-cl-std=CL1.2"), name);
   s.radius = opt.method == "sm" ? 0 : opt.blur.radius;
-  s.bias = opt.depth_test.bias;
+  s.bias = depth_bias(opt);
   const auto w = gaussian_weights(s.radius, opt.blur.sigma);
   std::copy(w.begin(), w.end(), s.weights.w);
   return s;

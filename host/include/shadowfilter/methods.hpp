@@ -34,6 +34,9 @@ struct MethodDesc {
 const std::vector<MethodDesc>& methods();
 // Bytes of basis images per shadow-map texel for these options (channels x storage bytes).
 size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o);
+// The depth bias in effect: FilterOptions::depth_test.bias, else the method's default.
+float depth_bias(const FilterOptions& o);
+
 // The csm reconstruction parameters for these options (defaults resolved per order).
 struct CsmParameters {
   float alpha = 0, offset = 0, scale = 1;

@@ -1,6 +1,7 @@
 #pragma once
 // Every knob of a filtering run, with its default and why (in the spirit of Filament's
 // shadow Options.h). Method-specific structs sit beside the generic ones.
+#include <optional>
 #include <string>
 
 namespace sf {
@@ -19,10 +20,11 @@ Storage parse_storage(const std::string&);  // throws InputError for other names
 int storage_bytes(Storage s);               // bytes per stored value
 
 // Depth bias b of the methods that test depths directly (sm, pcf: H(z - d + b); msm: the
-// receiver depth becomes d - b). 0 by default: sm/pcf then equal s_ref exactly, and the moment
-// bias already keeps msm lit on a flat receiver (docs/methods.md has the measurement).
+// receiver depth becomes d - b). Unset = the method's default (depth_bias() in methods.hpp): 0
+// for sm and pcf (they then equal s_ref exactly) and msm in float32; msm in unorm16 needs a
+// small bias to keep flat receivers lit through the quantisation (docs/methods.md).
 struct DepthTestOptions {
-  float bias = 0.0f;
+  std::optional<float> bias;
 };
 
 struct VsmOptions {

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "options_soft.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/runtime.hpp"
 
@@ -19,6 +20,8 @@ int main(int argc, char** argv) {
   CLI::App* methods = sf::cli::add_methods_command(app, methods_args);
   CLI::App* filter = sf::cli::add_filter_command(app, filter_args);
   CLI::App* scene = sf::cli::add_scene_command(app, scene_args);
+  sf::cli::SoftArgs soft_args;
+  CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -34,6 +37,7 @@ int main(int argc, char** argv) {
     if (methods->parsed()) return sf::cli::run_methods(methods_args);
     if (filter->parsed()) return sf::cli::run_filter(filter_args);
     if (scene->parsed()) return sf::cli::run_scene(scene_args);
+    if (soft->parsed()) return sf::cli::run_soft(soft_args);
   } catch (const sf::InputError& e) {
     std::cerr << "shadowfilter: error: " << e.what() << "\n";
     return 2;

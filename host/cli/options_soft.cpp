@@ -1,0 +1,206 @@
+// `shadowfilter soft`: pcss, cssm, ssmm, ssmm-improved for one light or a list of lights.
+#include "options_soft.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "image_io.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::cli {
+namespace {
+
+bool header_number(const OIIO::ImageSpec& spec, const char* name, double* out) {
+  const OIIO::ParamValue* p = spec.find_attribute(name);
+  if (!p) return false;
+  const std::string s = p->get_string();
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str()) return false;
+  *out = v;
+  return true;
+}
+
+std::vector<double> parse_list(const std::string& s) {
+  std::vector<double> v;
+  std::string t;
+  for (char c : s) t += (c == '[' || c == ']' || c == ',') ? ' ' : c;
+  std::istringstream in(t);
+  double x;
+  while (in >> x) v.push_back(x);
+  return v;
+}
+
+}  // namespace
+
+SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
+  SoftLight L;
+  L.near_plane = NAN;
+  L.far_plane = NAN;
+  L.extent = NAN;
+  L.fov_degrees = NAN;
+  L.size = NAN;
+  std::string type;
+  auto in = OIIO::ImageInput::open(path);
+  if (in) {
+    const OIIO::ImageSpec& spec = in->spec();
+    type = spec.get_string_attribute("light_type");
+    header_number(spec, "near", &L.near_plane);
+    header_number(spec, "far", &L.far_plane);
+    header_number(spec, "fov_degrees", &L.fov_degrees);
+    header_number(spec, "light_size", &L.size);
+    const std::vector<double> e = parse_list(spec.get_string_attribute("ortho_extents"));
+    if (e.size() == 4) L.extent = e[1] - e[0];
+    in->close();
+  }
+  if (!a.light_type.empty()) type = a.light_type;
+  if (type == "orthographic") type = "ortho";
+  if (type.empty()) type = "ortho";
+  if (type != "ortho" && type != "perspective")
+    throw InputError("--light-type must be ortho or perspective, got '" + type + "'");
+  L.perspective = type == "perspective";
+  if (std::isfinite(a.light_size)) L.size = a.light_size;
+  if (std::isfinite(a.light_near)) L.near_plane = a.light_near;
+  if (std::isfinite(a.light_far)) L.far_plane = a.light_far;
+  if (std::isfinite(a.light_fov)) L.fov_degrees = a.light_fov;
+  if (std::isfinite(a.light_extent)) L.extent = a.light_extent;
+  if (!std::isfinite(L.size)) throw InputError("'" + path + "' has no light_size attribute: give --light-size");
+  if (L.perspective) {
+    if (!std::isfinite(L.near_plane) || !std::isfinite(L.far_plane) || !std::isfinite(L.fov_degrees))
+      throw InputError("a perspective light needs near, far and fov (header or --light-near, --light-far, --light-fov)");
+  } else {
+    if (!std::isfinite(L.extent))
+      throw InputError("an orthographic light needs the map's width in light units (header ortho_extents or --light-extent)");
+    if (!std::isfinite(L.near_plane)) L.near_plane = 0.0;
+    if (!std::isfinite(L.far_plane)) L.far_plane = 1.0;
+  }
+  return L;
+}
+
+CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
+  CLI::App* c = app.add_subcommand(
+      "soft", "Soft shadows from square area lights: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)");
+  c->add_option("--method", a.method, "pcss | cssm | ssmm | ssmm-improved")->capture_default_str();
+  c->add_option("--shadow-map", a.shadow_map, "Depth map of one light (linear depth; the light from its header)");
+  auto* rx = c->add_option("--receivers", a.receivers, "Receiver image u v d [f] of that light");
+  auto* rd = c->add_option("--receiver-depth", a.receiver_depth, "Planar receivers of the map's size");
+  rx->excludes(rd);
+  rd->excludes(rx);
+  c->add_option("--lights", a.lights,
+                "Light list file instead of --shadow-map: one light a line, 'SHADOWMAP RECEIVERS "
+                "[weight=W] [size=L]' (paths relative to the file; # comments)");
+  c->add_option("-o,--output", a.output, "Visibility image")->required();
+  c->add_option("--light-size", a.light_size, "Area light width in light-space units (default: header light_size)");
+  c->add_option("--light-type", a.light_type, "ortho | perspective (default: header light_type)");
+  c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
+  c->add_option("--light-far", a.light_far, "Perspective: far plane distance (default: header far)");
+  c->add_option("--light-fov", a.light_fov, "Perspective: full field of view, degrees (default: header fov_degrees)");
+  c->add_option("--light-extent", a.light_extent, "Orthographic: map width in light units (default: header ortho_extents)");
+  c->add_option("--soft-bias", a.options.bias, "Blocker test z < d - bias")->capture_default_str();
+  c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
+  c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
+  c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();
+  c->add_option("--cssm-offset", a.options.cssm_offset, "cssm: d' = d - offset")->capture_default_str();
+  c->add_option("--cssm-scale", a.options.cssm_scale, "cssm: v = clamp(0.5 + scale (s - 0.5))")->capture_default_str();
+  c->add_option("--cssm-sharpen", a.sharpen, "cssm: A,B of eq. 8.9 (p = 1 + A exp(-B (d - z_avg)))")
+      ->delimiter(',')
+      ->expected(2);
+  c->add_option("--cssm-min-den", a.options.cssm_min_den, "cssm: 1 - s_f below this = no blocker")->capture_default_str();
+  c->add_option("--ssmm-n", a.options.ssmm_n, "ssmm: n x n texels per layer")->capture_default_str();
+  c->add_option("--device", a.device, "OpenCL device");
+  c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  return c;
+}
+
+int run_soft(const SoftArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SoftOptions opt = a.options;
+  if (!parse_soft_method(a.method, &opt.method))
+    throw InputError("--method must be pcss, cssm, ssmm or ssmm-improved, got '" + a.method + "'");
+  if (a.lookup == "mips") opt.cssm_lookup = Lookup::Mips;
+  else if (a.lookup == "sat") opt.cssm_lookup = Lookup::Sat;
+  else throw InputError("--lookup must be mips or sat, got '" + a.lookup + "'");
+  if (a.sharpen.size() == 2) {
+    opt.cssm_sharpen_a = a.sharpen[0];
+    opt.cssm_sharpen_b = a.sharpen[1];
+  }
+  io::DepthLoadOptions load;
+  std::vector<SoftLightInput> lights;
+  if (!a.lights.empty()) {
+    if (!a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
+      throw InputError("--lights replaces --shadow-map and --receivers");
+    std::ifstream in(a.lights);
+    if (!in) throw InputError("cannot read the light list '" + a.lights + "'");
+    const auto dir = std::filesystem::path(a.lights).parent_path();
+    std::string line;
+    int no = 0;
+    while (std::getline(in, line)) {
+      ++no;
+      if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
+      std::istringstream ls(line);
+      std::string map, rxf, kv;
+      if (!(ls >> map)) continue;
+      if (!(ls >> rxf)) throw InputError(a.lights + ":" + std::to_string(no) + ": expected SHADOWMAP RECEIVERS");
+      SoftArgs over = a;
+      double weight = 1.0;
+      while (ls >> kv) {
+        const auto eq = kv.find('=');
+        const std::string k = kv.substr(0, eq);
+        double v = NAN;
+        if (eq != std::string::npos) v = std::strtod(kv.c_str() + eq + 1, nullptr);
+        if (k == "weight" && std::isfinite(v)) weight = v;
+        else if (k == "size" && std::isfinite(v)) over.light_size = v;
+        else throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");
+      }
+      const std::string mp = (dir / map).string(), rp = (dir / rxf).string();
+      SoftLightInput li;
+      li.light = light_from_header(mp, over);
+      li.light.weight = weight;
+      li.depth = io::load_depth_map(mp, load);
+      li.receivers = io::load_receiver_image(rp);
+      lights.push_back(std::move(li));
+    }
+    if (lights.empty()) throw InputError("the light list '" + a.lights + "' holds no light");
+  } else {
+    if (a.shadow_map.empty()) throw InputError("give --shadow-map (or --lights)");
+    if (a.receivers.empty() == a.receiver_depth.empty())
+      throw InputError("give exactly one of --receivers or --receiver-depth");
+    SoftLightInput li;
+    li.light = light_from_header(a.shadow_map, a);
+    li.depth = io::load_depth_map(a.shadow_map, load);
+    li.receivers = a.receivers.empty()
+                       ? io::load_receiver_depth(a.receiver_depth, li.depth.width, li.depth.height, load)
+                       : io::load_receiver_image(a.receivers);
+    lights.push_back(std::move(li));
+  }
+  opt.light = lights.front().light;
+  validate(opt);
+  for (const auto& l : lights) {
+    SoftOptions o = opt;
+    o.light = l.light;
+    validate(o);
+  }
+  auto rt = Runtime::create(a.device);
+  const auto t1 = std::chrono::steady_clock::now();
+  const SoftResult r = soft_filter_lights(rt, opt, lights);
+  const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  io::write_image(a.output, r.visibility);
+  if (!a.quiet)
+    std::printf("shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
+                "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",
+                soft_method_name(opt.method), lights.size(), opt.light.size,
+                opt.light.perspective ? "perspective" : "ortho", r.visibility.width, r.visibility.height,
+                r.background, r.times.transform * 1e3, r.times.pyramid * 1e3, r.times.sat * 1e3,
+                r.times.reconstruct * 1e3, run_ms,
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
+                a.output.c_str());
+  return 0;
+}
+
+}  // namespace sf::cli

@@ -1,0 +1,31 @@
+#pragma once
+// `shadowfilter soft`: soft shadows from area lights (docs/soft.md).
+#include <CLI/CLI.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/soft.hpp"
+
+namespace sf::cli {
+
+struct SoftArgs {
+  std::string method = "pcss", shadow_map, receivers, receiver_depth, lights, output, device;
+  std::string light_type;  // "" = from the shadow map header
+  double light_size = std::numeric_limits<double>::quiet_NaN(), light_near = std::numeric_limits<double>::quiet_NaN(),
+         light_far = std::numeric_limits<double>::quiet_NaN(), light_fov = std::numeric_limits<double>::quiet_NaN(),
+         light_extent = std::numeric_limits<double>::quiet_NaN();
+  std::string lookup = "sat";
+  std::vector<float> sharpen;
+  bool quiet = false;
+  SoftOptions options;
+};
+CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);
+int run_soft(const SoftArgs& args);
+
+// The light of a shadow map: its EXR header (light_type, near, far, ortho_extents, fov_degrees,
+// light_size; written by `shadowfilter scene`), overridden by the command line.
+SoftLight light_from_header(const std::string& shadow_map, const SoftArgs& overrides);
+
+}  // namespace sf::cli

@@ -1,0 +1,172 @@
+// Scalar reference of kernels/soft/*.cl (see soft_reference.hpp).
+#include "soft_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lookups.hpp"
+
+namespace sf::ref {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool outside(double u, double v, double d) {
+  return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1;
+}
+
+double fp_of(double f) { return std::isfinite(f) ? f : 1.0; }
+
+}  // namespace
+
+BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, double d, double bias) {
+  const double cx = u * w, cy = v * h, hx = 0.5 * width, hy = 0.5 * width * h / w;
+  const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
+  double W = 0, lit = 0, blk = 0, blkz = 0;
+  for (int j = int(std::floor(y0)); j <= int(std::ceil(y1)) - 1; ++j) {
+    const double wy = std::min(y1, j + 1.0) - std::max(y0, double(j));
+    if (wy <= 0) continue;
+    const double* row = img + size_t(std::clamp(j, 0, h - 1)) * w;
+    for (int i = int(std::floor(x0)); i <= int(std::ceil(x1)) - 1; ++i) {
+      const double wx = std::min(x1, i + 1.0) - std::max(x0, double(i));
+      if (wx <= 0) continue;
+      const double z = row[std::clamp(i, 0, w - 1)], wt = wx * wy;
+      W += wt;
+      if (z >= d - bias) lit += wt;
+      else {
+        blk += wt;
+        blkz += wt * z;
+      }
+    }
+  }
+  BoxScan r;
+  r.lit = lit / W;
+  r.blk = blk / W;
+  r.zavg = blk > 0 ? blkz / blk : NAN;
+  return r;
+}
+
+double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, double d, double f) {
+  if (outside(u, v, d)) return 1.0;
+  d = std::clamp(d, 0.0, 1.0);
+  const int W = depth.width, H = depth.height;
+  const double* img = depth.data.data();
+  const double search = std::clamp(soft_width(o.light, d, 0.0) * W, 1.0, double(o.max_width));
+  const BoxScan s = box_scan(img, W, H, u, v, search, d, o.bias);
+  if (!(s.blk > 0)) return 1.0;
+  const double width = std::clamp(std::max(soft_width(o.light, d, s.zavg) * W, fp_of(f)), 1.0, double(o.max_width));
+  return box_scan(img, W, H, u, v, width, d, o.bias).lit;
+}
+
+double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, double d, double f) {
+  if (outside(u, v, d)) return 1.0;
+  d = std::clamp(d, 0.0, 1.0);
+  const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
+  const double n = o.ssmm_n;
+  const double search = soft_width(o.light, d, 0.0);
+  int last = 0;
+  while (last < top && n * double(1 << last) / W < search) ++last;
+  if (o.method == SoftMethod::SsmmImproved) {
+    double sb = 0;
+    for (int k = 0; k <= last; ++k) {
+      const Planes& P = chain[k];
+      const int w = P.width, h = P.height;
+      const double ri = n / w, rlo = 0.5 * ri, rhi = 2 * ri;
+      const double cx = u * w, cy = v * h, hx = 0.5 * n, hy = 0.5 * n * h / w;
+      const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
+      double acc = 0, ws = 0;
+      for (int j = int(std::floor(y0)); j <= int(std::ceil(y1)) - 1; ++j) {
+        const double wy = std::min(y1, j + 1.0) - std::max(y0, double(j));
+        if (wy <= 0) continue;
+        for (int i = int(std::floor(x0)); i <= int(std::ceil(x1)) - 1; ++i) {
+          const double wx = std::min(x1, i + 1.0) - std::max(x0, double(i));
+          if (wx <= 0) continue;
+          ws += wx * wy;
+          const double z = P.at(0, std::clamp(i, 0, w - 1), std::clamp(j, 0, h - 1));
+          if (!(z < d - o.bias)) continue;
+          const double r = soft_width(o.light, d, z);
+          double wt;
+          if (r <= ri) wt = k == 0 ? 1.0 : std::max((r - rlo) / (ri - rlo), 0.0);
+          else wt = k == top ? 1.0 : std::max((rhi - r) / (rhi - ri), 0.0);
+          acc += wx * wy * wt;
+        }
+      }
+      sb += acc / ws;
+    }
+    return std::clamp(1.0 - sb, 0.0, 1.0);
+  }
+  const Planes& S = chain[last];
+  const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search * S.width, 1.0), d, o.bias);
+  if (!(s.blk > 0)) return 1.0;
+  const double r = soft_width(o.light, d, s.zavg), r0 = n / W;
+  if (r < r0) {
+    const double width = std::clamp(std::max(r * W, fp_of(f)), 1.0, n);
+    return box_scan(chain[0].data.data(), W, H, u, v, width, d, o.bias).lit;
+  }
+  const int a = std::min(int(std::floor(std::log2(r / r0))), top);
+  const double ra = r0 * double(1 << a);
+  const double wb = a >= top ? 0.0 : std::clamp((r - ra) / ra, 0.0, 1.0);
+  double res = 0;
+  for (int t = 0; t < 2; ++t) {
+    const double wt = t == 0 ? 1 - wb : wb;
+    if (wt <= 0) continue;
+    const Planes& P = chain[a + t];
+    res += wt * box_scan(P.data.data(), P.width, P.height, u, v, n, d, o.bias).lit;
+  }
+  return std::clamp(res, 0.0, 1.0);
+}
+
+Planes cssm_basis(const HostImage& depth, int M) {
+  Planes p(depth.width, depth.height, 4 * M + 1);
+  for (int y = 0; y < depth.height; ++y)
+    for (int x = 0; x < depth.width; ++x) {
+      const double z = depth.at(x, y);
+      for (int k = 0; k < M; ++k) {
+        const double ck = (2 * k + 1) * kPi;
+        p.at(k, x, y) = std::sin(ck * z);
+        p.at(M + k, x, y) = std::cos(ck * z);
+        p.at(2 * M + k, x, y) = z * std::sin(ck * z);
+        p.at(3 * M + k, x, y) = z * std::cos(ck * z);
+      }
+      p.at(4 * M, x, y) = 0.5 * z;
+    }
+  return p;
+}
+
+namespace {
+double series(const std::vector<double>& b, int M, double dp, double* num) {
+  double sf = 0, sz = 0;
+  for (int k = 0; k < M; ++k) {
+    const double ck = (2 * k + 1) * kPi, s = std::sin(ck * dp), c = std::cos(ck * dp);
+    sf += (c * b[k] - s * b[M + k]) / ck;
+    sz += (s * b[3 * M + k] - c * b[2 * M + k]) / ck;
+  }
+  if (num) *num = b[4 * M] + 2 * sz;
+  return 0.5 + 2 * sf;
+}
+}  // namespace
+
+double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, double v, double d,
+                 double f, double* zavg_out) {
+  if (zavg_out) *zavg_out = NAN;
+  if (outside(u, v, d)) return 1.0;
+  d = std::clamp(d, 0.0, 1.0);
+  const int M = o.cssm_order;
+  const double dp = d - cssm_offset(o);
+  std::vector<double> b(4 * M + 1);
+  const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
+  const double ms = o.cssm_lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
+  for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
+  double num;
+  const double den = 1.0 - series(b, M, dp, &num);
+  if (!(den >= o.cssm_min_den)) return 1.0;
+  const double zavg = std::clamp(num / den, 0.0, d);
+  if (zavg_out) *zavg_out = zavg;
+  const double fw = std::clamp(std::max(soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
+  for (int c = 0; c < 2 * M; ++c) b[c] = basis.value(c, u, v, ms * fw);
+  double vis = std::clamp(0.5 + o.cssm_scale * (series(b, M, dp, nullptr) - 0.5), 0.0, 1.0);
+  if (o.cssm_sharpen_a > 0) vis = std::pow(vis, 1.0 + o.cssm_sharpen_a * std::exp(-o.cssm_sharpen_b * (d - zavg)));
+  return vis;
+}
+
+}  // namespace sf::ref

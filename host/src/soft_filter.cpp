@@ -1,0 +1,328 @@
+// Soft-shadow methods on the device (kernels/soft/*.cl; docs/soft.md).
+#include <algorithm>
+#include <cmath>
+
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/soft.hpp"
+
+namespace sf {
+namespace {
+
+// Mirrors sf_soft_light (kernels/soft/soft_common.clh).
+struct ClSoftLight {
+  float k, a, b;
+  cl_int persp;
+  float bias, max_width;
+};
+struct ClCssmParams {  // sf_cssm_params (kernels/soft/cssm.cl)
+  float offset, scale, sharpen_a, sharpen_b, min_den;
+};
+
+constexpr double kPi = 3.14159265358979323846;
+
+ClSoftLight cl_light(const SoftOptions& o) {
+  const SoftLight& L = o.light;
+  ClSoftLight c{};
+  if (L.perspective) {
+    c.k = float(L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)));
+    c.a = float(L.near_plane);
+    c.b = float(L.far_plane - L.near_plane);
+    c.persp = 1;
+  } else {
+    c.k = float(L.size / L.extent);
+    c.a = 0.0f;
+    c.b = 1.0f;
+    c.persp = 0;
+  }
+  c.bias = o.bias;
+  c.max_width = o.max_width;
+  return c;
+}
+
+const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh",
+                                               "soft/soft_common.clh"};
+
+cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
+  const int M = o.cssm_order;
+  std::vector<std::string> files = kSoftHeaders;
+  files.push_back("soft/cssm.cl");
+  return rt.program(files, "-cl-std=CL1.2 -DSF_CSSM_ORDER=" + std::to_string(M) +
+                               " -DSF_CHANNELS=" + std::to_string(4 * M + 1) +
+                               " -DSF_LOOKUP=" + std::to_string(static_cast<int>(o.cssm_lookup)));
+}
+
+}  // namespace
+
+const char* soft_method_name(SoftMethod m) {
+  switch (m) {
+    case SoftMethod::Pcss: return "pcss";
+    case SoftMethod::Cssm: return "cssm";
+    case SoftMethod::Ssmm: return "ssmm";
+    case SoftMethod::SsmmImproved: return "ssmm-improved";
+  }
+  return "?";
+}
+
+bool parse_soft_method(const std::string& s, SoftMethod* m) {
+  for (SoftMethod x : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved})
+    if (s == soft_method_name(x)) {
+      if (m) *m = x;
+      return true;
+    }
+  return false;
+}
+
+double soft_width(const SoftLight& L, double d, double z) {
+  if (L.perspective) {
+    const double k = L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
+    const double DR = std::max(L.near_plane + (L.far_plane - L.near_plane) * d, 1e-20);
+    const double DB = std::max(L.near_plane + (L.far_plane - L.near_plane) * z, 1e-20);
+    return k * std::max(DR - DB, 0.0) / (DR * DB);
+  }
+  const double DR = std::max(d, 1e-20), DB = std::max(z, 1e-20);
+  return L.size / L.extent * std::max(DR - DB, 0.0) / DR;
+}
+
+float cssm_offset(const SoftOptions& o) {
+  return o.cssm_offset >= 0.0f ? o.cssm_offset : 0.5f / float(std::max(o.cssm_order, 1));
+}
+
+void validate(const SoftOptions& o) {
+  const SoftLight& L = o.light;
+  if (!(L.size >= 0.0) || !std::isfinite(L.size)) throw InputError("--light-size must be a finite number >= 0");
+  if (!(L.far_plane > L.near_plane)) throw InputError("the light's far plane must lie beyond its near plane");
+  if (L.perspective) {
+    if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs --light-near > 0");
+    if (!(L.fov_degrees > 0.0 && L.fov_degrees < 180.0))
+      throw InputError("a perspective light needs --light-fov between 0 and 180 degrees");
+  } else if (!(L.extent > 0.0) || !std::isfinite(L.extent)) {
+    throw InputError("an orthographic light needs --light-extent > 0 (the map's width in light units)");
+  }
+  if (!(L.weight >= 0.0) || !std::isfinite(L.weight)) throw InputError("light weights must be >= 0");
+  if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("--soft-bias must be in [0, 1)");
+  if (!(o.max_width >= 1.0f && o.max_width <= 4096.0f)) throw InputError("--soft-max-width must be in [1, 4096]");
+  if (o.cssm_order < 1 || o.cssm_order > 32) throw InputError("--cssm-order must be 1..32");
+  if (o.cssm_lookup != Lookup::Mips && o.cssm_lookup != Lookup::Sat)
+    throw InputError("cssm needs --lookup mips or sat");
+  if (!std::isfinite(o.cssm_offset) || o.cssm_offset >= 1.0f) throw InputError("--cssm-offset must be < 1");
+  if (!(o.cssm_scale > 0.0f) || !std::isfinite(o.cssm_scale)) throw InputError("--cssm-scale must be > 0");
+  if (!(o.cssm_sharpen_a >= 0.0f) || !(o.cssm_sharpen_b >= 0.0f))
+    throw InputError("--cssm-sharpen A,B must be >= 0");
+  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f)) throw InputError("--cssm-min-den must be in (0, 1)");
+  if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("--ssmm-n must be 1..64");
+}
+
+SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height)
+    : rt_(std::move(rt)), opt_(std::move(opt)), W_(width), H_(height) {
+  validate(opt_);
+  if (W_ <= 0 || H_ <= 0) throw InputError("empty shadow map");
+  auto alloc = [this](size_t bytes) {
+    bytes = std::max<size_t>(bytes, 4);
+    check_fits_device(*rt_, bytes, bytes, "the soft-shadow buffers");
+    return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
+  };
+  if (opt_.method == SoftMethod::Cssm) {
+    ImageShape s{W_, H_, 4 * opt_.cssm_order + 1, 4};
+    basis_ = alloc(s.bytes());
+    if (opt_.cssm_lookup == Lookup::Mips) {
+      chain_ = alloc(mip_layout(W_, H_, s.channels).chain_values * sizeof(float));
+    } else {
+      const SatLayout L = sat_layout(s);
+      sat_ = alloc(L.table_floats * sizeof(float));
+      bands_ = alloc(L.band_floats * sizeof(float));
+    }
+  } else if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
+    chain_ = alloc(mip_layout(W_, H_, 1).chain_values * sizeof(float));
+  }
+}
+
+cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) {
+  depth_ = depth;
+  have_pyr_ = have_sat_ = have_transform_ = false;
+  if (opt_.method == SoftMethod::Cssm) {
+    const int M = opt_.cssm_order;
+    cl::Kernel k(cssm_program(*rt_, opt_), "sf_cssm_basis");
+    const int texels = W_ * H_;
+    k.setArg(0, depth);
+    k.setArg(1, basis_);
+    k.setArg(2, texels);
+    rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(texels)), cl::NullRange,
+                                      wait, &transform_done_);
+    have_transform_ = true;
+    EventList after{transform_done_};
+    ImageShape s{W_, H_, 4 * M + 1, 4};
+    if (opt_.cssm_lookup == Lookup::Mips) {
+      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, basis_, chain_, s, &after);
+      have_pyr_ = true;
+      return pyr_done_.last;
+    }
+    sat_done_ = enqueue_sat(*rt_, Storage::F32, basis_, sat_, bands_, s, &after);
+    have_sat_ = true;
+    return sat_done_.last;
+  }
+  if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
+    pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, depth, chain_, ImageShape{W_, H_, 1, 4}, wait);
+    have_pyr_ = true;
+    return pyr_done_.last;
+  }
+  cl::Event e;
+  rt_->queue().enqueueMarkerWithWaitList(wait, &e);
+  return e;
+}
+
+cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                          const cl::Buffer& f, const cl::Buffer& visibility, size_t count,
+                          const EventList* wait, const cl::Buffer* zavg) {
+  const ClSoftLight L = cl_light(opt_);
+  cl::Kernel k;
+  int a = 0;
+  auto arg_buf = [&](const cl::Buffer& b) {
+    if (b() == nullptr) {
+      cl_mem none = nullptr;
+      k.setArg(a++, sizeof(cl_mem), &none);
+    } else {
+      k.setArg(a++, b);
+    }
+  };
+  if (opt_.method == SoftMethod::Pcss) {
+    std::vector<std::string> files = kSoftHeaders;
+    files.push_back("soft/pcss.cl");
+    k = cl::Kernel(rt_->program(files, "-cl-std=CL1.2 -DSF_CHANNELS=1"), "sf_pcss_points");
+    arg_buf(depth_);
+    k.setArg(a++, W_);
+    k.setArg(a++, H_);
+  } else if (opt_.method == SoftMethod::Cssm) {
+    k = cl::Kernel(cssm_program(*rt_, opt_), "sf_cssm_points");
+    arg_buf(basis_);
+    k.setArg(a++, W_);
+    k.setArg(a++, H_);
+    arg_buf(chain_);
+    arg_buf(sat_);
+  } else {
+    std::vector<std::string> files = kSoftHeaders;
+    files.push_back("soft/ssmm.cl");
+    k = cl::Kernel(rt_->program(files, "-cl-std=CL1.2 -DSF_CHANNELS=1"), "sf_ssmm_points");
+    arg_buf(depth_);
+    arg_buf(chain_);
+    k.setArg(a++, W_);
+    k.setArg(a++, H_);
+  }
+  arg_buf(u);
+  arg_buf(v);
+  arg_buf(d);
+  arg_buf(f);
+  arg_buf(visibility);
+  if (opt_.method == SoftMethod::Cssm) arg_buf(zavg ? *zavg : cl::Buffer());
+  k.setArg(a++, static_cast<int>(count));
+  k.setArg(a++, sizeof(ClSoftLight), &L);
+  if (opt_.method == SoftMethod::Cssm) {
+    const ClCssmParams P{cssm_offset(opt_), opt_.cssm_scale, opt_.cssm_sharpen_a, opt_.cssm_sharpen_b,
+                         opt_.cssm_min_den};
+    k.setArg(a++, sizeof(ClCssmParams), &P);
+  } else if (opt_.method != SoftMethod::Pcss) {
+    k.setArg(a++, opt_.ssmm_n);
+    k.setArg(a++, opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
+  }
+  rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
+                                    cl::NullRange, wait, &run_done_);
+  return run_done_;
+}
+
+SoftTimes SoftFilter::times() const {
+  SoftTimes t;
+  if (have_transform_) t.transform = event_seconds(transform_done_);
+  if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
+  if (have_sat_) t.sat = event_seconds(sat_done_.first, sat_done_.last);
+  if (run_done_()) t.reconstruct = event_seconds(run_done_);
+  return t;
+}
+
+namespace {
+
+struct HostPoints {
+  std::vector<float> u, v, d, f;
+  bool has_f = false;
+};
+
+HostPoints points_of(const Receivers& rx, int W, int H) {
+  HostPoints p;
+  p.d = rx.d;
+  if (rx.grid) {
+    p.u.resize(rx.count());
+    p.v.resize(rx.count());
+    for (int y = 0; y < rx.height; ++y)
+      for (int x = 0; x < rx.width; ++x) {
+        p.u[size_t(y) * rx.width + x] = (x + 0.5f) / float(W);
+        p.v[size_t(y) * rx.width + x] = (y + 0.5f) / float(H);
+      }
+  } else {
+    p.u = rx.u;
+    p.v = rx.v;
+    if (rx.has_footprint) {
+      p.f = rx.f;
+      p.has_f = true;
+    }
+  }
+  return p;
+}
+
+cl::Buffer upload(Runtime& rt, const std::vector<float>& h) {
+  cl::Buffer b(rt.context(), CL_MEM_READ_WRITE, std::max<size_t>(h.size(), 1) * sizeof(float));
+  if (!h.empty()) rt.queue().enqueueWriteBuffer(b, CL_TRUE, 0, h.size() * sizeof(float), h.data());
+  return b;
+}
+
+}  // namespace
+
+SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& opt,
+                              const std::vector<SoftLightInput>& lights) {
+  if (lights.empty()) throw InputError("no lights");
+  SoftResult r;
+  const Receivers& rx0 = lights.front().receivers;
+  r.visibility = HostImage(rx0.width, rx0.height, 1, 0.0f);
+  std::vector<double> acc(rx0.count(), 0.0);
+  double wsum = 0.0;
+  for (const auto& in : lights) {
+    if (in.receivers.width != rx0.width || in.receivers.height != rx0.height)
+      throw InputError("every light's receivers must have the same size");
+    SoftOptions o = opt;
+    o.light = in.light;
+    SoftFilter sfl(rt, o, in.depth.width, in.depth.height);
+    cl::Buffer depth = upload(*rt, in.depth.data);
+    const HostPoints p = points_of(in.receivers, in.depth.width, in.depth.height);
+    cl::Buffer u = upload(*rt, p.u), v = upload(*rt, p.v), d = upload(*rt, p.d);
+    cl::Buffer f = p.has_f ? upload(*rt, p.f) : cl::Buffer();
+    const size_t n = in.receivers.count();
+    cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
+    cl::Event prep = sfl.prepare(depth);
+    EventList after{prep};
+    sfl.run(u, v, d, f, out, n, &after);
+    std::vector<float> vis(n);
+    if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data());
+    const SoftTimes t = sfl.times();
+    r.times.transform += t.transform;
+    r.times.pyramid += t.pyramid;
+    r.times.sat += t.sat;
+    r.times.reconstruct += t.reconstruct;
+    for (size_t i = 0; i < n; ++i) acc[i] += in.light.weight * vis[i];
+    wsum += in.light.weight;
+    if (&in == &lights.front())
+      for (size_t i = 0; i < n; ++i) {
+        const float di = p.d[i];
+        if (!std::isfinite(di)) ++r.background;
+        else if (!in.receivers.grid && (!(p.u[i] >= 0 && p.u[i] <= 1) || !(p.v[i] >= 0 && p.v[i] <= 1)))
+          ++r.outside;
+      }
+  }
+  if (!(wsum > 0.0)) throw InputError("the light weights sum to 0");
+  for (size_t i = 0; i < acc.size(); ++i) r.visibility.data[i] = float(acc[i] / wsum);
+  return r;
+}
+
+SoftResult soft_filter(std::shared_ptr<Runtime> rt, const SoftOptions& opt, const HostImage& depth,
+                       const Receivers& receivers) {
+  return soft_filter_lights(rt, opt, {SoftLightInput{opt.light, depth, receivers}});
+}
+
+}  // namespace sf

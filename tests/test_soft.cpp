@@ -1,0 +1,342 @@
+// Soft shadows (kernels/soft/*.cl, host/src/soft_filter.cpp; docs/soft.md): kernels against the
+// scalar reference, cssm's average blocker depth against the brute-force mean, and the
+// parallel-planes penumbra width of every method.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "image_io.hpp"
+#include "lookups.hpp"
+#include "scene_render.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/soft.hpp"
+#include "soft_reference.hpp"
+
+namespace sf::test {
+namespace {
+
+using namespace sf::scene;
+
+Receivers receivers_of(const HostImage& rx) {
+  Receivers r;
+  r.width = rx.width;
+  r.height = rx.height;
+  r.has_footprint = rx.channels >= 4;
+  for (size_t i = 0; i < rx.texels(); ++i) {
+    r.u.push_back(rx.data[i * rx.channels + 0]);
+    r.v.push_back(rx.data[i * rx.channels + 1]);
+    r.d.push_back(rx.data[i * rx.channels + 2]);
+    r.f.push_back(r.has_footprint ? rx.data[i * rx.channels + 3] : 1.0f);
+  }
+  return r;
+}
+
+ref::Planes planes_of(const HostImage& img) {
+  ref::Planes p(img.width, img.height, 1);
+  for (size_t i = 0; i < img.texels(); ++i) p.data[i] = img.data[i];
+  return p;
+}
+
+// Floor at z = 0.8 with rectangular occluders at 0.2..0.6 (64 x 64): blockers at several depths.
+HostImage blocky_map(int n) {
+  HostImage m(n, n, 1, 0.8f);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pos(0, n - 1), len(2, n / 4);
+  std::uniform_real_distribution<float> z(0.2f, 0.6f);
+  for (int k = 0; k < 12; ++k) {
+    const int x0 = pos(rng), y0 = pos(rng), w = len(rng), h = len(rng);
+    const float zz = z(rng);
+    for (int y = y0; y < std::min(n, y0 + h); ++y)
+      for (int x = x0; x < std::min(n, x0 + w); ++x) m.at(x, y) = std::min(m.at(x, y), zz);
+  }
+  return m;
+}
+
+SoftOptions ortho_options(SoftMethod m, double size, double extent) {
+  SoftOptions o;
+  o.method = m;
+  o.light.size = size;
+  o.light.extent = extent;
+  return o;
+}
+
+std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, const Receivers& rx,
+                              std::vector<float>* zavg = nullptr) {
+  SoftFilter f(runtime_ptr(), o, depth.width, depth.height);
+  cl::Buffer dz = to_device(depth.data), u = to_device(rx.u), v = to_device(rx.v), d = to_device(rx.d);
+  cl::Buffer fp = rx.has_footprint ? to_device(rx.f) : cl::Buffer();
+  cl::Buffer out = to_device(std::vector<float>(rx.d.size(), -1.0f));
+  cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
+  cl::Event e = f.prepare(dz);
+  EventList after{e};
+  f.run(u, v, d, fp, out, rx.d.size(), &after, zavg ? &za : nullptr);
+  if (zavg) *zavg = from_device(za, rx.d.size());
+  return from_device(out, rx.d.size());
+}
+
+// --- kernels against the scalar reference --------------------------------------------------
+struct RefCase {
+  SoftMethod method;
+  Lookup lookup;
+  int order;
+};
+
+class SoftKernelVsReference : public ::testing::TestWithParam<RefCase> {};
+
+// Receivers at random (u, v) with d on the floor (0.8) or between the occluders; light of 0.1
+// map widths (search box ~6 texels) so that every receiver under an edge sees partial shadow.
+// Decisions (blocker test, box edges) are float32 in the kernel and double in the reference, so a
+// receiver exactly at a threshold may differ: 99.5% of the receivers must agree within 1e-4
+// (measured worst: 2.3e-6, cssm M = 16), none may be NaN, and the mean difference stays < 1e-5.
+TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
+  const RefCase c = GetParam();
+  const HostImage depth = blocky_map(64);
+  Receivers rx;
+  rx.width = 1500;
+  rx.height = 1;
+  rx.has_footprint = true;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f), dd(0.3f, 0.9f), fp(0.5f, 3.0f);
+  for (int i = 0; i < rx.width; ++i) {
+    rx.u.push_back(uni(rng));
+    rx.v.push_back(uni(rng));
+    rx.d.push_back(i % 2 ? 0.8f : dd(rng));
+    rx.f.push_back(fp(rng));
+  }
+  rx.d[0] = NAN;   // background
+  rx.u[1] = 1.5f;  // outside
+  SoftOptions o = ortho_options(c.method, 0.1, 1.0);
+  o.cssm_lookup = c.lookup;
+  o.cssm_order = c.order;
+  const std::vector<float> got = run_device(o, depth, rx);
+  const ref::Planes P = planes_of(depth);
+  std::vector<ref::Planes> chain;
+  std::unique_ptr<ref::LookupRef> lk;
+  if (c.method == SoftMethod::Ssmm || c.method == SoftMethod::SsmmImproved) chain = ref::mip_chain(P, 2);
+  if (c.method == SoftMethod::Cssm) lk = std::make_unique<ref::LookupRef>(ref::cssm_basis(depth, c.order), c.lookup);
+  const double tol = 1e-4;
+  size_t bad = 0, partial = 0;
+  double mean = 0, worst = 0;
+  for (int i = 0; i < rx.width; ++i) {
+    double want;
+    if (c.method == SoftMethod::Pcss) want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    else if (c.method == SoftMethod::Cssm) want = ref::soft_cssm(*lk, depth.width, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    else want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    ASSERT_TRUE(std::isfinite(got[i])) << i;
+    const double e = std::abs(got[i] - want);
+    bad += e > tol;
+    mean += e / rx.width;
+    worst = std::max(worst, e);
+    partial += want > 0.02 && want < 0.98;
+  }
+  EXPECT_EQ(got[0], 1.0f);
+  EXPECT_EQ(got[1], 1.0f);
+  std::printf("  %s: %zu of %d beyond %.0e (worst %.3g, mean %.2e), %zu partial receivers\n",
+              soft_method_name(c.method), bad, rx.width, tol, worst, mean, partial);
+  EXPECT_LE(bad, size_t(rx.width / 200));
+  EXPECT_LT(mean, 1e-5);
+  EXPECT_GT(partial, size_t(50)) << "the case must exercise penumbrae";
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, SoftKernelVsReference,
+                         ::testing::Values(RefCase{SoftMethod::Pcss, Lookup::Sat, 4},
+                                           RefCase{SoftMethod::Cssm, Lookup::Sat, 4},
+                                           RefCase{SoftMethod::Cssm, Lookup::Mips, 4},
+                                           RefCase{SoftMethod::Cssm, Lookup::Sat, 16},
+                                           RefCase{SoftMethod::Ssmm, Lookup::Sat, 4},
+                                           RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4}),
+                         [](const auto& info) {
+                           std::string s = soft_method_name(info.param.method);
+                           std::replace(s.begin(), s.end(), '-', '_');
+                           if (info.param.method == SoftMethod::Cssm)
+                             s += std::string(info.param.lookup == Lookup::Sat ? "_sat" : "_mips") + "_M" +
+                                  std::to_string(info.param.order);
+                           return s;
+                         });
+
+// --- cssm's average blocker depth (eq. 8.8 / (1 - s_f)) against the brute-force mean ---------
+// Same kernel (SAT box of the search width), same test (z < d - offset, the receiver depth cssm's
+// series is evaluated at). Over receivers of the bundled scenes whose search box holds >= 20%
+// blockers. Errors in normalised depth, reported as a distribution, and relative to the true
+// receiver-blocker distance d - z_avg (what sets the penumbra width).
+TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
+  for (int M : {4, 16}) {
+    std::vector<double> rel, absd;
+    for (const char* scene : {"spheres", "fence", "backyard", "contact", "thin"}) {
+      const std::string dir = data_path(scene);
+      const HostImage depth = io::load_depth_map(dir + "/shadowmap.exr", {});
+      Receivers rx = io::load_receiver_image(dir + "/receivers.exr");
+      // every 7th receiver keeps the test fast
+      Receivers sub;
+      for (size_t i = 0; i < rx.count(); i += 7) {
+        sub.u.push_back(rx.u[i]);
+        sub.v.push_back(rx.v[i]);
+        sub.d.push_back(rx.d[i]);
+        sub.f.push_back(rx.f[i]);
+      }
+      sub.width = int(sub.d.size());
+      sub.height = 1;
+      sub.has_footprint = rx.has_footprint;
+      const double size = 0.2, extent = 8.56;  // the bundled maps are ~8.5 units wide
+      SoftOptions o = ortho_options(SoftMethod::Cssm, size, extent);
+      o.cssm_order = M;
+      o.cssm_lookup = Lookup::Sat;
+      o.bias = 0.0f;
+      std::vector<float> zavg;
+      run_device(o, depth, sub, &zavg);
+      const ref::Planes P = planes_of(depth);
+      for (size_t i = 0; i < sub.d.size(); ++i) {
+        const double d = sub.d[i];
+        if (!std::isfinite(d) || !std::isfinite(zavg[i])) continue;
+        const double f = std::isfinite(sub.f[i]) ? sub.f[i] : 1.0;
+        const double w = std::clamp(std::max(soft_width(o.light, d, 0.0) * depth.width, f), 1.0, 256.0);
+        // cssm's test is z < d - offset (d' = d - offset): the brute force uses the same one.
+        const double off = cssm_offset(o);
+        const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, d, off);
+        if (s.blk < 0.2) continue;
+        absd.push_back(std::abs(zavg[i] - s.zavg));
+        rel.push_back(std::abs(zavg[i] - s.zavg) / (d - s.zavg));
+      }
+    }
+    ASSERT_GT(rel.size(), 1000u);
+    auto pct = [](std::vector<double> v, double p) {
+      std::sort(v.begin(), v.end());
+      return v[std::min(v.size() - 1, size_t(p * v.size()))];
+    };
+    std::printf("  cssm M=%d z_avg vs brute force over %zu receivers: |err| median %.4f p90 %.4f p99 %.4f "
+                "max %.4f; relative to d - z_avg: median %.3f p90 %.3f p99 %.3f\n",
+                M, rel.size(), pct(absd, 0.5), pct(absd, 0.9), pct(absd, 0.99), pct(absd, 1.0),
+                pct(rel, 0.5), pct(rel, 0.9), pct(rel, 0.99));
+    // Measured (relative): M = 4 median 0.039, p90 0.21; M = 16 median 0.014, p90 0.14. Bounds
+    // with about 2x margin; a wrong sign or a missing 1/(1 - s_f) gives errors of order 1.
+    EXPECT_LT(pct(rel, 0.5), M == 4 ? 0.08 : 0.03);
+    EXPECT_LT(pct(rel, 0.9), M == 4 ? 0.35 : 0.25);
+  }
+}
+
+// --- parallel planes ---------------------------------------------------------------------------
+// A 2 x 2 square occluder 1 unit over the floor, the light 4 units above the floor (as in
+// test_scene.cpp). The penumbra (1 / slope of a least-squares line through the 0.1..0.9 ramp of
+// floor receivers across the edge x = 1, |z| < 0.6) must be within 10% of L (d_R - d_B) / d_R
+// (ortho; docs/scenes.md) or L (d_R - d_B) / d_B (perspective, eq. 2.1), and the umbra (floor
+// under the occluder farther than the penumbra from every edge) below 0.05.
+struct PlanesCase {
+  bool perspective;
+  SoftMethod method;
+  Lookup lookup;
+};
+class SoftParallelPlanes : public ::testing::TestWithParam<PlanesCase> {};
+
+TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
+  const PlanesCase c = GetParam();
+  static std::map<bool, std::pair<HostImage, HostImage>> cache;  // map, receivers per light type
+  SceneSetup setup;
+  add_floor(setup.geometry, 4.0);
+  add_quad(setup.geometry, "occluder", {-1.0, 1.0, -1.0}, {2.0, 0.0, 0.0}, {0.0, 0.0, 2.0});
+  const double L = 1.5;
+  if (!c.perspective) {
+    setup.light.type = LightType::Ortho;
+    setup.light.forward = {0, -1, 0};
+    setup.light.right = {1, 0, 0};
+    setup.light.down = {0, 0, 1};
+    setup.light.right_range = {-4.5, 4.5};
+    setup.light.down_range = {-4.5, 4.5};
+    setup.light.near_plane = -4.0;
+    setup.light.far_plane = 0.1;
+  } else {
+    setup.light = LightView::fit_perspective(setup.geometry, {1.0, 4.0, 0.0}, {1.0, 0.0, 0.0}, 120.0, 0.01);
+  }
+  setup.camera.position = {3.0, 5.0, 0.0};
+  setup.camera.target = {1.0, 0.0, 0.0};
+  setup.camera.up_hint = {0.0, 0.0, -1.0};
+  setup.camera.vertical_fov_degrees = 40.0;
+  setup.camera.width = setup.camera.height = 200;
+  setup.map_width = setup.map_height = 512;
+  setup.samples = 1;
+  setup.progress = false;
+  if (!cache.count(c.perspective)) {
+    const SceneRenderer renderer(setup);
+    cache[c.perspective] = {renderer.shadow_map(), renderer.camera_view(false).receivers};
+  }
+  const HostImage& depth = cache[c.perspective].first;
+  const HostImage& rximg = cache[c.perspective].second;
+  const Receivers rx = receivers_of(rximg);
+  SoftOptions o;
+  o.method = c.method;
+  o.cssm_lookup = c.lookup;
+  o.cssm_order = 16;
+  o.light.size = L;
+  o.light.perspective = c.perspective;
+  o.light.near_plane = setup.light.near_plane;
+  o.light.far_plane = setup.light.far_plane;
+  o.light.extent = 9.0;
+  o.light.fov_degrees = setup.light.fov_degrees;
+  const std::vector<float> vis = run_device(o, depth, rx);
+  const double d_b = 3.0, d_r = 4.0;
+  const double expected = c.perspective ? L * (d_r - d_b) / d_b : L * (d_r - d_b) / d_r;
+  // Floor points from the receivers: u, v -> world x, z (ortho: linear; perspective: the light
+  // looks straight down from (1, 4, 0), so x = 1 + (u - 0.5) 2 t 4, t = tan(fov/2)).
+  const double t = std::tan(0.5 * setup.light.fov_degrees * M_PI / 180.0);
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  size_t umbra = 0, umbra_bad = 0;
+  for (size_t i = 0; i < rx.d.size(); ++i) {
+    if (!std::isfinite(rx.d[i])) continue;
+    // Floor point from (u, v): the light's own axes (docs/scenes.md).
+    const LightView& lv = setup.light;
+    const double dist = rx.d[i] * (lv.far_plane - lv.near_plane);  // from the near plane
+    double x, z, depth_r;
+    if (c.perspective) {
+      depth_r = lv.near_plane + dist;  // distance from the light along its axis
+      const double a = (2.0 * rx.u[i] - 1.0) * t * depth_r, b = (2.0 * rx.v[i] - 1.0) * t * depth_r;
+      x = lv.position.x + depth_r * lv.forward.x + a * lv.right.x + b * lv.down.x;
+      z = lv.position.z + depth_r * lv.forward.z + a * lv.right.z + b * lv.down.z;
+    } else {
+      depth_r = dist;  // the near plane is 4 units above the floor
+      x = -4.5 + rx.u[i] * 9.0;
+      z = -4.5 + rx.v[i] * 9.0;
+    }
+    if (std::abs(depth_r - 4.0) > 0.02) continue;  // not the floor
+    const double vv = vis[i];
+    if (std::abs(z) < 0.6 && x > 1.0 - expected && x < 1.0 + expected && vv >= 0.1 && vv <= 0.9) {
+      n += 1; sx += x; sy += vv; sxx += x * x; sxy += x * vv;
+    }
+    // Umbra: under the occluder, beyond the penumbra's inner half (the camera sees the floor
+    // under the occluder only near the edge x = 1).
+    if (x > -1.0 && x < 1.0 - 0.5 * expected - 0.05 && std::abs(z) < 0.5) {
+      ++umbra;
+      umbra_bad += vv > 0.05;
+    }
+  }
+  ASSERT_GT(n, 30) << "too few penumbra receivers; umbra receivers " << umbra;
+  ASSERT_GT(umbra, 50u) << "ramp receivers " << n;
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double measured = 1.0 / slope;
+  std::printf("  %s %s%s: penumbra %.4f, formula %.4f (%+.1f%%), %d ramp receivers, umbra > 0.05: %zu of %zu\n",
+              c.perspective ? "perspective" : "ortho", soft_method_name(c.method),
+              c.method == SoftMethod::Cssm ? (c.lookup == Lookup::Sat ? " sat" : " mips") : "", measured,
+              expected, 100 * (measured / expected - 1), int(n), umbra_bad, umbra);
+  EXPECT_NEAR(measured, expected, 0.10 * expected);
+  EXPECT_LE(umbra_bad, umbra / 100);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Methods, SoftParallelPlanes,
+    ::testing::Values(PlanesCase{false, SoftMethod::Pcss, Lookup::Sat}, PlanesCase{false, SoftMethod::Cssm, Lookup::Sat},
+                      PlanesCase{false, SoftMethod::Cssm, Lookup::Mips}, PlanesCase{false, SoftMethod::Ssmm, Lookup::Sat},
+                      PlanesCase{false, SoftMethod::SsmmImproved, Lookup::Sat},
+                      PlanesCase{true, SoftMethod::Pcss, Lookup::Sat}, PlanesCase{true, SoftMethod::Cssm, Lookup::Sat},
+                      PlanesCase{true, SoftMethod::Ssmm, Lookup::Sat},
+                      PlanesCase{true, SoftMethod::SsmmImproved, Lookup::Sat}),
+    [](const auto& info) {
+      std::string s = std::string(info.param.perspective ? "persp_" : "ortho_") + soft_method_name(info.param.method);
+      std::replace(s.begin(), s.end(), '-', '_');
+      if (info.param.method == SoftMethod::Cssm) s += info.param.lookup == Lookup::Sat ? "_sat" : "_mips";
+      return s;
+    });
+
+}  // namespace
+}  // namespace sf::test

@@ -1,0 +1,219 @@
+// Figures of docs/soft.md (not part of the regular run: DISABLED_, run by scripts/soft_figures.sh).
+//   SF_SOFT_SCENES="dir dir ..." sf_tests --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
+// Every scene dir holds shadowmap.exr (the light in its header), receivers.exr, reference_soft.exr.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <vector>
+
+#include "image_io.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/soft.hpp"
+
+namespace sf::test {
+namespace {
+
+SoftLight header_light(const std::string& path) {
+  SoftLight L;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  const OIIO::ImageSpec& s = in->spec();
+  auto num = [&](const char* n) { return std::atof(s.get_string_attribute(n).c_str()); };
+  L.perspective = s.get_string_attribute("light_type") == "perspective";
+  L.near_plane = num("near");
+  L.far_plane = num("far");
+  L.size = num("light_size");
+  L.fov_degrees = num("fov_degrees");
+  std::string e = s.get_string_attribute("ortho_extents");
+  for (char& c : e)
+    if (c == '[' || c == ']' || c == ',') c = ' ';
+  std::istringstream es(e);
+  double a = 0, b = 0;
+  es >> a >> b;
+  L.extent = b - a;
+  return L;
+}
+
+struct Scene {
+  std::string name;
+  HostImage depth, ref;
+  Receivers rx;
+  SoftLight light;
+};
+
+Scene load(const std::string& dir) {
+  Scene s;
+  s.name = dir.substr(dir.find_last_of('/') + 1);
+  s.depth = io::load_depth_map(dir + "/shadowmap.exr", {});
+  s.rx = io::load_receiver_image(dir + "/receivers.exr");
+  s.ref = io::load_depth_map(dir + "/reference_soft.exr", {});
+  s.light = header_light(dir + "/shadowmap.exr");
+  return s;
+}
+
+struct Device {
+  cl::Buffer depth, u, v, d, f, out;
+  size_t n = 0;
+};
+Device upload(const Scene& s) {
+  Device D;
+  D.n = s.rx.count();
+  D.depth = to_device(s.depth.data);
+  D.u = to_device(s.rx.u);
+  D.v = to_device(s.rx.v);
+  D.d = to_device(s.rx.d);
+  if (s.rx.has_footprint) D.f = to_device(s.rx.f);
+  D.out = to_device(std::vector<float>(D.n, 0.0f));
+  return D;
+}
+
+// Median wall seconds of prepare + run (queue drained) over `runs` after one warm-up.
+double time_method(SoftFilter& F, const Device& D, int runs = 3) {
+  std::vector<double> t;
+  for (int r = 0; r <= runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    cl::Event e = F.prepare(D.depth);
+    EventList after{e};
+    F.run(D.u, D.v, D.d, D.f, D.out, D.n, &after);
+    runtime().queue().finish();
+    if (r) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+struct Variant {
+  const char* label;
+  SoftMethod m;
+  int order;
+  Lookup lookup;
+};
+const Variant kVariants[] = {
+    {"pcss", SoftMethod::Pcss, 4, Lookup::Sat},          {"cssm M=4 mips", SoftMethod::Cssm, 4, Lookup::Mips},
+    {"cssm M=4 sat", SoftMethod::Cssm, 4, Lookup::Sat},  {"cssm M=16 mips", SoftMethod::Cssm, 16, Lookup::Mips},
+    {"cssm M=16 sat", SoftMethod::Cssm, 16, Lookup::Sat}, {"ssmm", SoftMethod::Ssmm, 4, Lookup::Sat},
+    {"ssmm-improved", SoftMethod::SsmmImproved, 4, Lookup::Sat},
+};
+
+std::vector<std::string> scene_dirs() {
+  std::vector<std::string> v;
+  const char* e = std::getenv("SF_SOFT_SCENES");
+  std::istringstream in(e ? e : "");
+  std::string s;
+  while (in >> s) v.push_back(s);
+  return v;
+}
+
+TEST(SoftFigures, DISABLED_QualityAndTime) {
+  std::printf("| scene | light | L | method | RMSE | p99 abs err | mean err | ms (prepare + run) | ns / receiver |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& dir : scene_dirs()) {
+    const Scene s = load(dir);
+    const Device D = upload(s);
+    size_t fg = 0;
+    for (float d : s.rx.d) fg += std::isfinite(d);
+    for (const Variant& V : kVariants) {
+      SoftOptions o;
+      o.method = V.m;
+      o.cssm_order = V.order;
+      o.cssm_lookup = V.lookup;
+      o.light = s.light;
+      SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+      const double sec = time_method(F, D);
+      const std::vector<float> vis = from_device(D.out, D.n);
+      std::vector<double> err;
+      double se = 0, me = 0;
+      for (size_t i = 0; i < D.n; ++i) {
+        if (!std::isfinite(s.rx.d[i])) continue;
+        ASSERT_TRUE(std::isfinite(vis[i]));
+        const double e = vis[i] - s.ref.data[i];
+        err.push_back(std::abs(e));
+        se += e * e;
+        me += e;
+      }
+      std::sort(err.begin(), err.end());
+      std::printf("| %s | %s | %.3g | %s | %.4f | %.3f | %+.4f | %.1f | %.0f |\n", s.name.c_str(),
+                  s.light.perspective ? "persp" : "ortho", s.light.size, V.label, std::sqrt(se / err.size()),
+                  err[size_t(0.99 * (err.size() - 1))], me / err.size(), sec * 1e3, sec * 1e9 / fg);
+    }
+  }
+}
+
+// Time per receiver against light size (first scene dir): cssm's must stay flat, pcss's grows.
+TEST(SoftFigures, DISABLED_CostAgainstLightSize) {
+  const auto dirs = scene_dirs();
+  ASSERT_FALSE(dirs.empty());
+  const Scene s = load(dirs.front());
+  const Device D = upload(s);
+  size_t fg = 0;
+  for (float d : s.rx.d) fg += std::isfinite(d);
+  std::printf("| method | L = 0.05 | 0.1 | 0.2 | 0.4 | 0.8 | (ns per receiver, %s, %zu receivers) |\n|---|---|---|---|---|---|---|\n",
+              s.name.c_str(), fg);
+  for (const Variant& V : kVariants) {
+    std::printf("| %s |", V.label);
+    std::vector<double> t;
+    for (double L : {0.05, 0.1, 0.2, 0.4, 0.8}) {
+      SoftOptions o;
+      o.method = V.m;
+      o.cssm_order = V.order;
+      o.cssm_lookup = V.lookup;
+      o.light = s.light;
+      o.light.size = L;
+      SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+      t.push_back(time_method(F, D) * 1e9 / fg);
+      std::printf(" %.0f |", t.back());
+    }
+    std::printf(" ratio 0.8/0.05 = %.2f\n", t.back() / t.front());
+  }
+}
+
+// Frame time against the number of lights (seed 000 table 8.1): N lights, each its own map
+// (the first scene's map, uploaded N times), prepare + run per light, one frame = all of them.
+TEST(SoftFigures, DISABLED_LightCount) {
+  const auto dirs = scene_dirs();
+  ASSERT_FALSE(dirs.empty());
+  const Scene s = load(dirs.front());
+  std::printf("| method (%dx%d map, %dx%d receivers) | 1 light | 10 | 20 | 40 |\n|---|---|---|---|---|\n",
+              s.depth.width, s.depth.height, s.rx.width, s.rx.height);
+  for (const Variant& V : kVariants) {
+    std::printf("| %s |", V.label);
+    for (int N : {1, 10, 20, 40}) {
+      SoftOptions o;
+      o.method = V.m;
+      o.cssm_order = V.order;
+      o.cssm_lookup = V.lookup;
+      o.light = s.light;
+      std::vector<std::unique_ptr<SoftFilter>> F;
+      std::vector<Device> D;
+      for (int i = 0; i < N; ++i) {
+        F.push_back(std::make_unique<SoftFilter>(runtime_ptr(), o, s.depth.width, s.depth.height));
+        D.push_back(upload(s));
+      }
+      auto frame = [&] {
+        for (int i = 0; i < N; ++i) {
+          cl::Event e = F[i]->prepare(D[i].depth);
+          EventList after{e};
+          F[i]->run(D[i].u, D[i].v, D[i].d, D[i].f, D[i].out, D[i].n, &after);
+        }
+        runtime().queue().finish();
+      };
+      frame();  // warm-up
+      const auto t0 = std::chrono::steady_clock::now();
+      frame();
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf(" %.2f fps (%.0f ms) |", 1.0 / sec, sec * 1e3);
+      std::fflush(stdout);
+    }
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+}  // namespace sf::test

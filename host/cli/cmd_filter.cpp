@@ -59,6 +59,7 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   c->add_option("--flags-out", a.flags_out,
                  "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  add_auto_options(*c, a.auto_args);
   return c;
 }
 
@@ -89,8 +90,10 @@ int run_filter(const FilterArgs& a) {
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);
+  const FilterOptions options =
+      a.auto_args.enabled ? choose_auto_options(a, depth, receivers, runtime) : a.options;
   const auto t_run = Clock::now();
-  FilterResult r = filter(runtime, a.options, depth, receivers);
+  FilterResult r = filter(runtime, options, depth, receivers);
   const double run_ms = ms_since(t_run);
 
   const auto t_write = Clock::now();
@@ -122,7 +125,7 @@ int run_filter(const FilterArgs& a) {
         "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside)%s | device %s | "
         "device ms: transform %.3f, blur %.3f%s, reconstruct %.3f, upload %.3f, download %.3f | "
         "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
-        (method_summary(a.options) + ", " + prefilter_summary(a.options)).c_str(), depth.width, depth.height, receivers.width, receivers.height,
+        (method_summary(options) + ", " + prefilter_summary(options)).c_str(), depth.width, depth.height, receivers.width, receivers.height,
         receivers.grid ? " (planar)" : "", r.background, r.outside, flagged, runtime->info().device_name.c_str(),
         r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(), r.times.reconstruct * 1e3, r.times.upload * 1e3,
         r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());

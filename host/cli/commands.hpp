@@ -5,7 +5,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "shadowfilter/host_image.hpp"
 #include "shadowfilter/options.hpp"
+#include "shadowfilter/runtime.hpp"
 
 namespace sf::cli {
 
@@ -17,6 +21,17 @@ struct MethodsArgs {};
 CLI::App* add_methods_command(CLI::App& app, MethodsArgs& args);
 int run_methods(const MethodsArgs& args);
 
+// --auto (options_auto.cpp): pick the fastest configuration under an error bound on this input.
+struct AutoArgs {
+  bool enabled = false;
+  double max_error = 0.05;
+  std::string metric = "p99";
+  std::string methods = "all";
+  int runs = 3;
+  double sref_bias = 0.01;  // depth bias of s_ref (eval::kDefaultSrefBias; 0 = the unbiased test)
+};
+void add_auto_options(CLI::App& cmd, AutoArgs& args);
+
 struct FilterArgs {
   std::string shadow_map, receivers, receiver_depth, output, device;
   std::string encoding = "linear", nonfinite = "error";
@@ -24,7 +39,12 @@ struct FilterArgs {
   bool quiet = false;
   std::string flags_out;  // --flags-out: ESM classification mask (1 = flagged)
   FilterOptions options;
+  AutoArgs auto_args;
 };
+// With --auto: measures the candidates on (depth, receivers), prints what it chose and skipped,
+// and returns the chosen options (options_auto.cpp).
+FilterOptions choose_auto_options(const FilterArgs& args, const HostImage& depth, const Receivers& receivers,
+                                  const std::shared_ptr<Runtime>& runtime);
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& args);
 int run_filter(const FilterArgs& args);
 
@@ -39,5 +59,15 @@ struct SceneArgs {
 };
 CLI::App* add_scene_command(CLI::App& app, SceneArgs& args);
 int run_scene(const SceneArgs& args);
+
+struct EvaluateArgs {
+  std::vector<std::string> dirs;
+  std::string methods = "all", grid = "quick", out_dir, device, pareto_metric = "p99";
+  int runs = 5, warmup = 1;
+  bool quiet = false, no_images = false;
+  AutoArgs auto_args;
+};
+CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& args);
+int run_evaluate(const EvaluateArgs& args);
 
 }  // namespace sf::cli

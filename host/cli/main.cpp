@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   CLI::App* methods = sf::cli::add_methods_command(app, methods_args);
   CLI::App* filter = sf::cli::add_filter_command(app, filter_args);
   CLI::App* scene = sf::cli::add_scene_command(app, scene_args);
+  sf::cli::EvaluateArgs evaluate_args;
+  CLI::App* evaluate = sf::cli::add_evaluate_command(app, evaluate_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
   try {
@@ -37,6 +39,7 @@ int main(int argc, char** argv) {
     if (methods->parsed()) return sf::cli::run_methods(methods_args);
     if (filter->parsed()) return sf::cli::run_filter(filter_args);
     if (scene->parsed()) return sf::cli::run_scene(scene_args);
+    if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
     if (soft->parsed()) return sf::cli::run_soft(soft_args);
   } catch (const sf::InputError& e) {
     std::cerr << "shadowfilter: error: " << e.what() << "\n";

@@ -1,0 +1,57 @@
+// --auto for `filter` (and the flags `evaluate --auto` shares): the fastest configuration whose
+// error against s_ref of the requested weights stays under --max-error on this input.
+#include <cstdio>
+#include <iostream>
+
+#include "commands.hpp"
+#include "evaluate.hpp"
+#include "progress.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::cli {
+
+void add_auto_options(CLI::App& c, AutoArgs& a) {
+  c.add_flag("--auto", a.enabled,
+             "Pick the fastest method configuration whose error against s_ref (the exact filtered "
+             "test with the requested --blur-radius / --lookup weights) stays under --max-error on "
+             "this input; prints what it chose and skipped");
+  c.add_option("--max-error", a.max_error, "--auto: error bound (default 0.05)")->capture_default_str();
+  c.add_option("--metric", a.metric,
+               "--auto: error metric against s_ref: p99 | rmse | max | frac_1_255 | frac_005 | leak | darken")
+      ->capture_default_str();
+  c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")
+      ->capture_default_str();
+  c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate (median)")->capture_default_str();
+  c.add_option("--sref-bias", a.sref_bias,
+               "--auto: depth bias b of s_ref, H(z - d + b) (default 0.01: lit tilted surfaces stay lit)")
+      ->capture_default_str();
+}
+
+FilterOptions choose_auto_options(const FilterArgs& a, const HostImage& depth, const Receivers& receivers,
+                                  const std::shared_ptr<Runtime>& runtime) {
+  eval::check_metric(a.auto_args.metric);
+  eval::AutoRequest req;
+  req.max_error = a.auto_args.max_error;
+  req.metric = a.auto_args.metric;
+  req.sref_bias = a.auto_args.sref_bias;
+  req.target = a.options;
+  req.methods = eval::parse_methods(a.auto_args.methods);
+  req.timing.runs = std::max(1, a.auto_args.runs);
+  const eval::Scene scene = eval::make_scene("input", depth, receivers);
+  std::unique_ptr<scene::Progress> bar;
+  const eval::AutoResult r = eval::choose_auto(runtime, scene, req, [&](size_t done, size_t total) {
+    if (!bar) bar = std::make_unique<scene::Progress>("auto", total, !a.quiet);
+    bar->add(1);
+  });
+  bar.reset();
+  if (!r.found) {
+    std::fputs(eval::describe(r).c_str(), stderr);
+    throw InputError("--auto: no configuration meets " + req.metric + " <= " + std::to_string(req.max_error));
+  }
+  std::fputs(eval::describe(r).c_str(), stdout);
+  FilterOptions chosen = r.chosen;
+  chosen.schedule = a.options.schedule;
+  return chosen;
+}
+
+}  // namespace sf::cli

@@ -1,0 +1,163 @@
+#pragma once
+// `shadowfilter evaluate` and `--auto` (issue 6): run methods over a parameter grid on a scene,
+// time them honestly (median of repeated device-resident runs after warm-up) and measure their
+// error against the exact filtered test s_ref with the same weights and against the ray-traced
+// references. Library-level: the CLI only parses options and prints. This module reads and
+// writes files (scenes, CSV/JSON, PNG); the OpenCL library stays free of file I/O.
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/host_image.hpp"
+#include "shadowfilter/options.hpp"
+#include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/runtime.hpp"
+
+namespace sf::eval {
+
+// A scene directory of the generator (docs/scenes.md): shadowmap.exr, receivers.exr and the
+// ray-traced camera-view references (optional).
+struct Scene {
+  std::string name, dir;
+  HostImage depth;
+  Receivers receivers;
+  HostImage ref_hard, ref_soft;  // empty (0x0) when the file is missing
+  // Receivers that the map can shadow: finite d, (u, v) inside [0,1]^2. Errors count only these.
+  std::vector<uint8_t> valid;
+  size_t valid_count = 0;
+  double max_footprint = 1.0;  // over valid receivers (1 when the receivers carry none)
+};
+Scene load_scene(const std::string& dir);
+// A scene from memory (filter --auto): no ray-traced references.
+Scene make_scene(std::string name, HostImage depth, Receivers receivers);
+
+// Depth bias of s_ref in evaluations: sum_t W_x(t) H(z_t - d + b). The bundled scenes' surfaces
+// tilt by up to 0.01 in depth across a filter support (tests/test_esm_scene.cpp), so s_ref without
+// a bias shows acne (about 0.5 on lit floors) that no prefiltered method reproduces and no
+// renderer wants; b = 0.01 makes lit surfaces lit. sm and pcf run with the same bias.
+constexpr double kDefaultSrefBias = 0.01;
+
+// --- the parameter grid -----------------------------------------------------------------------
+enum class Grid { Quick, Default, Wide };
+Grid parse_grid(const std::string& name);  // quick | default | wide; InputError otherwise
+// "all" or a comma-separated list of method names (validated against the registry).
+std::vector<std::string> parse_methods(const std::string& list);
+// Every configuration of the grid for these methods. Footprint lookups (mips, sat) are only
+// generated when `max_footprint` > 1 (otherwise they equal bilinear and only cost time).
+// sm and pcf get depth_test.bias = sref_bias (so that they compute s_ref itself).
+std::vector<FilterOptions> make_grid(const std::vector<std::string>& methods, Grid grid,
+                                     double max_footprint, double sref_bias = kDefaultSrefBias);
+// One short human-readable label: "esm c=80 R=3 mips f32".
+std::string config_label(const FilterOptions& o);
+
+// --- errors -----------------------------------------------------------------------------------
+struct ErrorStats {
+  size_t n = 0;  // receivers compared
+  double rmse = 0, p99 = 0, max = 0;
+  double frac_1_255 = 0, frac_005 = 0;  // |v - ref| > 1/255, > 0.05
+  double leak = 0, darken = 0;          // v > ref + 0.05, v < ref - 0.05
+  bool valid = false;
+};
+ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref,
+                       const std::vector<uint8_t>& mask);
+// Metric by name: rmse, p99, max, frac_1_255, frac_005, leak, darken. InputError otherwise.
+double metric_value(const ErrorStats& e, const std::string& metric);
+void check_metric(const std::string& metric);
+
+// s_ref of a scene for the weights of (blur, lookup), computed once per key on all cores.
+class SrefCache {
+ public:
+  explicit SrefCache(const Scene& scene, double bias = kDefaultSrefBias) : scene_(scene), bias_(bias) {}
+  double bias() const { return bias_; }
+  // The weights a configuration's output approximates: sm has no prefilter, sm and pcf read the
+  // raw depth through bilinear weights (pipeline.cpp), everything else (blur, lookup).
+  const std::vector<double>& for_options(const FilterOptions& o);
+  const std::vector<double>& get(const BlurOptions& blur, Lookup lookup);
+
+ private:
+  const Scene& scene_;
+  double bias_;
+  std::map<std::string, std::vector<double>> cache_;
+};
+std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup,
+                                   const Receivers& rx, double bias = 0.0);
+
+// --- timing -----------------------------------------------------------------------------------
+struct Measured {
+  std::vector<float> visibility;  // receivers.count()
+  double median_ms = 0;           // wall: prefilter + reconstruct + finish, data on the device
+  double min_ms = 0;
+  StageTimes stages;              // median per stage (device profiling)
+  size_t device_bytes = 0;
+  int runs = 0;
+};
+struct TimingSettings {
+  int warmup = 1;
+  int runs = 5;
+};
+// Throws InputError when the options are refused (e.g. a storage the method cannot hold).
+Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const Scene& scene,
+                 const TimingSettings& t);
+
+// --- one evaluated configuration ----------------------------------------------------------------
+struct Row {
+  std::string scene, method, label;
+  FilterOptions options;
+  double time_ms = 0, min_ms = 0;
+  StageTimes stages;
+  size_t device_bytes = 0;
+  int runs = 0;
+  ErrorStats sref, hard, soft;
+  std::vector<float> visibility;  // kept for error images; cleared when not needed
+};
+Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
+                    SrefCache& sref, const TimingSettings& t);
+
+struct Skipped {
+  std::string scene, label, reason;
+};
+
+// --- outputs ----------------------------------------------------------------------------------
+void write_csv(const std::string& path, const std::vector<Row>& rows);
+void write_json(const std::string& path, const std::vector<Row>& rows,
+                const std::vector<Skipped>& skipped, const std::string& device);
+// Time vs error (metric against s_ref, or "hard_<metric>" / "soft_<metric>"), one point per
+// configuration, methods coloured, the Pareto front drawn; log-scaled time axis.
+void write_pareto_png(const std::string& path, const std::string& scene, const std::vector<Row>& rows,
+                      const std::string& metric);
+// |v - s_ref| of one configuration as a heat image (black 0, white >= `full_scale`), PNG.
+void write_error_png(const std::string& path, const Scene& scene, const std::vector<float>& v,
+                     const std::vector<double>& ref, double full_scale);
+// Indices of the rows on the Pareto front of (time_ms, metric), fastest first.
+std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string& metric);
+double row_metric(const Row& r, const std::string& metric);  // "p99", "hard_rmse", ...
+
+// --- --auto -----------------------------------------------------------------------------------
+struct AutoRequest {
+  double max_error = 0.05;
+  std::string metric = "p99";  // against s_ref of the target weights
+  double sref_bias = kDefaultSrefBias;
+  FilterOptions target;        // its blur and lookup define the target weights
+  std::vector<std::string> methods;  // empty = every method
+  TimingSettings timing;
+};
+struct AutoResult {
+  bool found = false;
+  FilterOptions chosen;
+  Row chosen_row;
+  std::vector<std::string> skipped;  // "what: why"
+  std::vector<std::string> notes;    // what the scene needs
+  std::vector<Row> tried;
+  std::vector<Skipped> refused;
+};
+// Picks the fastest configuration whose error against s_ref of the target weights stays under
+// max_error. pcf computes s_ref itself, so a choice always exists (up to float rounding).
+// `progress` (may be empty) is called after each candidate with (done, total).
+AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
+                       const std::function<void(size_t, size_t)>& progress = {});
+std::string describe(const AutoResult& r);  // the lines --auto prints
+
+}  // namespace sf::eval

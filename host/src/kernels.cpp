@@ -72,6 +72,20 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
     rt.queue().enqueueCopyBuffer(depth, basis, 0, 0, size_t(texels) * sizeof(float), wait, &e);
     return e;
   }
+  // Narrow storage: 16 texels per work-item with vector conversions (transform.cl). Float32: one
+  // texel per work-item, which PoCL vectorises across work-items (faster there).
+  if (opt.storage != Storage::F32) {
+    cl::Kernel k = method_kernel(rt, method, opt, "transform.cl", "sf_transform16");
+    k.setArg(0, depth);
+    k.setArg(1, basis);
+    k.setArg(2, texels);
+    k.setArg(3, texels);
+    set_params(k, 4, method, opt);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((size_t(texels) + 15) / 16),
+                                    cl::NullRange, wait, &e);
+    return e;
+  }
   cl::Kernel k = method_kernel(rt, method, opt, "transform.cl", "sf_transform");
   k.setArg(0, depth);
   k.setArg(1, basis);

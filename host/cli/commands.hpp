@@ -62,7 +62,7 @@ int run_scene(const SceneArgs& args);
 
 struct EvaluateArgs {
   std::vector<std::string> dirs;
-  std::string methods = "all", grid = "quick", out_dir, device, pareto_metric = "p99";
+  std::string methods = "all", grid = "quick", out_dir, device, pareto_metric = "rmse";
   int runs = 5, warmup = 1;
   bool quiet = false, no_images = false;
   AutoArgs auto_args;

@@ -576,7 +576,14 @@ std::string describe(const AutoResult& r) {
   std::ostringstream s;
   for (const auto& n : r.notes) s << "auto: " << n << "\n";
   if (!r.found) {
-    s << "auto: no configuration meets the bound\n";
+    s << "auto: no configuration meets the bound";
+    const Row* best = nullptr;
+    for (const auto& row : r.tried)
+      if (!best || row.sref.p99 < best->sref.p99) best = &row;
+    if (best)
+      s << "; closest: " << best->label << " (p99 " << fmt(best->sref.p99) << ", rmse " << fmt(best->sref.rmse)
+        << ", " << fmt(best->time_ms) << " ms)";
+    s << "\n";
   } else {
     const Row& c = r.chosen_row;
     s << "auto: chose " << c.label << ": " << fmt(c.time_ms) << " ms (median of " << c.runs
@@ -589,7 +596,16 @@ std::string describe(const AutoResult& r) {
     s << "auto:   tried " << row.label << ": " << fmt(row.time_ms) << " ms, p99 " << fmt(row.sref.p99)
       << ", rmse " << fmt(row.sref.rmse) << "\n";
   }
-  for (const auto& k : r.refused) s << "auto: refused " << k.label << ": " << k.reason << "\n";
+  // Refusals grouped by reason (the storage-aware blur alone refuses a dozen).
+  std::map<std::string, std::string> by_reason;
+  for (const auto& k : r.refused) {
+    std::string reason = k.reason;
+    const size_t colon = reason.find(':');
+    if (reason.rfind("--storage", 0) == 0 && colon != std::string::npos) reason = reason.substr(reason.find(' ', 10) + 1);
+    auto& list = by_reason[reason];
+    list += (list.empty() ? "" : ", ") + k.label;
+  }
+  for (const auto& [reason, list] : by_reason) s << "auto: refused (" << reason << "): " << list << "\n";
   return s.str();
 }
 

@@ -1,0 +1,109 @@
+// 6. Every method's kernels (issue 6): the basis transform of each basis method at 512, 2048 and
+// 4096, the reconstruction of each method (sm / pcf: the raw-depth test) at 1920x1080 random
+// receivers on a 2048 map, and cv::pyrDown beside our mean pyramid (bench_pyramid.cpp) as a
+// baseline. Device time from profiling events; bytes are what the kernel must move at least.
+// Registered statically (no edit to bench_main.cpp): configure() and the copy bandwidth are
+// read when the benchmarks run, after main has measured it.
+#include <cmath>
+
+#include "bench_common.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/methods.hpp"
+
+#ifdef SF_HAVE_OPENCV
+#include <opencv2/imgproc.hpp>
+#endif
+
+namespace sf::bench {
+namespace {
+
+FilterOptions options_for(const std::string& method) {
+  FilterOptions o;
+  o.method = method;
+  o.csm.order = 8;
+  return o;
+}
+
+void BM_Transform(benchmark::State& state, std::string method) {
+  const int n = static_cast<int>(state.range(0));
+  const size_t texels = size_t(n) * n;
+  const FilterOptions opt = options_for(method);
+  const MethodDesc& m = find_method(method);
+  const size_t out_bytes = basis_bytes_per_texel(m, opt) * texels;
+  cl::Buffer depth = to_device(random_floats(texels, 2));
+  cl::Buffer basis = device_buffer(out_bytes);
+  const double s = time_runs(state, [&] {
+    cl::Event e = enqueue_transform(runtime(), m, opt, depth, n, n, basis);
+    e.wait();
+    return event_seconds(e);
+  });
+  state.counters["channels"] = m.channels(opt);
+  set_throughput(state, double(sizeof(float) * texels + out_bytes), double(texels), s);
+}
+
+void BM_Reconstruct(benchmark::State& state, std::string method) {
+  const int n = 2048;
+  const size_t texels = size_t(n) * n, count = size_t(1920) * 1080;
+  const FilterOptions opt = options_for(method);
+  const MethodDesc& m = find_method(method);
+  cl::Buffer depth = to_device(random_floats(texels, 3));
+  cl::Buffer u = to_device(random_floats(count, 4)), v = to_device(random_floats(count, 5)),
+             d = to_device(random_floats(count, 6));
+  cl::Buffer vis = device_buffer(count * sizeof(float));
+  cl::Buffer basis;
+  size_t basis_bytes = 0;
+  if (!m.raw_depth) {
+    basis_bytes = basis_bytes_per_texel(m, opt) * texels;
+    basis = device_buffer(basis_bytes);
+    enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
+  }
+  const double s = time_runs(state, [&] {
+    cl::Event e = m.raw_depth ? enqueue_pcf_points(runtime(), opt, depth, n, n, u, v, d, vis, count)
+                              : enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, u, v, d, vis, count);
+    e.wait();
+    return event_seconds(e);
+  });
+  // Per receiver: u, v, d read, v written, and 4 texels of every basis plane (the bilinear taps).
+  const double per_rx = 16.0 + 4.0 * (m.raw_depth ? 4.0 : double(basis_bytes) / texels);
+  set_throughput(state, per_rx * count, double(count), s);
+}
+
+#ifdef SF_HAVE_OPENCV
+// cv::pyrDown is a 5x5 Gaussian then decimation (not our 2x2 mean), the closest OpenCV level
+// builder; a full chain down to 1x1, host wall time on both cores.
+void BM_OpenCvPyrDownChain(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  cv::setNumThreads(2);
+  const auto values = random_floats(size_t(n) * n, 7);
+  const cv::Mat src(n, n, CV_32F, const_cast<float*>(values.data()));
+  std::vector<cv::Mat> levels;
+  const double s = time_runs(state, [&] {
+    return wall_seconds([&] { cv::buildPyramid(src, levels, int(std::log2(n))); });
+  });
+  set_throughput(state, 4.0 * n * n * (1.0 + 1.0 / 3.0), double(n) * n, s);
+}
+#endif
+
+const bool registered = [] {
+  for (const auto& m : methods()) {
+    if (!m.raw_depth)
+      configure(benchmark::RegisterBenchmark(("transform/" + m.name).c_str(), BM_Transform, m.name))
+          ->ArgName("size")
+          ->Arg(512)
+          ->Arg(2048)
+          ->Arg(4096);
+    configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_1920x1080_on_2048").c_str(),
+                                           BM_Reconstruct, m.name));
+  }
+#ifdef SF_HAVE_OPENCV
+  configure(benchmark::RegisterBenchmark("mips/opencv_buildPyramid", BM_OpenCvPyrDownChain))
+      ->ArgName("size")
+      ->Arg(512)
+      ->Arg(2048)
+      ->Arg(4096);
+#endif
+  return true;
+}();
+
+}  // namespace
+}  // namespace sf::bench

@@ -6,7 +6,8 @@ set -euo pipefail
 set_name="${1:-core}"
 core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers
       pocl-opencl-icd clinfo libopenimageio-dev openimageio-tools libcli11-dev libgtest-dev
-      libgmock-dev libembree-dev libassimp-dev)
+      libgmock-dev libembree-dev libassimp-dev
+      fonts-dejavu-core)  # evaluate's Pareto plots label points with DejaVu Sans (OIIO render_text)
 bench=(libbenchmark-dev libopencv-dev)
 # Scanned meshes (Stanford bunny, Chinese dragon, armadillo, ...) in data.tar.gz of the docs.
 meshes=(libcgal-demo)

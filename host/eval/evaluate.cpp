@@ -209,15 +209,16 @@ std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid
           o.lookup.kind = lk;
           add(o);
         }
-    // Storage formats other than f32 (the storage-aware blur is not wired yet: radius 0 only, the
-    // pipeline refuses the rest and evaluate reports them as skipped).
+    // Storage formats other than f32, without and with a prefilter (what the pipeline refuses is
+    // reported as skipped).
     if (!quick) {
       std::stringstream st(m.storages);
       std::string s;
       while (st >> s) {
         if (s == "f32") continue;
-        FilterOptions o = variants.back();
+        FilterOptions o = variants.front();
         o.storage = parse_storage(s);
+        if (name == "esm" && o.storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
         o.blur.radius = 0;
         add(o);
         o.blur.radius = 3;

@@ -154,7 +154,7 @@ TEST(SoftFigures, DISABLED_CostAgainstLightSize) {
   const Device D = upload(s);
   size_t fg = 0;
   for (float d : s.rx.d) fg += std::isfinite(d);
-  std::printf("| method | L = 0.05 | 0.1 | 0.2 | 0.4 | 0.8 | (ns per receiver, %s, %zu receivers) |\n|---|---|---|---|---|---|---|\n",
+  std::printf("| method | L = 0.05 | 0.1 | 0.2 | 0.4 | 0.8 | (reconstruction ns per receiver, %s, %zu receivers) |\n|---|---|---|---|---|---|---|\n",
               s.name.c_str(), fg);
   for (const Variant& V : kVariants) {
     std::printf("| %s |", V.label);
@@ -166,11 +166,14 @@ TEST(SoftFigures, DISABLED_CostAgainstLightSize) {
       o.cssm_lookup = V.lookup;
       o.light = s.light;
       o.light.size = L;
+      if (V.m == SoftMethod::Cssm && V.order == 16 && V.lookup == Lookup::Sat) continue;  // minutes
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
-      t.push_back(time_method(F, D) * 1e9 / fg);
+      time_method(F, D, 2);
+      t.push_back(F.times().reconstruct * 1e9 / fg);  // last run's reconstruction, device time
       std::printf(" %.0f |", t.back());
     }
-    std::printf(" ratio 0.8/0.05 = %.2f\n", t.back() / t.front());
+    if (!t.empty()) std::printf(" ratio 0.8/0.05 = %.2f", t.back() / t.front());
+    std::printf("\n");
   }
 }
 
@@ -183,6 +186,7 @@ TEST(SoftFigures, DISABLED_LightCount) {
   std::printf("| method (%dx%d map, %dx%d receivers) | 1 light | 10 | 20 | 40 |\n|---|---|---|---|---|\n",
               s.depth.width, s.depth.height, s.rx.width, s.rx.height);
   for (const Variant& V : kVariants) {
+    if (V.m == SoftMethod::Cssm && V.order == 16) continue;  // M = 4 as in table 8.1
     std::printf("| %s |", V.label);
     for (int N : {1, 10, 20, 40}) {
       SoftOptions o;
@@ -204,7 +208,7 @@ TEST(SoftFigures, DISABLED_LightCount) {
         }
         runtime().queue().finish();
       };
-      frame();  // warm-up
+      if (N == 1) frame();  // warm-up (program builds)
       const auto t0 = std::chrono::steady_clock::now();
       frame();
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -338,5 +338,58 @@ INSTANTIATE_TEST_SUITE_P(
       return s;
     });
 
+// Several lights: v = sum w_i v_i / sum w_i of the single-light results (weights 1 and 3, the
+// second light twice as wide). Float sums of two terms: within 1e-6.
+TEST(SoftLights, WeightedCombination) {
+  const HostImage depth = blocky_map(64);
+  Receivers rx;
+  rx.width = 400;
+  rx.height = 1;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (int i = 0; i < rx.width; ++i) {
+    rx.u.push_back(uni(rng));
+    rx.v.push_back(uni(rng));
+    rx.d.push_back(0.8f);
+  }
+  SoftOptions o = ortho_options(SoftMethod::Ssmm, 0.1, 1.0);
+  SoftLight a = o.light, b = o.light;
+  a.weight = 1.0;
+  b.weight = 3.0;
+  b.size = 0.2;
+  const SoftResult both = soft_filter_lights(runtime_ptr(), o, {{a, depth, rx}, {b, depth, rx}});
+  o.light = a;
+  const SoftResult ra = soft_filter(runtime_ptr(), o, depth, rx);
+  o.light = b;
+  const SoftResult rb = soft_filter(runtime_ptr(), o, depth, rx);
+  size_t differ = 0;
+  for (int i = 0; i < rx.width; ++i) {
+    EXPECT_NEAR(both.visibility.data[i], (ra.visibility.data[i] + 3.0 * rb.visibility.data[i]) / 4.0, 1e-6);
+    differ += std::abs(ra.visibility.data[i] - rb.visibility.data[i]) > 0.01;
+  }
+  EXPECT_GT(differ, 20u) << "the two lights must give different shadows";
+}
+
+// Degenerate input: every texel at the receiver depth (1 - s_f = 0 for cssm up to ringing), a
+// light of size 0, receivers at d = 0 and 1: finite visibility everywhere, lit where nothing blocks.
+TEST(SoftGuards, NoNaNOnDegenerateInput) {
+  HostImage depth(32, 32, 1, 0.5f);
+  Receivers rx;
+  rx.width = 4;
+  rx.height = 1;
+  rx.u = {0.5f, 0.3f, 0.7f, 0.1f};
+  rx.v = {0.5f, 0.3f, 0.7f, 0.9f};
+  rx.d = {0.5f, 0.0f, 1.0f, 0.5f};
+  for (SoftMethod m : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved})
+    for (double L : {0.0, 0.3}) {
+      SoftOptions o = ortho_options(m, L, 1.0);
+      const std::vector<float> v = run_device(o, depth, rx);
+      for (int i = 0; i < 4; ++i) ASSERT_TRUE(std::isfinite(v[i])) << soft_method_name(m) << " L=" << L;
+      EXPECT_EQ(v[0], 1.0f) << soft_method_name(m) << ": a receiver on the only surface is lit";
+      EXPECT_EQ(v[1], 1.0f) << soft_method_name(m);
+      EXPECT_LT(v[2], 0.05f) << soft_method_name(m) << ": d = 1 under z = 0.5 is in shadow";
+    }
+}
+
 }  // namespace
 }  // namespace sf::test

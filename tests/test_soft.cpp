@@ -160,8 +160,8 @@ INSTANTIATE_TEST_SUITE_P(Methods, SoftKernelVsReference,
                          });
 
 // --- cssm's average blocker depth (eq. 8.8 / (1 - s_f)) against the brute-force mean ---------
-// Same kernel (SAT box of the search width), same test (z < d - offset, the receiver depth cssm's
-// series is evaluated at). Over receivers of the bundled scenes whose search box holds >= 20%
+// Same kernel (SAT box of the search width), same test (z < d - z_offset, the receiver depth
+// cssm's z_avg series is evaluated at). Over receivers of the bundled scenes whose search box holds >= 20%
 // blockers. Errors in normalised depth, reported as a distribution, and relative to the true
 // receiver-blocker distance d - z_avg (what sets the penumbra width).
 TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
@@ -196,7 +196,7 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
         const double f = std::isfinite(sub.f[i]) ? sub.f[i] : 1.0;
         const double w = std::clamp(std::max(soft_width(o.light, d, 0.0) * depth.width, f), 1.0, 256.0);
         // cssm's test is z < d - offset (d' = d - offset): the brute force uses the same one.
-        const double off = cssm_offset(o);
+        const double off = cssm_z_offset(o);
         const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, d, off);
         if (s.blk < 0.2) continue;
         absd.push_back(std::abs(zavg[i] - s.zavg));

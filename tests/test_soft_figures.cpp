@@ -120,13 +120,17 @@ TEST(SoftFigures, DISABLED_QualityAndTime) {
     size_t fg = 0;
     for (float d : s.rx.d) fg += std::isfinite(d);
     for (const Variant& V : kVariants) {
+      // SF_SOFT_ONLY=label restricts the variants; SF_SOFT_CSSM_OFFSET / _SCALE override cssm's.
+      if (const char* only = std::getenv("SF_SOFT_ONLY"); only && std::string(only) != V.label) continue;
       SoftOptions o;
       o.method = V.m;
       o.cssm_order = V.order;
       o.cssm_lookup = V.lookup;
       o.light = s.light;
+      if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm_offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm_scale = float(std::atof(e));
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
-      const double sec = time_method(F, D);
+      const double sec = time_method(F, D, 1);
       const std::vector<float> vis = from_device(D.out, D.n);
       std::vector<double> err;
       double se = 0, me = 0;

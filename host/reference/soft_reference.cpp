@@ -158,7 +158,7 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   const double ms = o.cssm_lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
   for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
   double num;
-  const double den = 1.0 - series(b, M, dp, &num);
+  const double den = 1.0 - series(b, M, d - cssm_z_offset(o), &num);
   if (!(den >= o.cssm_min_den)) return 1.0;
   const double zavg = std::clamp(num / den, 0.0, d);
   if (zavg_out) *zavg_out = zavg;

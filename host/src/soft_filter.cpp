@@ -16,7 +16,7 @@ struct ClSoftLight {
   float bias, max_width;
 };
 struct ClCssmParams {  // sf_cssm_params (kernels/soft/cssm.cl)
-  float offset, scale, sharpen_a, sharpen_b, min_den;
+  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset;
 };
 
 constexpr double kPi = 3.14159265358979323846;
@@ -87,6 +87,8 @@ double soft_width(const SoftLight& L, double d, double z) {
 float cssm_offset(const SoftOptions& o) {
   return o.cssm_offset >= 0.0f ? o.cssm_offset : 0.5f / float(std::max(o.cssm_order, 1));
 }
+
+float cssm_z_offset(const SoftOptions& o) { return 0.5f / float(std::max(o.cssm_order, 1)); }
 
 void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
@@ -218,7 +220,7 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   k.setArg(a++, sizeof(ClSoftLight), &L);
   if (opt_.method == SoftMethod::Cssm) {
     const ClCssmParams P{cssm_offset(opt_), opt_.cssm_scale, opt_.cssm_sharpen_a, opt_.cssm_sharpen_b,
-                         opt_.cssm_min_den};
+                         opt_.cssm_min_den, cssm_z_offset(opt_)};
     k.setArg(a++, sizeof(ClCssmParams), &P);
   } else if (opt_.method != SoftMethod::Pcss) {
     k.setArg(a++, opt_.ssmm_n);

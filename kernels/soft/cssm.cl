@@ -4,7 +4,7 @@
 //   [0, M) sin(c_k z), [M, 2M) cos(c_k z)          the CSM basis (same as methods/csm.clh)
 //   [2M, 3M) z sin(c_k z), [3M, 4M) z cos(c_k z)   CSM-Z (eq. 8.8)
 //   4M: z / 2                                      the constant term of eq. 8.8
-// Reconstruction per receiver, d' = d - offset:
+// Reconstruction per receiver, d' = d - offset (stage 1: d - z_offset):
 //   stage 1: lookup at the search width w(d, 0) (the light's footprint at the near plane);
 //     s_f  = 1/2 + 2 sum_k [cos(c_k d') bar(sin_k) - sin(c_k d') bar(cos_k)] / c_k
 //     z_avg = [bar(z/2) + 2 sum_k (sin(c_k d') bar(z cos_k) - cos(c_k d') bar(z sin_k)) / c_k]
@@ -27,7 +27,7 @@
 #endif
 
 typedef struct {
-  float offset, scale, sharpen_a, sharpen_b, min_den;
+  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset;
 } sf_cssm_params;
 
 __kernel void sf_cssm_basis(__global const float* restrict depth, __global float* restrict basis,
@@ -90,7 +90,9 @@ __kernel void sf_cssm_points(__global const float* restrict basis, const int W, 
   const float search = clamp(fmax(sf_soft_width(L, dd, 0.0f) * (float)W, fp), 1.0f, L.max_width);
   sf_lookup(basis, chain, sat, W, H, ui, vi, SF_CSSM_MIP_SCALE * search, b);
   float num;
-  const float den = 1.0f - sf_cssm_series(b, dp, &num);
+  // Stage 1 at d - z_offset (0.5 / M): there a lit texel (z = d) gives 1 - f ~ -0.09, close to
+  // 0; at the visibility offset it would count as a quarter blocker at depth d.
+  const float den = 1.0f - sf_cssm_series(b, dd - P.z_offset, &num);
   if (!(den >= P.min_den)) {  // also catches NaN
     out[i] = 1.0f;
     if (zavg_out) zavg_out[i] = NAN;

@@ -39,15 +39,16 @@ struct SoftOptions {
   // cssm
   int cssm_order = 4;                // M: 4M + 1 basis planes
   Lookup cssm_lookup = Lookup::Sat;  // mips or sat
-  float cssm_offset = -1.0f;         // d' = d - offset; < 0: 0.5 / M (lit surfaces reconstruct to ~1)
-  float cssm_scale = 1.0f;           // v = clamp(0.5 + scale (s_f - 0.5), 0, 1)
+  float cssm_offset = -1.0f;  // d' = d - offset (stage 2); < 0: 0.5 / M (lit surfaces reach ~1)
+  float cssm_scale = 1.0f;    // v = clamp(0.5 + scale (s_f - 0.5), 0, 1)
   float cssm_sharpen_a = 0.0f, cssm_sharpen_b = 0.0f;  // eq. 8.9 (A = 0: off)
   float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker, lit
   // ssmm
   int ssmm_n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
 };
 void validate(const SoftOptions& opt);  // throws InputError
-float cssm_offset(const SoftOptions& opt);  // the offset in effect (default 0.5 / M)
+float cssm_offset(const SoftOptions& opt);    // visibility offset in effect (default 0.5 / M)
+float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage: 0.5 / M
 
 struct SoftTimes {  // device seconds (profiling queues), 0 otherwise
   double transform = 0, pyramid = 0, sat = 0, reconstruct = 0;

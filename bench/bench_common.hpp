@@ -41,19 +41,22 @@ std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float
 cl::Buffer to_device(const std::vector<float>& host);
 cl::Buffer device_buffer(size_t bytes);
 
-// Every benchmark uses these settings: manual time in ms, median over repetitions.
+// Every benchmark uses these settings: manual time in ms; mean, median, stddev, cv and min over
+// the repetitions.
 benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b);
 
 // Registration, one per file, called by main in this order.
 void register_copy();
 void register_transform();
 void register_blur();
-void register_opencv();  // only with SF_HAVE_OPENCV
+// cv::GaussianBlur at one size and radius, registered by register_blur right after ours, so
+// that both run under the same load (only with SF_HAVE_OPENCV).
+void register_opencv_blur(int size, int radius);
 void register_reconstruct();
 void register_pipeline();
 void register_pyramid();  // bench_pyramid.cpp: mips, SAT, footprint lookups
 
-// Measures the copy bandwidth (clEnqueueCopyBuffer and a copy kernel, the better one).
+// Measures the copy bandwidth: the best median of clEnqueueCopyBuffer and two copy kernels.
 double measure_copy_bandwidth();
 
 }  // namespace sf::bench

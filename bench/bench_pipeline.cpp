@@ -33,10 +33,9 @@ void BM_EsmPipeline(benchmark::State& state) {
     ++runs;
     return t.transform + t.blur + t.reconstruct;
   });
-  using benchmark::Counter;
-  state.counters["transform_ms"] = Counter(1e3 * sum.transform / runs);
-  state.counters["blur_ms"] = Counter(1e3 * sum.blur / runs);
-  state.counters["reconstruct_ms"] = Counter(1e3 * sum.reconstruct / runs);
+  state.counters["transform_ms"] = 1e3 * sum.transform / runs;
+  state.counters["blur_ms"] = 1e3 * sum.blur / runs;
+  state.counters["reconstruct_ms"] = 1e3 * sum.reconstruct / runs;
   set_throughput(state, 24.0 * texels + 16.0 * count, texels, s);
 }
 

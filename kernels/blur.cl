@@ -11,11 +11,12 @@
 //   SF_VEC      texels per vector: 4, 8 or 16
 //   SF_STRIP    vectors per work-item along a row
 //   SF_ROWS     output rows per work-item
-//   SF_VROWS    output rows per step (1, 2 or 4): rows of one step share their ring loads
+//   SF_VROWS    output rows per step: the rows of a step share their ring loads
 //   SF_STREAM   defined when every row starts on a vector boundary (width % SF_VEC == 0):
 //               results are then written with aligned streaming (non-temporal) stores
 // NDRange: (ceil(width / (SF_STRIP * SF_VEC)), ceil(height / SF_ROWS), channels), local size
 // (1, 1, 1): PoCL replicates private arrays per work-item of a group, and one ring is enough.
+// sf_blur_copy is the copy back of an in-place blur, with the same streaming stores.
 
 #if SF_VEC == 16
 typedef float16 sf_vec;
@@ -53,54 +54,75 @@ __constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 SF_DEFINE_HBLUR(sf_hblur_global, __global)
 SF_DEFINE_HBLUR(sf_hblur_private, __private)
 
-// Vectors within R of a border (or past the right edge): copy the clamped span into a
-// private row, then blur it like an interior vector.
-SF_INLINE sf_vec sf_hblur_edge(__global const float* row, int x, int width) {
-#ifdef SF_FAKE_EDGE
-  return (sf_vec)row[x];
-#endif
-  float pad[SF_VEC + 2 * SF_RADIUS];
-  for (int j = 0; j < SF_VEC + 2 * SF_RADIUS; ++j)
-    pad[j] = row[sf_clampi(x - SF_RADIUS + j, 0, width - 1)];
-  return sf_hblur_private(pad + SF_RADIUS);
+// A work-item's strip: `vecs` vectors from x0. Vectors [left, right) are interior (their taps
+// lie inside the row); those before `left` and from `right` on read past a border.
+typedef struct {
+  int x0, vecs, left, right;
+} sf_strip;
+
+SF_INLINE sf_strip sf_make_strip(int x0, int width) {
+  sf_strip s;
+  s.x0 = x0;
+  s.vecs = min(SF_STRIP, (width - x0 + SF_VEC - 1) / SF_VEC);
+  // Vector v is interior when x0 + v VEC >= R and x0 + v VEC + VEC + R <= width.
+  s.left = clamp((SF_RADIUS - x0 + SF_VEC - 1) / SF_VEC, 0, s.vecs);
+  const int last_fit = width - SF_RADIUS - SF_VEC - x0;
+  s.right = clamp(last_fit < 0 ? 0 : last_fit / SF_VEC + 1, s.left, s.vecs);
+  return s;
 }
 
-// Blurs the strip's `vecs` vectors of one input row along x into both copies of a ring slot
-// (each row is stored twice so that every window is contiguous in the ring).
-SF_INLINE void sf_hblur_strip(__global const float* row, int x0, int vecs, int width, sf_vec* slot) {
-  for (int v = 0; v < vecs; ++v) {
-    const int x = x0 + v * SF_VEC;
-    const bool interior = x >= SF_RADIUS && x + SF_VEC + SF_RADIUS <= width;
-    const sf_vec h = interior ? sf_hblur_global(row + x) : sf_hblur_edge(row, x, width);
-    slot[v] = h;
-    slot[v + SF_SPAN * SF_STRIP] = h;
-  }
+// Each ring row is stored twice, so that every window is contiguous in the ring.
+SF_INLINE void sf_ring_put(sf_vec* slot, int v, sf_vec h) {
+  slot[v] = h;
+  slot[v + SF_SPAN * SF_STRIP] = h;
+}
+
+// Vectors v0 .. v0 + n - 1 of the strip where they read past a border: their span, clamped to
+// the row, is copied into a private row (vector moves for the inside part), then blurred
+// like interior vectors.
+SF_INLINE void sf_hblur_padded(__global const float* row, const sf_strip* s, int v0, int n,
+                               int width, sf_vec* slot) {
+  if (n <= 0) return;
+  float pad[SF_STRIP * SF_VEC + 2 * SF_RADIUS];
+  const int lo = s->x0 + v0 * SF_VEC - SF_RADIUS, len = n * SF_VEC + 2 * SF_RADIUS;
+  const int a = max(lo, 0), b = min(lo + len, width);  // the part inside the row
+  for (int j = 0; j < a - lo; ++j) pad[j] = row[0];
+  int j = a;
+  for (; j + SF_VEC <= b; j += SF_VEC)
+    *(sf_vec_u*)(pad + j - lo) = *(__global const sf_vec_u*)(row + j);
+  for (; j < b; ++j) pad[j - lo] = row[j];
+  for (j = b - lo; j < len; ++j) pad[j] = row[width - 1];
+  for (int v = 0; v < n; ++v)
+    sf_ring_put(slot, v0 + v, sf_hblur_private(pad + SF_RADIUS + v * SF_VEC));
+}
+
+// Blurs the strip of one input row along x into a ring slot.
+SF_INLINE void sf_hblur_strip(__global const float* row, const sf_strip* s, int width,
+                              sf_vec* slot) {
+  sf_hblur_padded(row, s, 0, s->left, width, slot);
+  for (int v = s->left; v < s->right; ++v)
+    sf_ring_put(slot, v, sf_hblur_global(row + s->x0 + v * SF_VEC));
+  sf_hblur_padded(row, s, s->right, s->vecs - s->right, width, slot);
 }
 
 // Input row i of the work-item starting at output row y0 into its ring slot.
-SF_INLINE void sf_hblur_input(__global const float* img, int y0, int i, int x0, int vecs, int width,
-                           int height, sf_vec* ring) {
+SF_INLINE void sf_hblur_input(__global const float* img, int y0, int i, const sf_strip* s,
+                              int width, int height, sf_vec* ring) {
   const int y = sf_clampi(y0 - SF_RADIUS + i, 0, height - 1);
-  sf_hblur_strip(img + (size_t)y * width, x0, vecs, width, ring + i % SF_SPAN * SF_STRIP);
+  sf_hblur_strip(img + (size_t)y * width, s, width, ring + i % SF_SPAN * SF_STRIP);
 }
 
-SF_INLINE void sf_store(__global float* out, int x, int width, sf_vec v) {
-#ifdef SF_STREAM
+// One vector of an output row.
+SF_INLINE void sf_put_vec(__global float* out, int x, int width, sf_vec v) {
   if (x + SF_VEC <= width) {
-#if defined(__clang__)
-    __builtin_nontemporal_store(v, (__global sf_vec*)(out + x));
+#if defined(SF_STREAM) && defined(__clang__)
+    __builtin_nontemporal_store(v, (__global sf_vec*)(out + x));  // aligned under SF_STREAM
 #else
-    *(__global sf_vec*)(out + x) = v;
-#endif
-    return;
-  }
-#else
-  if (x + SF_VEC <= width) {
     *(__global sf_vec_u*)(out + x) = v;
+#endif
     return;
   }
-#endif
-  float lanes[SF_VEC];
+  float lanes[SF_VEC];  // the last vector of a row: only its lanes inside the row
   *(sf_vec_u*)lanes = v;
   for (int j = 0; x + j < width; ++j) out[x + j] = lanes[j];
 }
@@ -115,7 +137,8 @@ SF_INLINE void sf_vblur_step(const sf_vec* win, int v, sf_vec* acc) {
   for (int k = 1; k <= SF_RADIUS; ++k) {
 #pragma unroll
     for (int r = 0; r < SF_VROWS; ++r) {
-      const sf_vec pair = win[(r + SF_RADIUS - k) * SF_STRIP + v] + win[(r + SF_RADIUS + k) * SF_STRIP + v];
+      const sf_vec pair =
+          win[(r + SF_RADIUS - k) * SF_STRIP + v] + win[(r + SF_RADIUS + k) * SF_STRIP + v];
       acc[r] = fma((sf_vec)sf_w[k], pair, acc[r]);
     }
   }
@@ -123,11 +146,12 @@ SF_INLINE void sf_vblur_step(const sf_vec* win, int v, sf_vec* acc) {
 
 // Writes output rows y .. y + rows - 1 (rows <= SF_VROWS) of the strip from window `win`.
 SF_INLINE void sf_vblur_strip(const sf_vec* win, int x0, int vecs, int width, int rows,
-                           __global float* out) {
+                              __global float* out) {
   for (int v = 0; v < vecs; ++v) {
     sf_vec acc[SF_VROWS];
     sf_vblur_step(win, v, acc);
-    for (int r = 0; r < rows; ++r) sf_store(out + (size_t)r * width, x0 + v * SF_VEC, width, acc[r]);
+    for (int r = 0; r < rows; ++r)
+      sf_put_vec(out + (size_t)r * width, x0 + v * SF_VEC, width, acc[r]);
   }
 }
 
@@ -140,19 +164,36 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur(
   const size_t plane = (size_t)get_global_id(2) * plane_stride;
   __global const float* img = src + plane;
   __global float* out = dst + plane;
-  const int vecs = min(SF_STRIP, (width - x0 + SF_VEC - 1) / SF_VEC);
+  const sf_strip s = sf_make_strip(x0, width);
   const int rows_out = min(SF_ROWS, height - y0);
 
   // Input row i (image row y0 - R + i, clamped) lives in ring slot i % SF_SPAN and its copy.
   sf_vec ring[2 * SF_SPAN * SF_STRIP];
-  for (int i = 0; i < 2 * SF_RADIUS; ++i) sf_hblur_input(img, y0, i, x0, vecs, width, height, ring);
+  for (int i = 0; i < 2 * SF_RADIUS; ++i) sf_hblur_input(img, y0, i, &s, width, height, ring);
   for (int y = 0; y < rows_out; y += SF_VROWS) {  // output rows y0 + y ...
     for (int r = 0; r < SF_VROWS; ++r)
-      sf_hblur_input(img, y0, y + 2 * SF_RADIUS + r, x0, vecs, width, height, ring);
-    sf_vblur_strip(ring + y % SF_SPAN * SF_STRIP, x0, vecs, width, min(SF_VROWS, rows_out - y),
+      sf_hblur_input(img, y0, y + 2 * SF_RADIUS + r, &s, width, height, ring);
+    sf_vblur_strip(ring + y % SF_SPAN * SF_STRIP, x0, s.vecs, width, min(SF_VROWS, rows_out - y),
                    out + (size_t)(y0 + y) * width);
   }
 #ifdef SF_STREAM
   write_mem_fence(CLK_GLOBAL_MEM_FENCE);  // streaming stores are weakly ordered
+#endif
+}
+
+// dst[i] = src[i] for i < count, SF_COPY_CHUNK floats per work-item (the in-place blur's copy
+// back from tmp: vector loads and the same stores as the blur, about 2x clEnqueueCopyBuffer on
+// PoCL). NDRange: ceil(count / SF_COPY_CHUNK), local size 1.
+#define SF_COPY_CHUNK 4096
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur_copy(
+    __global const float* restrict src, __global float* restrict dst, const int count) {
+  const int i0 = get_global_id(0) * SF_COPY_CHUNK;
+  const int end = min(i0 + SF_COPY_CHUNK, count);
+  int i = i0;
+  for (; i + SF_VEC <= end; i += SF_VEC)
+    sf_put_vec(dst, i, end, *(__global const sf_vec_u*)(src + i));
+  for (; i < end; ++i) dst[i] = src[i];
+#ifdef SF_STREAM
+  write_mem_fence(CLK_GLOBAL_MEM_FENCE);
 #endif
 }

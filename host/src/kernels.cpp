@@ -100,29 +100,46 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
 
 namespace {
 
-// How the fused blur kernel is scheduled (blur.cl); no field changes a result.
+// The fused blur's schedule (blur.cl: SF_VEC, SF_STRIP, SF_ROWS, SF_STREAM); none of it changes
+// a result.
 struct BlurSchedule {
-  int vec = 16;    // texels per vector
-  int strip = 1;   // vectors per work-item along a row
-  int rows = 64;   // output rows per work-item
-  int vrows = 2;   // output rows per step
-  bool stream = false;
+  int vec = 16;         // texels per vector
+  int strip = 1;        // vectors per work-item along a row
+  int rows = 64;        // output rows per work-item
+  bool stream = false;  // streaming stores: every row starts on a vector boundary
 };
+constexpr int kBlurStepRows = 4;     // SF_VROWS: output rows per step, sharing their ring loads
+constexpr int kBlurCopyChunk = 4096;  // SF_COPY_CHUNK: floats per work-item of sf_blur_copy
 
-int env_int(const char* name, int fallback) {  // EXPERIMENT
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : fallback;
+int floor_pow2(int n) {
+  int p = 1;
+  while (p <= n / 2) p *= 2;
+  return p;
 }
 
-BlurSchedule blur_schedule(const BlurOptions& blur, const ScheduleOptions& sched,
+int ceil_div(int a, int b) { return (a + b - 1) / b; }
+
+// Strip: 128 texels (64 once the private ring, two copies of 2R + 4 strip rows, would pass
+// 128 KiB). Rows: 256, fewer when needed to give every compute unit 8 work-items; long strips
+// make the 2R halo rows that two work-items both blur along x a small share. Measured on PoCL
+// (2 cores, AVX-512): 128 x 256 is within noise of the best of {64, 128, 256}^2 for R = 1..31.
+BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions& sched,
                            const ImageShape& shape) {
   BlurSchedule s;
   s.vec = sched.blur_vector_width;
-  const int taps = 2 * blur.radius + 1;
-  s.strip = env_int("SF_STRIP", std::max(1, 24576 / (2 * taps * s.vec * 4)));
-  s.rows = env_int("SF_ROWS", 64);
-  s.vrows = env_int("SF_VROWS", 2);
-  s.stream = shape.width % s.vec == 0 && env_int("SF_NT", 1) != 0;
+  const int span = 2 * radius + kBlurStepRows;
+  const int texels = sched.blur_strip_texels > 0 ? sched.blur_strip_texels
+                                                 : std::clamp(floor_pow2(16384 / span), 64, 128);
+  s.strip = std::max(1, texels / s.vec);
+  if (sched.blur_rows > 0) {
+    s.rows = sched.blur_rows;
+  } else {
+    s.rows = 256;
+    const int strips = ceil_div(shape.width, s.strip * s.vec) * shape.channels;
+    const int wanted = 8 * static_cast<int>(std::max<cl_uint>(rt.info().compute_units, 1));
+    while (s.rows > 16 && strips * ceil_div(shape.height, s.rows) < wanted) s.rows /= 2;
+  }
+  s.stream = shape.width % s.vec == 0;
   return s;
 }
 
@@ -136,8 +153,24 @@ std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s) {
   }
   return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weights +
          " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
-         " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(s.vrows) +
-         (s.stream ? " -DSF_STREAM" : "") + (std::getenv("SF_FAKE_EDGE") ? " -DSF_FAKE_EDGE" : "");
+         " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(kBlurStepRows) +
+         (s.stream ? " -DSF_STREAM" : "");
+}
+
+// The copy back of an in-place blur, tmp -> dst, after `blurred` (blur.cl: sf_blur_copy).
+cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer& tmp,
+                            const cl::Buffer& dst, const ImageShape& shape,
+                            const cl::Event& blurred) {
+  cl::Kernel copy(p, "sf_blur_copy");
+  const int count = static_cast<int>(shape.plane_texels() * shape.channels);
+  copy.setArg(0, tmp);
+  copy.setArg(1, dst);
+  copy.setArg(2, count);
+  const EventList after{blurred};
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)),
+                                  cl::NDRange(1), &after, &e);
+  return e;
 }
 
 }  // namespace
@@ -158,26 +191,24 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   const int vec = sched.blur_vector_width;
   if (vec != 4 && vec != 8 && vec != 16)
     throw InputError("blur vector width must be 4, 8 or 16, got " + std::to_string(vec));
-  const BlurSchedule bs = blur_schedule(blur, sched, shape);
-  cl::Program p = rt.program({"common.clh", "blur.cl"}, blur_build_options(blur, bs));
-  cl::Kernel k(p, "sf_blur");
-  // Both passes in one kernel, which cannot run in place: in place goes through tmp.
+  if (sched.blur_strip_texels < 0 || sched.blur_strip_texels % vec != 0 || sched.blur_rows < 0)
+    throw InputError("blur strip must be a multiple of the vector width and rows >= 0");
+  if (shape.value_bytes != sizeof(float)) throw InputError("the blur filters float32 images only");
+  // Both passes run in one kernel, which cannot blur in place: in place goes through tmp and a
+  // copy back.
   const bool in_place = src() == dst();
+  const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
+  const cl::Program p = rt.program({"common.clh", "blur.cl"}, blur_build_options(blur, s));
+  cl::Kernel k(p, "sf_blur");
   k.setArg(0, src);
   k.setArg(1, in_place ? tmp : dst);
   k.setArg(2, shape.width);
   k.setArg(3, shape.height);
   k.setArg(4, static_cast<int>(shape.plane_texels()));
-  const int strip_texels = bs.vec * bs.strip;
-  const cl::NDRange global((shape.width + strip_texels - 1) / strip_texels,
-                           (shape.height + bs.rows - 1) / bs.rows, shape.channels);
-  const cl::NDRange local(1, 1, 1);  // reqd_work_group_size: see blur.cl
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local, wait, &ev.rows);
-  ev.cols = ev.rows;
-  if (in_place) {
-    EventList after{ev.rows};
-    rt.queue().enqueueCopyBuffer(tmp, dst, 0, 0, shape.bytes(), &after, &ev.cols);
-  }
+  const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows),
+                           shape.channels);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
+  ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
   return ev;
 }
 

@@ -33,8 +33,10 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
                             const cl::Buffer& depth, int width, int height,
                             const cl::Buffer& basis, const EventList* wait = nullptr);
 
-// Separable Gaussian: rows src -> tmp, then columns tmp -> dst (dst may be src).
-// Returns {rows event, columns event}; radius 0 copies src to dst (one event, twice).
+// Separable Gaussian (rows then columns, clamp-to-edge) of float32 planes, fused in one kernel
+// (kernels/blur.cl). Out of place (dst != src) it writes dst directly and returns the same event
+// twice; in place (dst == src) it writes tmp and copies back: {blur event, copy-back event}.
+// Radius 0 copies src to dst. The event names are historical: rows = first, cols = last.
 struct BlurEvents {
   cl::Event rows, cols;
 };

@@ -22,12 +22,6 @@ Receivers grid_receivers(int w, int h, std::vector<float> d) {
   return rx;
 }
 
-std::vector<std::string> all_methods() {
-  std::vector<std::string> out;
-  for (const auto& m : methods()) out.push_back(m.name);
-  return out;
-}
-
 // A single planar occluder (z = 0.2, left of x = 20) over a planar receiver (z = 0.7); receivers
 // lie on the receiver plane (d = 0.7) everywhere. Under a Gaussian prefilter the support is two
 // depths, where VSM's Chebyshev bound is an equality and MSM's 4 moments determine the

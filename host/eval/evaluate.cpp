@@ -392,9 +392,8 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
   return m;
 }
 
-Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
-                    SrefCache& sref, const TimingSettings& t) {
-  Measured m = measure(rt, o, scene, t);
+// A result row's identity and timings; the caller adds the errors it needs.
+static Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
   Row row;
   row.scene = scene.name;
   row.method = o.method;
@@ -405,6 +404,13 @@ Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, cons
   row.stages = m.stages;
   row.device_bytes = m.device_bytes;
   row.runs = m.runs;
+  return row;
+}
+
+Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
+                    SrefCache& sref, const TimingSettings& t) {
+  Measured m = measure(rt, o, scene, t);
+  Row row = timed_row(scene, o, m);
   row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);
   auto vs_image = [&](const HostImage& img) {
     if (img.texels() != m.visibility.size()) return ErrorStats{};
@@ -538,15 +544,7 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
       Row row;
       try {
         Measured m = measure(rt, o, scene, req.timing);
-        row.scene = scene.name;
-        row.method = o.method;
-        row.label = config_label(o);
-        row.options = o;
-        row.time_ms = m.median_ms;
-        row.min_ms = m.min_ms;
-        row.stages = m.stages;
-        row.device_bytes = m.device_bytes;
-        row.runs = m.runs;
+        row = timed_row(scene, o, m);
         row.sref = error_stats(m.visibility, sref, scene.valid);
       } catch (const InputError& e) {
         res.refused.push_back({scene.name, config_label(o), e.what()});

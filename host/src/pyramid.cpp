@@ -56,9 +56,9 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     after = {e};
     deps = &after;
   };
-  while (s < L.top() && std::max(L.levels[s].width, L.levels[s].height) > kTailMaxSide) {
-    const int m = std::min(kTileLevels, L.top() - s);
-    cl::Kernel k(p, "sf_pyramid_tiles");
+  // Both kernels read level s of *src (at src_off) and write the levels after it into chain.
+  auto level_kernel = [&](const char* name) {
+    cl::Kernel k(p, name);
     k.setArg(0, *src);
     k.setArg(1, src_off);
     k.setArg(2, chain);
@@ -66,6 +66,11 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     k.setArg(4, H);
     k.setArg(5, N);
     k.setArg(6, s);
+    return k;
+  };
+  while (s < L.top() && std::max(L.levels[s].width, L.levels[s].height) > kTailMaxSide) {
+    const int m = std::min(kTileLevels, L.top() - s);
+    cl::Kernel k = level_kernel("sf_pyramid_tiles");
     k.setArg(7, m);
     const cl::NDRange global((L.levels[s].width + kTile - 1) / kTile,
                              (L.levels[s].height + kTile - 1) / kTile, N);
@@ -77,14 +82,7 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     src_off = static_cast<int>(L.levels[s].offset);
   }
   if (s < L.top()) {
-    cl::Kernel k(p, "sf_pyramid_tail");
-    k.setArg(0, *src);
-    k.setArg(1, src_off);
-    k.setArg(2, chain);
-    k.setArg(3, W);
-    k.setArg(4, H);
-    k.setArg(5, N);
-    k.setArg(6, s);
+    cl::Kernel k = level_kernel("sf_pyramid_tail");
     cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(N), cl::NullRange, deps, &e);
     launched(e);

@@ -94,7 +94,9 @@ TEST(Numerics, ConstantMapsAtZeroHalfAndOne) {
       });
       const Outcome r = run_case("constant z=" + std::to_string(z).substr(0, 3), method_options(m, 2), depth, rx);
       EXPECT_SANE(r) << m << " z=" << z;
-      if (m != "csm") EXPECT_LE(r.worst, 0.05) << m << " z=" << z;
+      if (m != "csm") {
+        EXPECT_LE(r.worst, 0.05) << m << " z=" << z;
+      }
     }
 }
 
@@ -109,7 +111,9 @@ TEST(Numerics, CheckerboardZeroOne) {
   for (const auto& m : all_methods()) {
     const Outcome r = run_case("0/1 checkerboard, d=0.5, R=3", method_options(m, 3), depth, rx);
     EXPECT_SANE(r) << m;
-    if (m == "pcf" || m == "sm") EXPECT_LE(r.worst, 1e-5) << m;
+    if (m == "pcf" || m == "sm") {
+      EXPECT_LE(r.worst, 1e-5) << m;
+    }
   }
 }
 
@@ -124,7 +128,9 @@ TEST(Numerics, DepthsOneMillionthApart) {
   for (const auto& m : all_methods()) {
     const Outcome r = run_case("depths 1e-6 apart, d on the nearer", method_options(m, 1), depth, rx);
     EXPECT_SANE(r) << m;
-    if (m != "csm") EXPECT_LE(r.worst, 0.02) << m;
+    if (m != "csm") {
+      EXPECT_LE(r.worst, 0.02) << m;
+    }
   }
 }
 
@@ -210,7 +216,9 @@ TEST(Numerics, TinyImagesAndHugeRadius) {
       const std::string name = std::to_string(s.w) + "x" + std::to_string(s.h) + " R=" + std::to_string(s.r);
       const Outcome r = run_case(name, method_options(m, s.r), depth, rx);
       EXPECT_SANE(r) << m << " " << name;
-      if (m == "pcf" || m == "sm") EXPECT_LE(r.worst, 1e-5) << m << " " << name;
+      if (m == "pcf" || m == "sm") {
+        EXPECT_LE(r.worst, 1e-5) << m << " " << name;
+      }
     }
   }
 }

@@ -43,6 +43,146 @@ inline float sf_pcf(__global const float* restrict depth, int width, int height,
   return clamp(acc, 0.0f, 1.0f);
 }
 
+// ---- Footprints (--lookup mips|sat; docs/lookups.md): the depth test under the same composite
+// weights s_ref uses, brute force over level-0 texels. The weights are separable per lookup
+// term: trilinear = (1 - t) A_x A_y + t B_x B_y (levels k0 and k0 + 1), box = A_x A_y. A 1-D
+// term before the Gaussian is either a level-k bilinear pair pushed down the pyramid (level-k
+// texel i covers level-0 texels t with t >> k == i, each with weight 2^-k, doubled at every
+// level where t's ancestor is the clamped odd edge) or the box coverage; the Gaussian then
+// spreads it with clamp-to-edge (all offsets that clamp onto an edge texel land on it).
+#ifdef SF_LOOKUP
+typedef struct {
+  int box;      // 1: box [X0, X1) in texel space; 0: level-k taps i0, i1 with weights 1 - a, a
+  int k, i0, i1;
+  float a, X0, X1;
+} sf_pcf_axis;
+
+inline sf_pcf_axis sf_pcf_level_axis(float u, int n, int k) {
+  sf_pcf_axis A;
+  const int nk = ((n - 1) >> k) + 1;  // ceil(n / 2^k)
+  const float x = fma(u, (float)nk, -0.5f), xf = floor(x);  // as sf_lookup_bilinear
+  A.box = 0;
+  A.k = k;
+  A.a = x - xf;
+  A.i0 = sf_clampi((int)xf, 0, nk - 1);
+  A.i1 = sf_clampi((int)xf + 1, 0, nk - 1);
+  A.X0 = (float)(min(A.i0, A.i1) << k);
+  A.X1 = (float)min((max(A.i0, A.i1) + 1) << k, n);
+  return A;
+}
+
+// Weight of level-0 texel t under level-k texel i (mip pushed down, odd edges clamped).
+inline float sf_pcf_push(int t, int n, int k, int i) {
+  if ((t >> k) != i) return 0.0f;
+  float w = 1.0f;
+  for (int j = 1; j <= k; ++j)
+    if (2 * (t >> j) + 1 < ((n - 1) >> (j - 1)) + 1) w *= 0.5f;
+  return w;
+}
+
+// Weight of level-0 texel t (in [0, n)) before the Gaussian.
+inline float sf_pcf_pre(const sf_pcf_axis* A, int n, int t) {
+  if (A->box) {
+    const float lo = t == 0 ? -INFINITY : (float)t, hi = t == n - 1 ? INFINITY : (float)(t + 1);
+    return fmax(0.0f, fmin(hi, A->X1) - fmax(lo, A->X0)) / (A->X1 - A->X0);
+  }
+  return (1.0f - A->a) * sf_pcf_push(t, n, A->k, A->i0) + A->a * sf_pcf_push(t, n, A->k, A->i1);
+}
+
+// Composite weight of level-0 texel s: the pre-blur weights spread by g with clamp-to-edge.
+inline float sf_pcf_axis_weight(const sf_pcf_axis* A, int n, int s, int radius, const sf_pcf_weights* g) {
+  float w = 0.0f;
+  for (int a = -radius; a <= radius; ++a) {
+    const int lo = max(s == 0 ? 0 : s - a, 0), hi = min(s == n - 1 ? n - 1 : s - a, n - 1);
+    float acc = 0.0f;
+    for (int t = lo; t <= hi; ++t) acc += sf_pcf_pre(A, n, t);
+    w = fma(g->w[abs(a)], acc, w);
+  }
+  return w;
+}
+
+// Level-0 texels with a non-zero weight: the pre-blur support widened by R, clamped.
+inline void sf_pcf_span(const sf_pcf_axis* A, int n, int radius, int* lo, int* hi) {
+  *lo = max((int)floor(A->X0) - radius, 0);
+  *hi = min((int)ceil(A->X1) - 1 + radius, n - 1);
+}
+
+#define SF_PCF_CHUNK 32
+
+inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H, float u, float v,
+                              float f, float d, float bias, int radius, const sf_pcf_weights* g) {
+  sf_pcf_axis ax[2], ay[2];
+  float t = 0.0f;
+#if SF_LOOKUP == 1
+  const int k0 = sf_lod(f, sf_mip_top(W, H), &t);
+  ax[0] = sf_pcf_level_axis(u, W, k0);
+  ay[0] = sf_pcf_level_axis(v, H, k0);
+  ax[1] = sf_pcf_level_axis(u, W, k0 + (t > 0.0f));
+  ay[1] = sf_pcf_level_axis(v, H, k0 + (t > 0.0f));
+#else
+  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);  // as sf_lookup_box
+  ax[0].box = ay[0].box = 1;
+  ax[0].X0 = fma(u, (float)W, -s);
+  ax[0].X1 = fma(u, (float)W, s);
+  ay[0].X0 = fma(v, (float)H, -s);
+  ay[0].X1 = fma(v, (float)H, s);
+  ax[1] = ax[0];
+  ay[1] = ay[0];
+#endif
+  int xlo, xhi, ylo, yhi, l1, h1;
+  sf_pcf_span(&ax[0], W, radius, &xlo, &xhi);
+  sf_pcf_span(&ax[1], W, radius, &l1, &h1);
+  xlo = min(xlo, l1);
+  xhi = max(xhi, h1);
+  sf_pcf_span(&ay[0], H, radius, &ylo, &yhi);
+  sf_pcf_span(&ay[1], H, radius, &l1, &h1);
+  ylo = min(ylo, l1);
+  yhi = max(yhi, h1);
+  const float wa = 1.0f - t, wb = t;
+  float acc = 0.0f;
+  for (int xc = xlo; xc <= xhi; xc += SF_PCF_CHUNK) {
+    const int nc = min(SF_PCF_CHUNK, xhi - xc + 1);
+    float cx0[SF_PCF_CHUNK], cx1[SF_PCF_CHUNK];
+    for (int i = 0; i < nc; ++i) {
+      cx0[i] = sf_pcf_axis_weight(&ax[0], W, xc + i, radius, g);
+      cx1[i] = wb > 0.0f ? sf_pcf_axis_weight(&ax[1], W, xc + i, radius, g) : 0.0f;
+    }
+    for (int y = ylo; y <= yhi; ++y) {
+      const float wy0 = wa * sf_pcf_axis_weight(&ay[0], H, y, radius, g);
+      const float wy1 = wb > 0.0f ? wb * sf_pcf_axis_weight(&ay[1], H, y, radius, g) : 0.0f;
+      if (wy0 == 0.0f && wy1 == 0.0f) continue;
+      __global const float* row = depth + (size_t)y * W + xc;
+      float r0 = 0.0f, r1 = 0.0f;
+      for (int i = 0; i < nc; ++i) {
+        const bool lit = (row[i] - d) + bias >= 0.0f;
+        r0 += lit ? cx0[i] : 0.0f;
+        r1 += lit ? cx1[i] : 0.0f;
+      }
+      acc = fma(wy0, r0, fma(wy1, r1, acc));
+    }
+  }
+  return clamp(acc, 0.0f, 1.0f);
+}
+
+// Receivers with footprints f (null = 1 everywhere).
+__kernel void sf_pcf_points_footprint(__global const float* restrict depth, const int width,
+                                      const int height, __global const float* restrict u,
+                                      __global const float* restrict v,
+                                      __global const float* restrict d, __global float* restrict out,
+                                      const int count, const float bias, const int radius,
+                                      const sf_pcf_weights g, __global const float* restrict f) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const float ui = u[i], vi = v[i], di = d[i];
+  if (sf_receiver_outside(ui, vi, di)) {
+    out[i] = 1.0f;
+    return;
+  }
+  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, clamp(di, 0.0f, 1.0f),
+                            bias, radius, &g);
+}
+#endif
+
 __kernel void sf_pcf_points(__global const float* restrict depth, const int width, const int height,
                             __global const float* restrict u, __global const float* restrict v,
                             __global const float* restrict d, __global float* restrict out,

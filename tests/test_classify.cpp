@@ -2,7 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <string>
 
+#include "image_io.hpp"
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/pipeline.hpp"
@@ -83,8 +87,12 @@ TEST_P(Classify, ZMaxFlagsEveryTexelBehindAndThresholdIsASubset) {
     must += behind;
     zflag += z.flags.data[i] > 0;
     tflag += t.flags.data[i] > 0;
-    if (behind) ASSERT_EQ(z.flags.data[i], 1.0f) << "receiver " << i << " f=" << c.rx.f[i];
-    if (t.flags.data[i] > 0) ASSERT_EQ(z.flags.data[i], 1.0f) << "threshold-only flag, receiver " << i;
+    if (behind) {
+      ASSERT_EQ(z.flags.data[i], 1.0f) << "receiver " << i << " f=" << c.rx.f[i];
+    }
+    if (t.flags.data[i] > 0) {
+      ASSERT_EQ(z.flags.data[i], 1.0f) << "threshold-only flag, receiver " << i;
+    }
   }
   EXPECT_GT(must, 100u) << "the case must exercise the test";
   EXPECT_EQ(zflag, z.flagged);
@@ -151,6 +159,63 @@ TEST(Classify, FallbackRemovesTheEsmOvershoot) {
   }
   EXPECT_GT(worst_plain, 0.4) << "the case must show the overshoot";
   EXPECT_LT(worst_fixed, 1e-5);
+}
+
+// Figure run for the --esm-zmax-offset default (docs/lookups.md): on the bundled scenes' camera
+// receivers (c = 80, mips, R = 0..3) the flagged fraction of the in-map receivers at several
+// offsets against where ESM actually fails (|v_esm - s_ref| > 0.1, s_ref = pcf with the same
+// footprints and bias 0), and the mean |v - s_ref| with and without the fall-back.
+// Run: sf_tests --gtest_also_run_disabled_tests --gtest_filter='*ZMaxOffsetOnBundledScenes*'
+TEST(Classify, DISABLED_ZMaxOffsetOnBundledScenes) {
+  const char* env = std::getenv("SF_SCENES");
+  std::vector<std::string> scenes;
+  std::istringstream names(env ? env : "spheres backyard fence thin");
+  for (std::string sname; names >> sname;) scenes.push_back(sname);
+  for (const std::string& scene : scenes) {
+    const HostImage depth = io::load_depth_map(data_path(scene + "/shadowmap.exr"), {});
+    const Receivers rx = io::load_receiver_image(data_path(scene + "/receivers.exr"));
+    for (int radius = 0; radius <= 3; ++radius) {
+      FilterOptions opt = classify_options(Lookup::Mips, radius, EsmClassify::None);
+      const auto esm = filter(runtime_ptr(), opt, depth, rx).visibility.data;
+      FilterOptions popt = opt;
+      popt.method = "pcf";
+      popt.depth_test.bias = 0.0f;
+      const auto sref = filter(runtime_ptr(), popt, depth, rx).visibility.data;
+      std::vector<char> inside(rx.count()), fails(rx.count());
+      size_t n_in = 0, n_fail = 0;
+      double err_plain = 0;
+      for (size_t i = 0; i < rx.count(); ++i) {
+        inside[i] = std::isfinite(rx.d[i]) && rx.u[i] >= 0 && rx.u[i] <= 1 && rx.v[i] >= 0 && rx.v[i] <= 1;
+        if (!inside[i]) continue;
+        ++n_in;
+        const double e = std::abs(esm[i] - sref[i]);
+        fails[i] = e > 0.1;
+        n_fail += fails[i];
+        err_plain += e;
+      }
+      std::printf("%s R=%d: %zu in-map receivers, ESM fails (|err| > 0.1) on %.2f%%, mean |err| %.4f\n",
+                  scene.c_str(), radius, n_in, 100.0 * n_fail / n_in, err_plain / n_in);
+      for (EsmClassify mode : {EsmClassify::ZMax, EsmClassify::Threshold})
+        for (float offset : {0.002f, 0.005f, 0.01f, 0.02f, 0.03f, 0.05f}) {
+          FilterOptions copt = opt;
+          copt.esm_classify.mode = mode;
+          copt.esm_classify.zmax_offset = offset;
+          const auto r = filter(runtime_ptr(), copt, depth, rx);
+          size_t flagged = 0, hit = 0;
+          double err = 0;
+          for (size_t i = 0; i < rx.count(); ++i) {
+            if (!inside[i]) continue;
+            const bool f = r.flags.data[i] > 0;
+            flagged += f;
+            hit += f && fails[i];
+            err += std::abs(r.visibility.data[i] - sref[i]);
+          }
+          std::printf("  %-9s offset %.3f: flagged %6.2f%%  recall %5.1f%%  precision %5.1f%%  mean |err| %.4f\n",
+                      mode == EsmClassify::ZMax ? "zmax" : "threshold", offset, 100.0 * flagged / n_in,
+                      n_fail ? 100.0 * hit / n_fail : 100.0, flagged ? 100.0 * hit / flagged : 0.0, err / n_in);
+        }
+    }
+  }
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 
 #include <cmath>
 
+#include "image_io.hpp"
 #include "lookups.hpp"
+#include "reference.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -161,6 +163,104 @@ TEST_P(EsmLookupPipeline, MatchesReference) {
 INSTANTIATE_TEST_SUITE_P(KindsAndRadii, EsmLookupPipeline,
                          ::testing::Combine(::testing::Values(Lookup::Mips, Lookup::Sat),
                                             ::testing::Values(0, 2)));
+
+// pcf with footprints (kernels/pcf.cl, sf_pcf_points_footprint) is s_ref under the lookup's
+// composite weights (lookup_taps: level bilinear pushed down, box coverage, then the Gaussian),
+// on the bundled scenes' camera receivers (every 61st: floor footprints of tens of texels, edges
+// of the map) and on random receivers of an odd-sized map (odd edges of the pyramid, footprints
+// past the top level). Float32 weights summed over up to a few 10^4 tests: tolerance 1e-5.
+class PcfFootprints : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
+
+void expect_pcf_is_sref(const FilterOptions& opt, const HostImage& depth, const Receivers& rx,
+                        const std::string& what) {
+  const auto got = filter(runtime_ptr(), opt, depth, rx).visibility.data;
+  // The reference pipeline's pcf is s_ref(kind) too (checked where it is cheap).
+  const auto want = rx.count() <= 500 ? ref::filter(opt, depth, rx) : std::vector<double>();
+  double worst = 0;
+  size_t partial = 0;
+  for (size_t i = 0; i < rx.count(); ++i) {
+    const double s = ref::s_ref(depth, opt.blur, opt.lookup.kind, rx.u[i], rx.v[i], rx.d[i],
+                                ref::footprint_at(rx, i));
+    if (!want.empty()) {
+      ASSERT_NEAR(want[i], s, 1e-12) << what << " reference " << i;
+    }
+    ASSERT_NEAR(got[i], s, 1e-5) << what << " receiver " << i << " f=" << rx.f[i];
+    worst = std::max(worst, std::abs(got[i] - s));
+    partial += s > 1e-3 && s < 1 - 1e-3;
+  }
+  // Penumbrae (0 < s_ref < 1) are where the weights matter: the receivers must contain some.
+  EXPECT_GT(partial, rx.count() / 50) << what;
+  std::printf("[ pcf %s ] %zu receivers, %zu partial, max |pcf - s_ref| = %.2g\n", what.c_str(),
+              rx.count(), partial, worst);
+}
+
+TEST_P(PcfFootprints, EqualsSRefWithTheSameWeights) {
+  const auto [kind, radius] = GetParam();
+  FilterOptions opt;
+  opt.method = "pcf";
+  opt.blur.radius = radius;
+  opt.lookup.kind = kind;
+  opt.depth_test.bias = 0.0f;
+  for (const std::string scene : {"spheres", "fence"}) {
+    const HostImage depth = io::load_depth_map(data_path(scene + "/shadowmap.exr"), {});
+    const Receivers all = io::load_receiver_image(data_path(scene + "/receivers.exr"));
+    Receivers rx;
+    rx.has_footprint = all.has_footprint;
+    for (size_t i = 0; i < all.count(); i += 61) {
+      if (!std::isfinite(all.d[i])) continue;
+      rx.u.push_back(all.u[i]);
+      rx.v.push_back(all.v[i]);
+      rx.d.push_back(all.d[i]);
+      rx.f.push_back(all.has_footprint ? all.f[i] : 1.0f);
+    }
+    rx.width = int(rx.u.size());
+    rx.height = 1;
+    ASSERT_TRUE(rx.has_footprint) << scene;
+    expect_pcf_is_sref(opt, depth, rx, scene + " kind " + std::to_string(int(kind)) + " R " + std::to_string(radius));
+  }
+  HostImage depth = random_depth(67, 45, 21, 0.0f, 1.0f);
+  for (int y = 10; y < 30; ++y)
+    for (int x = 20; x < 50; ++x) depth.at(x, y) = 0.1f;
+  const Rx r = random_rx(400, 31 + radius);
+  Receivers rx;
+  rx.width = int(r.u.size());
+  rx.height = 1;
+  rx.u = r.u;
+  rx.v = r.v;
+  rx.f = r.f;
+  rx.has_footprint = true;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> dd(0.05f, 0.95f);
+  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  expect_pcf_is_sref(opt, depth, rx, "67x45 kind " + std::to_string(int(kind)) + " R " + std::to_string(radius));
+}
+
+INSTANTIATE_TEST_SUITE_P(KindsAndRadii, PcfFootprints,
+                         ::testing::Combine(::testing::Values(Lookup::Bilinear, Lookup::Mips, Lookup::Sat),
+                                            ::testing::Values(0, 2)));
+
+// sm is the unfiltered test: a footprint lookup does not change it (docs/lookups.md).
+TEST(PcfFootprints, SmIgnoresFootprints) {
+  FilterOptions opt;
+  opt.method = "sm";
+  opt.depth_test.bias = 0.0f;
+  const HostImage depth = random_depth(40, 30, 8, 0.0f, 1.0f);
+  const Rx r = random_rx(200, 3);
+  Receivers rx;
+  rx.width = int(r.u.size());
+  rx.height = 1;
+  rx.u = r.u;
+  rx.v = r.v;
+  rx.f = r.f;
+  rx.has_footprint = true;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> dd(0.0f, 1.0f);
+  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  const auto plain = filter(runtime_ptr(), opt, depth, rx).visibility.data;
+  opt.lookup.kind = Lookup::Mips;
+  const auto mips = filter(runtime_ptr(), opt, depth, rx).visibility.data;
+  for (size_t i = 0; i < plain.size(); ++i) ASSERT_EQ(plain[i], mips[i]) << "receiver " << i;
+}
 
 }  // namespace
 }  // namespace sf::test

@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
+#include "test_methods_common.hpp"
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf::test {
@@ -38,6 +40,52 @@ std::vector<ref::Planes> device_chain(const ref::Planes& in, Reduce op) {
     out.push_back(p);
   }
   return out;
+}
+
+// Random stored texels of format s (bytes as the device reads them) and their values as sf_load
+// gives them (half: exponents 2^-10 .. 2^-1 with every mantissa; unorm: every code).
+struct StoredImage {
+  std::vector<uint8_t> bytes;
+  std::vector<float> values;
+};
+StoredImage random_stored(size_t count, Storage s, unsigned seed) {
+  StoredImage img;
+  img.bytes.resize(count * storage_bytes(s));
+  img.values.resize(count);
+  std::mt19937 rng(seed);
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t r = rng();
+    switch (s) {
+      case Storage::F32: {
+        const float v = float(r >> 8) * (1.0f / 16777216.0f);
+        std::memcpy(&img.bytes[4 * i], &v, 4);
+        img.values[i] = v;
+        break;
+      }
+      case Storage::F16: {
+        const uint16_t h = uint16_t(((5 + r % 10) << 10) | ((r >> 8) & 1023));
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = half_to_float(h);
+        break;
+      }
+      case Storage::Unorm16: {
+        const uint16_t h = uint16_t(r >> 16);
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = h * (1.0f / 65535.0f);
+        break;
+      }
+      case Storage::Unorm8:
+        img.bytes[i] = uint8_t(r >> 24);
+        img.values[i] = img.bytes[i] * (1.0f / 255.0f);
+        break;
+    }
+  }
+  return img;
+}
+
+cl::Buffer stored_buffer(const StoredImage& img) {
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, img.bytes.size(),
+                    const_cast<uint8_t*>(img.bytes.data()));
 }
 
 class Pyramid : public ::testing::TestWithParam<Size> {};
@@ -104,6 +152,42 @@ TEST(Pyramid, LayoutHalvesRoundingUpDownToOneTexel) {
   EXPECT_EQ(L.chain_values, 2u * (6 + 2 + 1));
   EXPECT_EQ(mip_layout(1, 1, 1).chain_values, 0u);
 }
+
+// The mip chain in every storage: levels are computed in float from the (decoded) level 0 and
+// rounded once when stored, as the reference quantises its double levels: at most one storage
+// step apart (two correct roundings of values within float error of each other), exact max/min.
+class PyramidStorage : public ::testing::TestWithParam<std::tuple<Storage, Size>> {};
+
+TEST_P(PyramidStorage, EveryLevelMatchesTheReference) {
+  const auto [storage, s] = GetParam();
+  const StoredImage img = random_stored(size_t(s.w) * s.h * s.channels, storage, s.w * 5 + s.h);
+  ref::Planes in(s.w, s.h, s.channels);
+  for (size_t i = 0; i < img.values.size(); ++i) in.data[i] = img.values[i];
+  const MipLayout L = mip_layout(s.w, s.h, s.channels);
+  for (int op : {0, 1, 2}) {
+    cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE,
+                     std::max<size_t>(L.chain_values, 1) * storage_bytes(storage));
+    enqueue_pyramid(runtime(), static_cast<Reduce>(op), storage, stored_buffer(img), chain,
+                    {s.w, s.h, s.channels, storage_bytes(storage)})
+        .last.wait();
+    const auto got = read_stored(chain, std::max<size_t>(L.chain_values, 1), storage);
+    const auto want = ref::mip_chain(in, op);
+    ASSERT_EQ(int(want.size()) - 1, L.top());
+    for (int k = 1; k <= L.top(); ++k)
+      for (size_t i = 0; i < want[k].data.size(); ++i) {
+        const double w = want[k].data[i], q = ref::quantise(w, storage);
+        const double tol = op == 0 ? storage_step(w, storage) + 1e-6 * std::abs(w) : 0.0;
+        ASSERT_NEAR(got[L.levels[k].offset + i], q, tol)
+            << storage_name(storage) << " op " << op << " level " << k << " index " << i;
+      }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Storages, PyramidStorage,
+    ::testing::Combine(::testing::Values(Storage::F16, Storage::Unorm16, Storage::Unorm8),
+                       ::testing::Values(Size{1, 1, 1}, Size{3, 5, 2}, Size{33, 17, 1}, Size{300, 129, 2},
+                                         Size{517, 300, 1})));
 
 }  // namespace
 }  // namespace sf::test

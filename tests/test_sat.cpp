@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
+#include "test_methods_common.hpp"
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf::test {
@@ -15,13 +17,59 @@ struct DeviceSat {
   SatLayout layout;
 };
 
-DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape) {
+DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage storage = Storage::F32) {
   DeviceSat s;
   s.layout = sat_layout(shape);
   s.table = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, s.layout.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, s.layout.band_floats * sizeof(float));
-  enqueue_sat(runtime(), Storage::F32, src, s.table, bands, shape).last.wait();
+  enqueue_sat(runtime(), storage, src, s.table, bands, shape).last.wait();
   return s;
+}
+
+// Random stored texels of format s (bytes as the device reads them) and their values as sf_load
+// gives them (half: exponents 2^-10 .. 2^-1 with every mantissa; unorm: every code).
+struct StoredImage {
+  std::vector<uint8_t> bytes;
+  std::vector<float> values;
+};
+StoredImage random_stored(size_t count, Storage s, unsigned seed) {
+  StoredImage img;
+  img.bytes.resize(count * storage_bytes(s));
+  img.values.resize(count);
+  std::mt19937 rng(seed);
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t r = rng();
+    switch (s) {
+      case Storage::F32: {
+        const float v = float(r >> 8) * (1.0f / 16777216.0f);
+        std::memcpy(&img.bytes[4 * i], &v, 4);
+        img.values[i] = v;
+        break;
+      }
+      case Storage::F16: {
+        const uint16_t h = uint16_t(((5 + r % 10) << 10) | ((r >> 8) & 1023));
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = half_to_float(h);
+        break;
+      }
+      case Storage::Unorm16: {
+        const uint16_t h = uint16_t(r >> 16);
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = h * (1.0f / 65535.0f);
+        break;
+      }
+      case Storage::Unorm8:
+        img.bytes[i] = uint8_t(r >> 24);
+        img.values[i] = img.bytes[i] * (1.0f / 255.0f);
+        break;
+    }
+  }
+  return img;
+}
+
+cl::Buffer stored_buffer(const StoredImage& img) {
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, img.bytes.size(),
+                    const_cast<uint8_t*>(img.bytes.data()));
 }
 
 struct Size {
@@ -29,10 +77,9 @@ struct Size {
 };
 class Sat : public ::testing::TestWithParam<Size> {};
 
-// Every entry hi + lo against the double table. Float-float keeps about 44 bits through the
-// prefix sums; the only float32 rounding is the in-vector prefix (<= 4 additions of values
-// <= 16, error <= 4 * 16 * 2^-24 per row) summed over the rows above: tolerance
-// 4e-6 * (y + 1) + 1e-12 |S| for values in [0, 1].
+// Every entry hi + lo against the double table. Every partial sum (row totals, column sums, the
+// band carries) is float-float, about 2^-44 relative per addition: tolerance 1e-11 |S| + 1e-12
+// (a plain float32 prefix anywhere would be off by ~6e-8 of a row's sum).
 TEST_P(Sat, TableMatchesTheReference) {
   const Size s = GetParam();
   ref::Planes in(s.w, s.h, s.channels);
@@ -50,7 +97,7 @@ TEST_P(Sat, TableMatchesTheReference) {
         const size_t i = size_t(y) * (s.w + 1) + x;
         const double v = double(got[2 * c * P + i]) + double(got[(2 * c + 1) * P + i]);
         const double w = want.at(c, x, y);
-        ASSERT_NEAR(v, w, 4e-6 * (y + 1) + 1e-12 * w) << "channel " << c << " at " << x << "," << y;
+        ASSERT_NEAR(v, w, 1e-11 * w + 1e-12) << "channel " << c << " at " << x << "," << y;
       }
 }
 
@@ -112,6 +159,69 @@ TEST_P(SatBox, BoxMeansMatchBruteForceWithinTheBound) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Large, SatBox, ::testing::Values(BoxCase{2048, 3000}, BoxCase{4096, 3000}));
+
+// The table over every basis storage (the table itself is float-float): the stored texels as
+// sf_load reads them, summed exactly to float-float accuracy. Sizes cross the 8x8 blocks, the
+// bands and their ragged edges.
+class SatStorage : public ::testing::TestWithParam<std::tuple<Storage, Size>> {};
+
+TEST_P(SatStorage, TableMatchesTheReference) {
+  const auto [storage, s] = GetParam();
+  const StoredImage img = random_stored(size_t(s.w) * s.h * s.channels, storage, s.w * 13 + s.h);
+  const DeviceSat d = device_sat(stored_buffer(img), {s.w, s.h, s.channels, storage_bytes(storage)}, storage);
+  ref::Planes in(s.w, s.h, s.channels);
+  for (size_t i = 0; i < img.values.size(); ++i) in.data[i] = img.values[i];
+  const auto got = from_device(d.table, d.layout.table_floats);
+  const ref::Planes want = ref::sat_table(in);
+  const size_t P = size_t(s.w + 1) * (s.h + 1);
+  for (int c = 0; c < s.channels; ++c)
+    for (int y = 0; y <= s.h; ++y)
+      for (int x = 0; x <= s.w; ++x) {
+        const size_t i = size_t(y) * (s.w + 1) + x;
+        const double v = double(got[2 * c * P + i]) + double(got[(2 * c + 1) * P + i]);
+        const double w = want.at(c, x, y);
+        ASSERT_NEAR(v, w, 1e-11 * w + 1e-12)
+            << storage_name(storage) << " channel " << c << " at " << x << "," << y;
+      }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Storages, SatStorage,
+    ::testing::Combine(::testing::Values(Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8),
+                       ::testing::Values(Size{1, 1, 1}, Size{7, 9, 2}, Size{37, 100, 1}, Size{300, 257, 3})));
+
+// Box lookups over an f16 / unorm8 basis: the table of the stored values (lookup.clh reads the
+// table, not the basis), within the same bound as f32.
+TEST(SatStorage, BoxMeansOfStoredBasesMatchBruteForce) {
+  const int n = 301;
+  for (Storage storage : {Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+    const StoredImage img = random_stored(size_t(n) * n, storage, 7);
+    const ImageShape shape{n, n, 1, storage_bytes(storage)};
+    cl::Buffer level0 = stored_buffer(img);
+    const DeviceSat sat = device_sat(level0, shape, storage);
+    const int boxes = 500;
+    std::vector<float> u(boxes), v(boxes), f(boxes);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> coord(-0.02f, 1.02f), logf(0.0f, 7.0f);
+    for (int i = 0; i < boxes; ++i) {
+      u[i] = coord(rng);
+      v[i] = coord(rng);
+      f[i] = std::exp2(logf(rng));
+    }
+    LookupBuffers lk;
+    lk.kind = Lookup::Sat;
+    lk.sat = sat.table;
+    lk.footprint = to_device(f);
+    cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, boxes * sizeof(float));
+    enqueue_lookup_points(runtime(), storage, lk, level0, shape, to_device(u), to_device(v), out, boxes).wait();
+    const auto got = from_device(out, boxes);
+    ref::Planes plane(n, n, 1);
+    for (size_t i = 0; i < img.values.size(); ++i) plane.data[i] = img.values[i];
+    for (int i = 0; i < boxes; ++i)
+      ASSERT_NEAR(got[i], ref::box_mean(plane, 0, u[i], v[i], f[i]), 2.5e-7)
+          << storage_name(storage) << " box " << i << " f=" << f[i];
+  }
+}
 
 }  // namespace
 }  // namespace sf::test

@@ -107,10 +107,13 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
   if (opt.method == "sm" || opt.method == "pcf") {
     BlurOptions weights = opt.blur;
     if (opt.method == "sm") weights.radius = 0;
+    // pcf follows the lookup's footprints (sm ignores them; grid receivers have f = 1).
+    const bool footprints = opt.method == "pcf" && opt.lookup.kind != Lookup::Bilinear && !rx.grid;
     for (size_t i = 0; i < rx.count(); ++i) {
       double u, v, d;
       receiver_at(rx, i, u, v, d);
-      out[i] = pcf(depth, weights, u, v, d, depth_bias(opt));
+      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, d, footprint_at(rx, i), depth_bias(opt))
+                          : pcf(depth, weights, u, v, d, depth_bias(opt));
     }
     return out;
   }

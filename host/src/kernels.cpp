@@ -218,7 +218,8 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& visibility, size_t count,
                                      const EventList* wait, const LookupBuffers* lookup) {
   if (method.raw_depth)
-    return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait);
+    return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait,
+                              lookup ? &lookup->footprint : nullptr);
   // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",

@@ -1,6 +1,7 @@
 // Host wrappers of kernels/pcf.cl (sm and pcf): one program for every radius and bias, the
 // Gaussian weights travel by value in a kernel argument.
 #include <algorithm>
+#include <string>
 
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -20,12 +21,19 @@ struct PcfSetup {
   PcfWeights weights;
 };
 
-PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name) {
+PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear) {
   const MethodDesc& m = find_method(opt.method);
   if (!m.raw_depth) throw InputError("method " + opt.method + " does not read the depth map itself");
   m.validate(opt);
   PcfSetup s;
-  s.kernel = cl::Kernel(rt.program({"common.clh", "pcf.cl"}, "-cl-std=CL1.2"), name);
+  // Footprint lookups reuse lookup.clh's level-of-detail rule (one float channel).
+  const cl::Program p =
+      lookup == Lookup::Bilinear
+          ? rt.program({"common.clh", "pcf.cl"}, "-cl-std=CL1.2")
+          : rt.program({"common.clh", "storage.clh", "lookup.clh", "pcf.cl"},
+                       "-cl-std=CL1.2 -DSF_STORAGE=0 -DSF_CHANNELS=1 -DSF_LOOKUP=" +
+                           std::to_string(static_cast<int>(lookup)));
+  s.kernel = cl::Kernel(p, name);
   s.radius = opt.method == "sm" ? 0 : opt.blur.radius;
   s.bias = depth_bias(opt);
   const auto w = gaussian_weights(s.radius, opt.blur.sigma);
@@ -38,9 +46,18 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name) {
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
                              int width, int height, const cl::Buffer& u, const cl::Buffer& v,
                              const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
-                             const EventList* wait) {
-  PcfSetup s = pcf_setup(rt, opt, "sf_pcf_points");
+                             const EventList* wait, const cl::Buffer* footprint) {
+  // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
+  const Lookup lookup = opt.method == "pcf" ? opt.lookup.kind : Lookup::Bilinear;
+  PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
+                                          : pcf_setup(rt, opt, "sf_pcf_points_footprint", lookup);
   cl::Kernel& k = s.kernel;
+  if (lookup != Lookup::Bilinear) {
+    if (footprint && (*footprint)())
+      k.setArg(11, *footprint);
+    else
+      k.setArg(11, sizeof(cl_mem), nullptr);
+  }
   k.setArg(0, depth);
   k.setArg(1, width);
   k.setArg(2, height);

@@ -1,4 +1,5 @@
-// Summed-area tables (kernels/sat.cl): two launches, float-float accumulation.
+// Summed-area tables (kernels/sat.cl): two launches, float-float accumulation, the row prefix
+// in transposed 8x8 blocks.
 #include <algorithm>
 #include <string>
 
@@ -6,6 +7,9 @@
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf {
+namespace {
+constexpr int kStrip = 256;  // columns per work-item of sf_sat_bands (SF_SAT_STRIP)
+}  // namespace
 
 SatLayout sat_layout(const ImageShape& shape) {
   SatLayout L;
@@ -24,7 +28,8 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait) {
   const SatLayout L = sat_layout(shape);
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat.cl"},
-                             "-cl-std=CL1.2 -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)));
+                             "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
+                                 " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)));
   PassEvents ev;
   cl::Kernel bands(p, "sf_sat_bands");
   bands.setArg(0, src);
@@ -34,7 +39,7 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   bands.setArg(4, L.bands);
   bands.setArg(5, band_scratch);
   rt.queue().enqueueNDRangeKernel(bands, cl::NullRange,
-                                  cl::NDRange((shape.width + 15) / 16, L.bands, shape.channels),
+                                  cl::NDRange((shape.width + kStrip - 1) / kStrip, L.bands, shape.channels),
                                   cl::NDRange(1, 1, 1), wait, &ev.first);
   cl::Kernel rows(p, "sf_sat_rows");
   rows.setArg(0, src);

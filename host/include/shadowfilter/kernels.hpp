@@ -63,10 +63,12 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
 // sm and pcf (kernels/pcf.cl): H(z - d + bias) per depth texel, weighted by the composite
 // Gaussian(opt.blur) (x) bilinear weights of s_ref (methods.md sec. 2), brute force. sm uses the
 // bilinear weights only (the prefilter radius does not apply to it). opt.method picks which.
+// pcf with opt.lookup mips|sat weights the tests by that lookup's composite weights at the
+// receivers' footprints (`footprint`: one f per receiver; null or empty = 1); sm ignores them.
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
                              int width, int height, const cl::Buffer& u, const cl::Buffer& v,
                              const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
-                             const EventList* wait = nullptr);
+                             const EventList* wait = nullptr, const cl::Buffer* footprint = nullptr);
 cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
                            int height, const cl::Buffer& d, const cl::Buffer& visibility,
                            const EventList* wait = nullptr);

@@ -1,9 +1,33 @@
 #!/bin/sh
 # Figures of docs/soft.md: soft-shadow methods against the ray-traced reference_soft on every
 # built-in scene at two light sizes (the scene's default and twice it; plus spheres under a
-# perspective light), cost against light size, and frame time against the light count.
+# perspective light), cost against light size, and frame time against the light count; then
+# the cssm parameter table that chose the defaults (bundled scenes, data/*).
 # Usage: scripts/soft_figures.sh [BUILD_DIR]   (default build-soft; needs shadowfilter and sf_tests)
+#        scripts/soft_figures.sh --sweep       (prints the sweep's SF_SOFT_SWEEP list only)
 set -eu
+sweep() {
+  # M,lookup,offset,scale,z_offset,width_scale,contact,A,B,normalise (negative = the default)
+  S=""
+  for M in 4 16; do
+    h=$(echo "0.5/$M" | bc -l)
+    S="$S;$M,m,$h,1,$h,1,0,0,0,0"       # previous defaults
+    S="$S;$M,m,$h,1,$h,1,1,0,0,0"       # + contact path
+    S="$S;$M,m,-1,-1,$h,-1,1,0,-1,0"    # offset 0.1/M, scale 3, width x scale lit
+    S="$S;$M,m,-1,-1,-1,-1,1,0,-1,0"    # + z_offset where a lit texel gives 1
+    S="$S;$M,m,-1,-1,-1,-1,1,30,-1,0"   # + sharpening 30, 10 M = the defaults
+    S="$S;$M,m,-1,-1,-1,-1,0,30,-1,0"   # the defaults without the contact path
+    for o in 0.06 0.15 0.2; do S="$S;$M,m,$(echo "$o/$M" | bc -l),-1,-1,-1,1,30,-1,0"; done
+    for sc in 2 4; do S="$S;$M,m,-1,$sc,-1,-1,1,30,-1,0"; done
+    S="$S;$M,m,-1,-1,-1,1,1,30,-1,0"    # width x 1
+    for A in 10 60; do S="$S;$M,m,-1,-1,-1,-1,1,$A,-1,0"; done
+    for B in 5 20; do S="$S;$M,m,-1,-1,-1,-1,1,30,$((B * M)),0"; done
+    S="$S;$M,m,-1,2,-1,-1,1,30,-1,1"    # normalised (s_f / lit), scale 2
+    S="$S;$M,s,-1,-1,-1,-1,1,30,-1,0"   # the defaults with SAT
+  done
+  echo "${S#;}"
+}
+if [ "${1:-}" = "--sweep" ]; then sweep; exit 0; fi
 B=${1:-build-soft}
 OUT=$B/soft_scenes
 mkdir -p "$OUT"
@@ -25,3 +49,6 @@ SF_SOFT_SCENES="$dirs" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
   --gtest_filter='SoftFigures.DISABLED_QualityAndTime' | grep '^|'
 SF_SOFT_SCENES="$OUT/spheres-L0.2" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
   --gtest_filter='SoftFigures.DISABLED_CostAgainstLightSize:SoftFigures.DISABLED_LightCount' | grep '^|'
+here=$(cd "$(dirname "$0")/.." && pwd)
+SF_SOFT_SCENES="$(ls -d "$here"/data/*)" SF_SOFT_SWEEP="$(sweep)" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
+  --gtest_filter='SoftFigures.DISABLED_CssmSweep' | grep '^|'

@@ -129,6 +129,10 @@ TEST(SoftFigures, DISABLED_QualityAndTime) {
       o.light = s.light;
       if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm_offset = float(std::atof(e));
       if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm_scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_ZOFFSET")) o.cssm_z_offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm_width_scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm_contact = std::atoi(e) != 0;
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm_sharpen_a = float(std::atof(e));
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       const double sec = time_method(F, D, 1);
       const std::vector<float> vis = from_device(D.out, D.n);
@@ -147,6 +151,75 @@ TEST(SoftFigures, DISABLED_QualityAndTime) {
                   s.light.perspective ? "persp" : "ortho", s.light.size, V.label, std::sqrt(se / err.size()),
                   err[size_t(0.99 * (err.size() - 1))], me / err.size(), sec * 1e3, sec * 1e9 / fg);
     }
+  }
+}
+
+// cssm parameter sweep (the table of docs/soft.md that chose the defaults): every scene dir, one
+// line per setting of SF_SOFT_SWEEP="M,lookup,offset,scale,z_offset,width_scale,contact,A,B,normalise;..."
+// (lookup m or s; negative values: the defaults of SoftOptions), RMSE and p99 |err| per scene and their means.
+TEST(SoftFigures, DISABLED_CssmSweep) {
+  std::vector<Scene> scenes;
+  std::vector<Device> dev;
+  for (const std::string& dir : scene_dirs()) {
+    scenes.push_back(load(dir));
+    dev.push_back(upload(scenes.back()));
+  }
+  ASSERT_FALSE(scenes.empty());
+  const char* e = std::getenv("SF_SOFT_SWEEP");
+  ASSERT_TRUE(e) << "set SF_SOFT_SWEEP";
+  std::printf("| M | lookup | offset | scale | z_offset | width x | contact | A,B | normalise |");
+  for (const Scene& s : scenes) std::printf(" %s RMSE / p99 |", s.name.c_str());
+  std::printf(" mean RMSE | mean p99 |\n");
+  std::istringstream all(e);
+  std::string line;
+  while (std::getline(all, line, ';')) {
+    if (line.find_first_not_of(" \n") == std::string::npos) continue;
+    for (char& c : line)
+      if (c == ',') c = ' ';
+    std::istringstream in(line);
+    int M = 4, contact = 1, norm = 1;
+    char lk = 'm';
+    float off = -1, sc = -1, zo = -1, ws = -1, A = 30, B = -1;
+    in >> M >> lk >> off >> sc >> zo >> ws >> contact >> A >> B >> norm;
+    std::printf("| %d | %s | %.4g | %.3g | %.4g | %.3g | %d | %.3g,%.3g | %d |", M, lk == 's' ? "sat" : "mips", off, sc,
+                zo, ws, contact, A, B, norm);
+    double mr = 0, mp = 0;
+    for (size_t k = 0; k < scenes.size(); ++k) {
+      const Scene& s = scenes[k];
+      SoftOptions o;
+      o.method = SoftMethod::Cssm;
+      o.cssm_order = M;
+      o.cssm_lookup = lk == 's' ? Lookup::Sat : Lookup::Mips;
+      o.cssm_offset = off;
+      o.cssm_scale = sc;
+      o.cssm_z_offset = zo;
+      o.cssm_width_scale = ws;
+      o.cssm_contact = contact != 0;
+      o.cssm_sharpen_a = A;
+      o.cssm_sharpen_b = B;
+      o.cssm_normalise = norm != 0;
+      o.light = s.light;
+      SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+      cl::Event ev = F.prepare(dev[k].depth);
+      EventList after{ev};
+      F.run(dev[k].u, dev[k].v, dev[k].d, dev[k].f, dev[k].out, dev[k].n, &after);
+      const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
+      std::vector<double> err;
+      double se = 0;
+      for (size_t i = 0; i < dev[k].n; ++i) {
+        if (!std::isfinite(s.rx.d[i])) continue;
+        const double x = vis[i] - s.ref.data[i];
+        err.push_back(std::abs(x));
+        se += x * x;
+      }
+      std::sort(err.begin(), err.end());
+      const double rmse = std::sqrt(se / err.size()), p99 = err[size_t(0.99 * (err.size() - 1))];
+      mr += rmse / scenes.size();
+      mp += p99 / scenes.size();
+      std::printf(" %.4f / %.3f |", rmse, p99);
+    }
+    std::printf(" %.4f | %.3f |\n", mr, mp);
+    std::fflush(stdout);
   }
 }
 

@@ -106,12 +106,23 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();
-  c->add_option("--cssm-offset", a.options.cssm_offset, "cssm: d' = d - offset")->capture_default_str();
-  c->add_option("--cssm-scale", a.options.cssm_scale, "cssm: v = clamp(0.5 + scale (s - 0.5))")->capture_default_str();
-  c->add_option("--cssm-sharpen", a.sharpen, "cssm: A,B of eq. 8.9 (p = 1 + A exp(-B (d - z_avg)))")
+  c->add_option("--cssm-offset", a.options.cssm_offset, "cssm: d' = d - offset (< 0: 0.1 / M)")->capture_default_str();
+  c->add_option("--cssm-scale", a.options.cssm_scale, "cssm: v = clamp(0.5 + scale (s - 0.5)) (< 0: 3)")
+      ->capture_default_str();
+  c->add_option("--cssm-normalise", a.options.cssm_normalise, "cssm: 1 = divide s by lit (the series at z = d)")
+      ->capture_default_str();
+  c->add_option("--cssm-sharpen", a.sharpen,
+                "cssm: A,B of eq. 8.9 (p = 1 + A exp(-B (d - z_avg)); default 30,10M; A = 0: off)")
       ->delimiter(',')
       ->expected(2);
   c->add_option("--cssm-min-den", a.options.cssm_min_den, "cssm: 1 - s_f below this = no blocker")->capture_default_str();
+  c->add_option("--cssm-z-offset", a.options.cssm_z_offset, "cssm: offset of the z_avg stage (< 0: ~0.306 / M, where a lit texel reconstructs to 1)")
+      ->capture_default_str();
+  c->add_option("--cssm-width-scale", a.options.cssm_width_scale, "cssm: stage-2 kernel width multiplier (< 0: scale x lit)")
+      ->capture_default_str();
+  c->add_option("--cssm-contact", a.options.cssm_contact,
+                "cssm: 1 = receivers without a stage-1 blocker still run stage 2 at their footprint")
+      ->capture_default_str();
   c->add_option("--ssmm-n", a.options.ssmm_n, "ssmm: n x n texels per layer")->capture_default_str();
   c->add_option("--device", a.device, "OpenCL device");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
@@ -153,7 +164,12 @@ int run_soft(const SoftArgs& a) {
         const auto eq = kv.find('=');
         const std::string k = kv.substr(0, eq);
         double v = NAN;
-        if (eq != std::string::npos) v = std::strtod(kv.c_str() + eq + 1, nullptr);
+        if (eq != std::string::npos) {  // the whole value must be a number ("weight=heavy" is an error)
+          const char* s = kv.c_str() + eq + 1;
+          char* end = nullptr;
+          v = std::strtod(s, &end);
+          if (end == s || *end != '\0') v = NAN;
+        }
         if (k == "weight" && std::isfinite(v)) weight = v;
         else if (k == "size" && std::isfinite(v)) over.light_size = v;
         else throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");

@@ -152,20 +152,23 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   if (outside(u, v, d)) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
   const int M = o.cssm_order;
-  const double dp = d - cssm_offset(o);
+  const CssmParams P = cssm_params(o);
+  const double dp = d - P.offset;
   std::vector<double> b(4 * M + 1);
   const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
-  const double ms = o.cssm_lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
+  const double ms = o.cssm_lookup == Lookup::Mips ? 0.65 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
   for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
   double num;
-  const double den = 1.0 - series(b, M, d - cssm_z_offset(o), &num);
-  if (!(den >= o.cssm_min_den)) return 1.0;
-  const double zavg = std::clamp(num / den, 0.0, d);
-  if (zavg_out) *zavg_out = zavg;
-  const double fw = std::clamp(std::max(soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
+  const double den = 1.0 - series(b, M, d - P.z_offset, &num);
+  const bool blocked = den >= o.cssm_min_den;
+  if (!blocked && !o.cssm_contact) return 1.0;
+  const double zavg = blocked ? std::clamp(num / den, 0.0, d) : d;
+  if (zavg_out && blocked) *zavg_out = zavg;
+  const double fw = std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0,
+                               double(o.max_width));
   for (int c = 0; c < 2 * M; ++c) b[c] = basis.value(c, u, v, ms * fw);
-  double vis = std::clamp(0.5 + o.cssm_scale * (series(b, M, dp, nullptr) - 0.5), 0.0, 1.0);
-  if (o.cssm_sharpen_a > 0) vis = std::pow(vis, 1.0 + o.cssm_sharpen_a * std::exp(-o.cssm_sharpen_b * (d - zavg)));
+  double vis = std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm_normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
+  if (P.sharpen_a > 0) vis = std::pow(vis, 1.0 + P.sharpen_a * std::exp(-P.sharpen_b * (d - zavg)));
   return vis;
 }
 

@@ -16,7 +16,8 @@ struct ClSoftLight {
   float bias, max_width;
 };
 struct ClCssmParams {  // sf_cssm_params (kernels/soft/cssm.cl)
-  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset;
+  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset, width_scale, inv_lit;
+  cl_int contact;
 };
 
 constexpr double kPi = 3.14159265358979323846;
@@ -84,11 +85,41 @@ double soft_width(const SoftLight& L, double d, double z) {
   return L.size / L.extent * std::max(DR - DB, 0.0) / DR;
 }
 
-float cssm_offset(const SoftOptions& o) {
-  return o.cssm_offset >= 0.0f ? o.cssm_offset : 0.5f / float(std::max(o.cssm_order, 1));
+double cssm_series(int M, double x) {
+  double s = 0;
+  for (int k = 0; k < M; ++k) {
+    const double ck = (2 * k + 1) * kPi;
+    s += std::sin(ck * x) / ck;
+  }
+  return 0.5 + 2 * s;
 }
 
-float cssm_z_offset(const SoftOptions& o) { return 0.5f / float(std::max(o.cssm_order, 1)); }
+CssmParams cssm_params(const SoftOptions& o) {
+  const float M = float(std::max(o.cssm_order, 1));
+  CssmParams p;
+  p.offset = o.cssm_offset >= 0.0f ? o.cssm_offset : 0.1f / M;
+  p.z_offset = cssm_z_offset(o);
+  p.scale = o.cssm_scale > 0.0f ? o.cssm_scale : 3.0f;
+  p.lit = float(cssm_series(o.cssm_order, p.offset));
+  // A straight edge's filtered lit fraction q gives v = 0.5 + scale (q lit - 0.5) (q / 1 when
+  // normalised): the ramp is steeper by scale lit, so the kernel widens by that to keep the width.
+  const float gain = o.cssm_normalise ? p.scale : p.scale * p.lit;
+  p.width_scale = o.cssm_width_scale > 0.0f ? o.cssm_width_scale : std::max(gain, 1.0f);
+  p.sharpen_a = o.cssm_sharpen_a;
+  p.sharpen_b = o.cssm_sharpen_b >= 0.0f ? o.cssm_sharpen_b : 10.0f * M;
+  return p;
+}
+
+float cssm_z_offset(const SoftOptions& o) {
+  if (o.cssm_z_offset >= 0.0f) return o.cssm_z_offset;
+  // Default: the smallest x > 0 where the series reaches 1 (~0.306 / M): a lit texel (z = d) then
+  // has blocker weight 1 - f = 0 and does not pull z_avg (at 0.5 / M its weight -0.09 pushed
+  // z_avg away from d: +36% penumbra on parallel planes once scale 3 dilates the shadow).
+  const int M = std::max(o.cssm_order, 1);
+  double lo = 0.0, hi = 0.5 / M;  // f(0) = 0.5, f(0.5 / M) ~ 1.09
+  for (int i = 0; i < 50; ++i) (cssm_series(M, 0.5 * (lo + hi)) < 1.0 ? lo : hi) = 0.5 * (lo + hi);
+  return float(hi);
+}
 
 void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
@@ -108,10 +139,24 @@ void validate(const SoftOptions& o) {
   if (o.cssm_lookup != Lookup::Mips && o.cssm_lookup != Lookup::Sat)
     throw InputError("cssm needs --lookup mips or sat");
   if (!std::isfinite(o.cssm_offset) || o.cssm_offset >= 1.0f) throw InputError("--cssm-offset must be < 1");
-  if (!(o.cssm_scale > 0.0f) || !std::isfinite(o.cssm_scale)) throw InputError("--cssm-scale must be > 0");
-  if (!(o.cssm_sharpen_a >= 0.0f) || !(o.cssm_sharpen_b >= 0.0f))
-    throw InputError("--cssm-sharpen A,B must be >= 0");
+  if (!std::isfinite(o.cssm_scale) || o.cssm_scale == 0.0f || o.cssm_scale > 64.0f)
+    throw InputError("--cssm-scale must be in (0, 64] (< 0: default)");
+  if (!(o.cssm_sharpen_a >= 0.0f) || !std::isfinite(o.cssm_sharpen_a) || !std::isfinite(o.cssm_sharpen_b))
+    throw InputError("--cssm-sharpen A,B: A must be >= 0 (0: off), B finite (< 0: default 10 M)");
   if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f)) throw InputError("--cssm-min-den must be in (0, 1)");
+  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f) throw InputError("--cssm-z-offset must be < 1");
+  if (!std::isfinite(o.cssm_width_scale) || o.cssm_width_scale == 0.0f || o.cssm_width_scale > 64.0f)
+    throw InputError("--cssm-width-scale must be in (0, 64] (< 0: the scale)");
+  if (!(cssm_series(o.cssm_order, cssm_params(o).offset) > 0.05))
+    throw InputError("--cssm-offset too small to normalise by (the series of a lit texel must exceed 0.05)");
+  if (const CssmParams c = cssm_params(o); c.sharpen_a > 0.0f) {
+    // Sharpening raises v to the power 1 + A at contact: a lit receiver must reconstruct to 1.
+    const double lit = 0.5 + c.scale * ((o.cssm_normalise ? 1.0 : c.lit) - 0.5);
+    if (lit < 0.999)
+      throw InputError("cssm: a lit receiver reconstructs to " + std::to_string(lit).substr(0, 5) +
+                       " < 1 with this --cssm-offset / --cssm-scale, which --cssm-sharpen would darken; "
+                       "raise the offset or the scale, or give --cssm-sharpen 0,0");
+  }
   if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("--ssmm-n must be 1..64");
 }
 
@@ -133,6 +178,7 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
       const SatLayout L = sat_layout(s);
       sat_ = alloc(L.table_floats * sizeof(float));
       bands_ = alloc(L.band_floats * sizeof(float));
+      packed_ = alloc(size_t(2) * s.channels * (W_ + 1) * (H_ + 1) * sizeof(float));
     }
   } else if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
     chain_ = alloc(mip_layout(W_, H_, 1).chain_values * sizeof(float));
@@ -161,7 +207,15 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) {
     }
     sat_done_ = enqueue_sat(*rt_, Storage::F32, basis_, sat_, bands_, s, &after);
     have_sat_ = true;
-    return sat_done_.last;
+    cl::Kernel pk(cssm_program(*rt_, opt_), "sf_cssm_sat_pack");
+    const int entries = (W_ + 1) * (H_ + 1);
+    pk.setArg(0, sat_);
+    pk.setArg(1, packed_);
+    pk.setArg(2, entries);
+    EventList after_sat{sat_done_.last};
+    rt_->queue().enqueueNDRangeKernel(pk, cl::NullRange, cl::NDRange(size_t(entries)), cl::NullRange, &after_sat,
+                                      &pack_done_);
+    return pack_done_;
   }
   if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
     pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, depth, chain_, ImageShape{W_, H_, 1, 4}, wait);
@@ -200,7 +254,7 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
     k.setArg(a++, W_);
     k.setArg(a++, H_);
     arg_buf(chain_);
-    arg_buf(sat_);
+    arg_buf(packed_);
   } else {
     std::vector<std::string> files = kSoftHeaders;
     files.push_back("soft/ssmm.cl");
@@ -219,8 +273,9 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   k.setArg(a++, static_cast<int>(count));
   k.setArg(a++, sizeof(ClSoftLight), &L);
   if (opt_.method == SoftMethod::Cssm) {
-    const ClCssmParams P{cssm_offset(opt_), opt_.cssm_scale, opt_.cssm_sharpen_a, opt_.cssm_sharpen_b,
-                         opt_.cssm_min_den, cssm_z_offset(opt_)};
+    const CssmParams c = cssm_params(opt_);
+    const ClCssmParams P{c.offset,   c.scale,       c.sharpen_a, c.sharpen_b,         opt_.cssm_min_den,
+                         c.z_offset, c.width_scale, opt_.cssm_normalise ? 1.0f / c.lit : 1.0f, opt_.cssm_contact ? 1 : 0};
     k.setArg(a++, sizeof(ClCssmParams), &P);
   } else if (opt_.method != SoftMethod::Pcss) {
     k.setArg(a++, opt_.ssmm_n);
@@ -235,7 +290,7 @@ SoftTimes SoftFilter::times() const {
   SoftTimes t;
   if (have_transform_) t.transform = event_seconds(transform_done_);
   if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
-  if (have_sat_) t.sat = event_seconds(sat_done_.first, sat_done_.last);
+  if (have_sat_) t.sat = event_seconds(sat_done_.first, pack_done_() ? pack_done_ : sat_done_.last);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
   return t;
 }

@@ -4,30 +4,124 @@
 //   [0, M) sin(c_k z), [M, 2M) cos(c_k z)          the CSM basis (same as methods/csm.clh)
 //   [2M, 3M) z sin(c_k z), [3M, 4M) z cos(c_k z)   CSM-Z (eq. 8.8)
 //   4M: z / 2                                      the constant term of eq. 8.8
-// Reconstruction per receiver, d' = d - offset (stage 1: d - z_offset):
-//   stage 1: lookup at the search width w(d, 0) (the light's footprint at the near plane);
+// Reconstruction per receiver, d' = d - offset (stage 1: d - z_offset); parameters resolved on
+// the host (soft_filter.cpp cssm_params; docs/soft.md "cssm defaults"):
+//   stage 1: lookup of all planes at the search width w(d, 0) (the light's footprint at the near
+//     plane), at d - z_offset where a lit texel (z = d) reconstructs to 1 (weight 0 in z_avg);
 //     s_f  = 1/2 + 2 sum_k [cos(c_k d') bar(sin_k) - sin(c_k d') bar(cos_k)] / c_k
 //     z_avg = [bar(z/2) + 2 sum_k (sin(c_k d') bar(z cos_k) - cos(c_k d') bar(z sin_k)) / c_k]
 //             / (1 - s_f)                          (eq. 8.8 over eq. 8.6's normalisation)
-//     1 - s_f < min_den: no blocker in the search region, lit (1) (guards the division).
-//   stage 2: f_w = w(d, z_avg) (sec. 8.3.1), CSM lookup at max(f_w, f, 1) texels;
-//     v = clamp(0.5 + scale (s_f - 0.5), 0, 1)    (ringing suppression: scale, shift, clamp)
-//     v = v^p, p = 1 + A exp(-B (d - z_avg))       (eq. 8.9; A = 0: off)
+//     1 - s_f < min_den (or NaN): no blocker beyond z_offset, no division; z_avg = d (contact):
+//     stage 2 still runs at the receiver's footprint (contact = 0: lit, return 1).
+//   stage 2: f_w = width_scale w(d, z_avg) (sec. 8.3.1), lookup of the 2M CSM planes at
+//     max(f_w, f, 1) texels; v = clamp(0.5 + scale (s_f inv_lit - 0.5), 0, 1) (ringing
+//     suppression: scale, shift, clamp), then v^p, p = 1 + A exp(-B (d - z_avg)) (eq. 8.9).
 #ifndef SF_CSSM_ORDER
 #error "cssm needs SF_CSSM_ORDER"
 #endif
 #define SF_M SF_CSSM_ORDER
 // Trilinear (mips) lookups read at LOD log2(SF_CSSM_MIP_SCALE w): the 2x2 mean of the pyramid
 // and the bilinear tent each blur by about the level's texel, so level log2(w) filters far wider
-// than the box of side w; 0.55 matches the box's spread (docs/soft.md, parallel-planes test).
+// than the box of side w; 0.65 matches the box's spread at the default width scale (parallel
+// planes: -6.7% ortho, -9.1% perspective; mips stay alignment-dependent, docs/soft.md).
 #if SF_LOOKUP == 1
-#define SF_CSSM_MIP_SCALE 0.55f
+#define SF_CSSM_MIP_SCALE 0.65f
 #else
 #define SF_CSSM_MIP_SCALE 1.0f
 #endif
 
+// ---- Lookups of the first nch planes (stage 2 reads only the 2M CSM planes). The same math as
+// lookup.clh's trilinear and box lookups (host/reference LookupRef checks both), except that
+// the SAT is read from sf_cssm_sat_pack's texel-interleaved copy: one receiver's 4 corners of
+// all planes are 4 x 2 runs of 2 nch (hi, lo) pairs instead of 4 nch scattered planes.
+inline void sf_cssm_bilinear(__global const float* restrict img, int width, int height, float u, float v,
+                             int nch, float* out) {
+  const float x = fma(u, (float)width, -0.5f);
+  const float y = fma(v, (float)height, -0.5f);
+  const float xf = floor(x), yf = floor(y);
+  const float ax = x - xf, ay = y - yf;
+  const int x0 = sf_clampi((int)xf, 0, width - 1), x1 = sf_clampi((int)xf + 1, 0, width - 1);
+  const int y0 = sf_clampi((int)yf, 0, height - 1), y1 = sf_clampi((int)yf + 1, 0, height - 1);
+  const size_t i00 = (size_t)y0 * width + x0, i01 = (size_t)y0 * width + x1;
+  const size_t i10 = (size_t)y1 * width + x0, i11 = (size_t)y1 * width + x1;
+  const size_t plane = (size_t)width * height;
+  for (int c = 0; c < nch; ++c) {
+    __global const float* p = img + (size_t)c * plane;
+    const float top = mix(p[i00], p[i01], ax);
+    const float bottom = mix(p[i10], p[i11], ax);
+    out[c] = mix(top, bottom, ay);
+  }
+}
+
+inline void sf_cssm_level(__global const float* restrict level0, __global const float* restrict chain, int W,
+                          int H, int k, float u, float v, int nch, float* out) {
+  if (k == 0) {
+    sf_cssm_bilinear(level0, W, H, u, v, nch, out);
+    return;
+  }
+  int w, h;
+  size_t off;
+  sf_mip_level(W, H, SF_CHANNELS, k, &w, &h, &off);
+  sf_cssm_bilinear(chain + off, w, h, u, v, nch, out);
+}
+
+// The pair (hi, lo) of plane c at SAT entry e of the packed table.
+#define SF_PK(e, c) ((float2)(pk[2 * ((e) * SF_CHANNELS + (c))], pk[2 * ((e) * SF_CHANNELS + (c)) + 1]))
+
+inline float2 sf_cssm_sat_at(__global const float* restrict pk, int W, int H, float X, float Y, int c) {
+  const int i = clamp((int)floor(X), 0, W - 1), j = clamp((int)floor(Y), 0, H - 1);
+  const float fx = X - (float)i, fy = Y - (float)j;
+  const size_t Wp = (size_t)W + 1, a = (size_t)j * Wp + i, e = a + Wp;
+  const float2 s00 = SF_PK(a, c), s10 = SF_PK(a + 1, c), s01 = SF_PK(e, c), s11 = SF_PK(e + 1, c);
+  const float2 dx = sf_dd_sum(s10, -s00), dy = sf_dd_sum(s01, -s00);
+  const float2 dxy = sf_dd_sum(sf_dd_sum(s11, -s01), -dx);
+  float2 r = sf_dd_sum(s00, sf_dd_scale(dx, fx));
+  r = sf_dd_sum(r, sf_dd_scale(dy, fy));
+  return sf_dd_sum(r, sf_dd_scale(sf_dd_scale(dxy, fx), fy));
+}
+
+inline void sf_cssm_lookup(__global const float* restrict basis, __global const float* restrict chain,
+                           __global const float* restrict pk, int W, int H, float u, float v, float f, int nch,
+                           float* out) {
+#if SF_LOOKUP == 1
+  float t;
+  const int k0 = sf_lod(f, sf_mip_top(W, H), &t);
+  sf_cssm_level(basis, chain, W, H, k0, u, v, nch, out);
+  if (t > 0.0f) {
+    float b[SF_CHANNELS];
+    sf_cssm_level(basis, chain, W, H, k0 + 1, u, v, nch, b);
+    for (int c = 0; c < nch; ++c) out[c] = mix(out[c], b[c], t);
+  }
+#else
+  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
+  const float X0 = fma(u, (float)W, -s), X1 = fma(u, (float)W, s);
+  const float Y0 = fma(v, (float)H, -s), Y1 = fma(v, (float)H, s);
+  const float area = (X1 - X0) * (Y1 - Y0);
+  for (int c = 0; c < nch; ++c) {
+    const float2 a = sf_dd_sum(sf_cssm_sat_at(pk, W, H, X1, Y1, c), -sf_cssm_sat_at(pk, W, H, X0, Y1, c));
+    const float2 b = sf_dd_sum(sf_cssm_sat_at(pk, W, H, X1, Y0, c), -sf_cssm_sat_at(pk, W, H, X0, Y0, c));
+    const float2 sum = sf_dd_sum(a, -b);
+    out[c] = (sum.x + sum.y) / area;
+  }
+#endif
+}
+
+// sat.cl's table (plane c: hi at 2 c P, lo at (2 c + 1) P, P = (W + 1)(H + 1)) interleaved per
+// entry: packed[2 (e C + c) + {0, 1}] = (hi, lo).
+__kernel void sf_cssm_sat_pack(__global const float* restrict sat, __global float* restrict packed,
+                               const int entries) {
+  const int e = get_global_id(0);
+  if (e >= entries) return;
+  const size_t P = (size_t)entries;
+  for (int c = 0; c < SF_CHANNELS; ++c) {
+    packed[2 * ((size_t)e * SF_CHANNELS + c)] = sat[2 * c * P + e];
+    packed[2 * ((size_t)e * SF_CHANNELS + c) + 1] = sat[(2 * c + 1) * P + e];
+  }
+}
+
 typedef struct {
-  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset;
+  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset, width_scale, inv_lit;
+  int contact;  // 1: receivers without a blocker in stage 1 still run stage 2 at their footprint
 } sf_cssm_params;
 
 __kernel void sf_cssm_basis(__global const float* restrict depth, __global float* restrict basis,
@@ -71,7 +165,7 @@ inline float sf_cssm_series(const float* b, float dp, float* num) {
 }
 
 __kernel void sf_cssm_points(__global const float* restrict basis, const int W, const int H,
-                             __global const float* restrict chain, __global const float* restrict sat,
+                             __global const float* restrict chain, __global const float* restrict packed,
                              __global const float* restrict u, __global const float* restrict v,
                              __global const float* restrict d, __global const float* restrict f,
                              __global float* restrict out, __global float* restrict zavg_out,
@@ -88,21 +182,24 @@ __kernel void sf_cssm_points(__global const float* restrict basis, const int W, 
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   float b[SF_CHANNELS];
   const float search = clamp(fmax(sf_soft_width(L, dd, 0.0f) * (float)W, fp), 1.0f, L.max_width);
-  sf_lookup(basis, chain, sat, W, H, ui, vi, SF_CSSM_MIP_SCALE * search, b);
+  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, SF_CSSM_MIP_SCALE * search, SF_CHANNELS, b);
   float num;
   // Stage 1 at d - z_offset (0.5 / M): there a lit texel (z = d) gives 1 - f ~ -0.09, close to
   // 0; at the visibility offset it would count as a quarter blocker at depth d.
   const float den = 1.0f - sf_cssm_series(b, dd - P.z_offset, &num);
-  if (!(den >= P.min_den)) {  // also catches NaN
+  const bool blocked = den >= P.min_den;  // false also for NaN
+  if (!blocked && !P.contact) {
     out[i] = 1.0f;
     if (zavg_out) zavg_out[i] = NAN;
     return;
   }
-  const float zavg = clamp(num / den, 0.0f, dd);
-  if (zavg_out) zavg_out[i] = zavg;
-  const float fw = clamp(fmax(sf_soft_width(L, dd, zavg) * (float)W, fp), 1.0f, L.max_width);
-  sf_lookup(basis, chain, sat, W, H, ui, vi, SF_CSSM_MIP_SCALE * fw, b);
-  float vis = clamp(fma(P.scale, sf_cssm_series(b, dp, 0) - 0.5f, 0.5f), 0.0f, 1.0f);
+  // No blocker farther than z_offset: any blocker is in contact (z_avg = d), so stage 2 reads
+  // the receiver's own footprint, where the visibility offset still finds close blockers.
+  const float zavg = blocked ? clamp(num / den, 0.0f, dd) : dd;
+  if (zavg_out) zavg_out[i] = blocked ? zavg : NAN;
+  const float fw = clamp(fmax(P.width_scale * sf_soft_width(L, dd, zavg) * (float)W, fp), 1.0f, L.max_width);
+  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, SF_CSSM_MIP_SCALE * fw, 2 * SF_M, b);
+  float vis = clamp(fma(P.scale, fma(sf_cssm_series(b, dp, 0), P.inv_lit, -0.5f), 0.5f), 0.0f, 1.0f);
   if (P.sharpen_a > 0.0f) vis = pow(vis, 1.0f + P.sharpen_a * exp(-P.sharpen_b * (dd - zavg)));
   out[i] = vis;
 }

@@ -36,19 +36,32 @@ struct SoftOptions {
   SoftLight light;
   float bias = 2e-3f;        // a texel z blocks a receiver d when z < d - bias
   float max_width = 256.0f;  // cap of every kernel width, level-0 texels
-  // cssm
+  // cssm (defaults chosen on the bundled scenes; docs/soft.md "cssm defaults"). Negative values
+  // select the default, which depends on M.
   int cssm_order = 4;                // M: 4M + 1 basis planes
   Lookup cssm_lookup = Lookup::Sat;  // mips or sat
-  float cssm_offset = -1.0f;  // d' = d - offset (stage 2); < 0: 0.5 / M (lit surfaces reach ~1)
-  float cssm_scale = 1.0f;    // v = clamp(0.5 + scale (s_f - 0.5), 0, 1)
-  float cssm_sharpen_a = 0.0f, cssm_sharpen_b = 0.0f;  // eq. 8.9 (A = 0: off)
-  float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker, lit
+  float cssm_offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.1 / M
+  float cssm_scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 3
+  float cssm_width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
+  bool cssm_normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
+  float cssm_sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off
+  float cssm_sharpen_b = -1.0f;      // default 10 M
+  float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
+  float cssm_z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
+  bool cssm_contact = true;  // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
   // ssmm
   int ssmm_n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
 };
 void validate(const SoftOptions& opt);  // throws InputError
-float cssm_offset(const SoftOptions& opt);    // visibility offset in effect (default 0.5 / M)
-float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage: 0.5 / M
+// cssm's parameters in effect (defaults resolved).
+struct CssmParams {
+  float offset, z_offset, scale, width_scale, lit, sharpen_a, sharpen_b;
+};
+CssmParams cssm_params(const SoftOptions& opt);
+// The truncated series 1/2 + 2 sum_k sin(c_k x) / c_k of order M at x = z - d' (1 - it is the
+// blocker weight); lit = cssm_series(M, offset).
+double cssm_series(int order, double x);
+float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage in effect
 
 struct SoftTimes {  // device seconds (profiling queues), 0 otherwise
   double transform = 0, pyramid = 0, sat = 0, reconstruct = 0;
@@ -73,8 +86,8 @@ class SoftFilter {
   std::shared_ptr<Runtime> rt_;
   SoftOptions opt_;
   int W_, H_;
-  cl::Buffer depth_, basis_, chain_, sat_, bands_;
-  cl::Event transform_done_, run_done_;
+  cl::Buffer depth_, basis_, chain_, sat_, bands_, packed_;  // packed_: cssm's interleaved SAT
+  cl::Event transform_done_, run_done_, pack_done_;
   PassEvents pyr_done_, sat_done_;
   bool have_pyr_ = false, have_sat_ = false, have_transform_ = false;
 };

@@ -1,0 +1,143 @@
+// `shadowfilter soft --lights FILE` (host/cli/options_soft.cpp; docs/soft.md "Several lights"):
+// a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
+// a missing file or a missing map is an input error: exit 2, one line naming the problem, no output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "image_io.hpp"
+#include "sf_test_env.hpp"
+
+namespace sf::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+size_t count_lines(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += (c == '\n');
+  return n;
+}
+
+class SoftCli : public ::testing::Test {
+ protected:
+  // 32 x 32 map: floor at 0.8, a square occluder at 0.3 over x, y in [10, 22); 8 x 8 receivers on
+  // the floor. Map b is the same with the occluder shifted, so the two lights shadow differently.
+  void SetUp() override {
+    dir_ = temp_dir(std::string("soft_cli_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    for (int shift : {0, 6}) {
+      HostImage depth(32, 32, 1, 0.8f);
+      for (int y = 10; y < 22; ++y)
+        for (int x = 10 + shift; x < 22 + shift && x < 32; ++x) depth.at(x, y) = 0.3f;
+      io::write_image(path(shift ? "b.exr" : "a.exr"), depth);
+    }
+    HostImage rx(8, 8, 4);
+    rx.channel_names = {"u", "v", "d", "f"};
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        rx.at(x, y, 0) = (x + 0.5f) / 8;
+        rx.at(x, y, 1) = (y + 0.5f) / 8;
+        rx.at(x, y, 2) = 0.8f;
+        rx.at(x, y, 3) = 1.0f;
+      }
+    io::write_image(path("rx.exr"), rx);
+  }
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
+  RunResult run(const std::string& args) const {
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string(SF_CLI_PATH) + " soft --method pcss --light-extent 1 --light-size 0.2 " +
+                            args + " > " + out + " 2> " + err;
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+  void expect_input_error(const std::string& args, const std::string& expect) const {
+    const RunResult r = run(args + " -o " + path("out.exr"));
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+  }
+  std::string dir_;
+};
+
+TEST_F(SoftCli, LightListIsTheWeightedMeanOfSingleRuns) {
+  ASSERT_EQ(run("--shadow-map " + path("a.exr") + " --receivers " + path("rx.exr") + " -o " + path("va.exr") + " -q")
+                .exit_code,
+            0);
+  ASSERT_EQ(run("--shadow-map " + path("b.exr") + " --receivers " + path("rx.exr") + " -o " + path("vb.exr") + " -q")
+                .exit_code,
+            0);
+  // Relative paths (from the list's directory), comments, blank lines, weights 1 and 3.
+  write("lights.txt", "# two lights\n\na.exr rx.exr\n  b.exr rx.exr weight=3   # the second\n");
+  const RunResult r = run("--lights " + path("lights.txt") + " -o " + path("both.exr"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 light(s)"), std::string::npos) << r.out;
+  const HostImage a = io::load_depth_map(path("va.exr"), {}), b = io::load_depth_map(path("vb.exr"), {});
+  const HostImage both = io::load_depth_map(path("both.exr"), {});
+  ASSERT_EQ(both.width, 8);
+  ASSERT_EQ(both.height, 8);
+  size_t differ = 0;
+  for (size_t i = 0; i < both.data.size(); ++i) {
+    EXPECT_NEAR(both.data[i], (a.data[i] + 3.0f * b.data[i]) / 4.0f, 1e-6f) << i;
+    differ += std::abs(a.data[i] - b.data[i]) > 0.05f;
+  }
+  EXPECT_GT(differ, 4u) << "the two maps must shadow different receivers";
+
+  // size= overrides the light size of its line only: a larger light widens the penumbra.
+  write("sized.txt", "a.exr rx.exr size=0.6\n");
+  ASSERT_EQ(run("--lights " + path("sized.txt") + " -o " + path("wide.exr") + " -q").exit_code, 0);
+  const HostImage wide = io::load_depth_map(path("wide.exr"), {});
+  size_t partial_a = 0, partial_wide = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) {
+    partial_a += a.data[i] > 0.02f && a.data[i] < 0.98f;
+    partial_wide += wide.data[i] > 0.02f && wide.data[i] < 0.98f;
+  }
+  EXPECT_GT(partial_wide, partial_a);
+}
+
+TEST_F(SoftCli, MalformedListsAreOneLineInputErrors) {
+  write("one_field.txt", "a.exr rx.exr\nb.exr\n");
+  expect_input_error("--lights " + path("one_field.txt"), "one_field.txt:2: expected SHADOWMAP RECEIVERS");
+  write("unknown_key.txt", "a.exr rx.exr colour=red\n");
+  expect_input_error("--lights " + path("unknown_key.txt"), "unknown_key.txt:1: unknown 'colour=red'");
+  write("bad_weight.txt", "a.exr rx.exr weight=heavy\n");
+  expect_input_error("--lights " + path("bad_weight.txt"), "bad_weight.txt:1: unknown 'weight=heavy'");
+  write("negative.txt", "a.exr rx.exr weight=-1\n");
+  expect_input_error("--lights " + path("negative.txt"), "light weights must be >= 0");
+  write("zero.txt", "a.exr rx.exr weight=0\nb.exr rx.exr weight=0\n");
+  expect_input_error("--lights " + path("zero.txt"), "the light weights sum to 0");
+  write("empty.txt", "# nothing\n\n");
+  expect_input_error("--lights " + path("empty.txt"), "holds no light");
+  expect_input_error("--lights " + path("no_such_list.txt"), "cannot read the light list");
+  write("missing_map.txt", "no_such_map.exr rx.exr\n");
+  expect_input_error("--lights " + path("missing_map.txt"), "no_such_map.exr");
+  write("lights.txt", "a.exr rx.exr\n");
+  expect_input_error("--lights " + path("lights.txt") + " --shadow-map " + path("a.exr"),
+                     "--lights replaces --shadow-map");
+}
+
+}  // namespace
+}  // namespace sf::test

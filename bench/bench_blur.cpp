@@ -1,9 +1,15 @@
-// 3. Separable Gaussian blur of one float channel (rows then columns, clamp-to-edge):
-// ours on the device at several sizes and radii, and the scalar double reference at 512x512.
-// Bytes per texel: 2 reads + 2 writes (both passes, whatever a kernel really moves).
+// 3. Separable Gaussian blur of one channel (rows then columns, clamp-to-edge): ours on the
+// device at several sizes and radii (float32; and f16 / unorm16 / unorm8 storage at 2048^2),
+// and the scalar double reference at 512x512.
+// Bytes per texel: 2 reads + 2 writes of the stored value (both passes, whatever a kernel really
+// moves): 16 for f32, 8 for f16 / unorm16, 4 for unorm8, so bw_fraction of the narrow formats
+// is not their speed-up; compare kernel_ms (or Mtexel/s) with blur/ours at the same size and R.
 // Counters: kernel_ms (the fused blur kernel), copy_ms (in place: the copy back from tmp) and
 // wall_ms (host time from enqueue to completion, launch overheads included: what a caller
 // waiting on the result sees).
+#include <cstring>
+#include <random>
+
 #include "bench_common.hpp"
 #include "reference.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -11,15 +17,28 @@
 namespace sf::bench {
 namespace {
 
-constexpr double kBlurBytesPerTexel = 4.0 * sizeof(float);
+constexpr double kBlurPassBytes = 4.0;  // 2 reads + 2 writes per texel
+
+// Random stored values in [0.05, 1] (f16 codes of [0.5, 1): no subnormal arithmetic).
+cl::Buffer random_stored(Storage st, size_t count, unsigned seed) {
+  if (st == Storage::F32) return to_device(random_floats(count, seed, 0.05f, 1.0f));
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> raw(count * storage_bytes(st));
+  for (size_t i = 0; i < count; ++i) {
+    uint16_t code = static_cast<uint16_t>(rng());
+    if (st == Storage::F16) code = 0x3800 | (code & 0x3ff);
+    std::memcpy(&raw[i * storage_bytes(st)], &code, storage_bytes(st));
+  }
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, raw.size(), raw.data());
+}
 
 // Out of place (src -> dst, tmp unused by the fused kernel) or in place (src -> src through tmp,
 // as the pipeline runs it).
-void BM_Blur(benchmark::State& state, bool in_place) {
+void BM_Blur(benchmark::State& state, bool in_place, Storage storage) {
   const int n = static_cast<int>(state.range(0));
   const int radius = static_cast<int>(state.range(1));
-  const ImageShape shape{n, n, 1};
-  cl::Buffer src = to_device(random_floats(shape.plane_texels(), 3));
+  const ImageShape shape{n, n, 1, storage_bytes(storage)};
+  cl::Buffer src = random_stored(storage, shape.plane_texels(), 3);
   cl::Buffer tmp = device_buffer(shape.bytes());
   cl::Buffer dst = in_place ? src : device_buffer(shape.bytes());
   const BlurOptions blur{radius, 0.0f};
@@ -29,7 +48,7 @@ void BM_Blur(benchmark::State& state, bool in_place) {
   const double s = time_runs(state, [&] {
     BlurEvents ev;
     wall += wall_seconds([&] {
-      ev = enqueue_blur(runtime(), blur, sched, src, tmp, dst, shape);
+      ev = enqueue_blur(runtime(), blur, sched, src, tmp, dst, shape, nullptr, storage);
       ev.cols.wait();
     });
     kernel += event_seconds(ev.rows);
@@ -40,7 +59,8 @@ void BM_Blur(benchmark::State& state, bool in_place) {
   state.counters["kernel_ms"] = 1e3 * kernel / runs;
   if (in_place) state.counters["copy_ms"] = 1e3 * copy / runs;
   state.counters["wall_ms"] = 1e3 * wall / runs;
-  set_throughput(state, kBlurBytesPerTexel * shape.plane_texels(), shape.plane_texels(), s);
+  set_throughput(state, kBlurPassBytes * shape.value_bytes * shape.plane_texels(),
+                 shape.plane_texels(), s);
 }
 
 void BM_ReferenceBlur(benchmark::State& state) {
@@ -55,7 +75,7 @@ void BM_ReferenceBlur(benchmark::State& state) {
         return wall_seconds([&] { benchmark::DoNotOptimize(ref::blur(in, radius, 0.0)); });
       },
       1);
-  set_throughput(state, kBlurBytesPerTexel * in.data.size(), in.data.size(), s);
+  set_throughput(state, kBlurPassBytes * sizeof(float) * in.data.size(), in.data.size(), s);
 }
 
 const std::vector<int64_t> kRadii = {1, 3, 7, 15, 31};
@@ -65,7 +85,7 @@ const std::vector<int64_t> kRadii = {1, 3, 7, 15, 31};
 void register_blur() {
   for (int size : {512, 2048, 4096}) {
     for (int64_t radius : kRadii) {
-      configure(benchmark::RegisterBenchmark("blur/ours", BM_Blur, false))
+      configure(benchmark::RegisterBenchmark("blur/ours", BM_Blur, false, Storage::F32))
           ->ArgNames({"size", "R"})
           ->Args({size, radius});
 #ifdef SF_HAVE_OPENCV
@@ -73,9 +93,17 @@ void register_blur() {
 #endif
     }
   }
-  configure(benchmark::RegisterBenchmark("blur/ours_in_place", BM_Blur, true))
+  configure(benchmark::RegisterBenchmark("blur/ours_in_place", BM_Blur, true, Storage::F32))
       ->ArgNames({"size", "R"})
       ->ArgsProduct({{2048}, kRadii});
+  for (Storage st : {Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+    for (bool in_place : {false, true})
+      configure(benchmark::RegisterBenchmark(
+                    (std::string("blur/ours") + (in_place ? "_in_place_" : "_") + storage_name(st)).c_str(),
+                    BM_Blur, in_place, st))
+          ->ArgNames({"size", "R"})
+          ->ArgsProduct({{2048}, {3, 15}});
+  }
   configure(benchmark::RegisterBenchmark("blur/reference_double", BM_ReferenceBlur))
       ->ArgNames({"size", "R"})
       ->ArgsProduct({{512}, kRadii});

@@ -1,11 +1,14 @@
-// Separable Gaussian blur of planar N-channel float images, clamp-to-edge (methods.md sec. 2),
-// both passes fused in one kernel. A work-item owns a strip of SF_STRIP vectors (SF_VEC texels
-// each) across SF_ROWS output rows: it blurs each input row it needs along x (rows clamped to
-// the image) into a ring of row vectors in private memory, and every output row is the weighted
-// sum down 2R+1 consecutive ring rows. The intermediate image never leaves the cache.
+// Separable Gaussian blur of planar N-channel images in any storage format (storage.clh:
+// SF_STORAGE f32 / f16 / unorm16 / unorm8), clamp-to-edge (methods.md sec. 2), both passes fused
+// in one kernel. A work-item owns a strip of SF_STRIP vectors (SF_VEC texels each) across SF_ROWS
+// output rows: it blurs each input row it needs along x (rows clamped to the image) into a ring
+// of float row vectors in private memory, and every output row is the weighted sum down 2R+1
+// consecutive ring rows. The intermediate image never leaves the cache. Values are decoded to
+// float once on load and rounded to the storage format once on store (one rounding per blur).
 //
 // Compile-time knobs (none changes a result: every texel is computed by the same fma sequence
 // whatever the schedule and whichever path computes it):
+//   SF_STORAGE  the storage format of src and dst (storage.clh, included before this file)
 //   SF_RADIUS   taps -R..R (>= 1)
 //   SF_WEIGHTS  w[0..R], the normalised symmetric weights, comma-separated float literals
 //   SF_VEC      texels per vector: 4, 8 or 16
@@ -20,22 +23,87 @@
 
 #if SF_VEC == 16
 typedef float16 sf_vec;
+typedef uint16 sf_uvec;
+typedef ushort16 sf_hvec;
+typedef uchar16 sf_bvec;
+#define SF_CONVERT(T, x) convert_##T##16(x)
+#define SF_AS(T, x) as_##T##16(x)
 #elif SF_VEC == 8
 typedef float8 sf_vec;
+typedef uint8 sf_uvec;
+typedef ushort8 sf_hvec;
+typedef uchar8 sf_bvec;
+#define SF_CONVERT(T, x) convert_##T##8(x)
+#define SF_AS(T, x) as_##T##8(x)
 #elif SF_VEC == 4
 typedef float4 sf_vec;
+typedef uint4 sf_uvec;
+typedef ushort4 sf_hvec;
+typedef uchar4 sf_bvec;
+#define SF_CONVERT(T, x) convert_##T##4(x)
+#define SF_AS(T, x) as_##T##4(x)
 #else
 #error "SF_VEC must be 4, 8 or 16"
 #endif
+
+// Every helper must inline: a call per vector costs more than the vector's arithmetic.
+#define SF_INLINE inline __attribute__((always_inline))
 
 // The vector type aligned to one float: loads and stores through it compile to single unaligned
 // vector moves (PoCL's vloadN is split into 64-bit pieces).
 typedef sf_vec __attribute__((aligned(4))) sf_vec_u;
 
+// One vector of stored values (sf_raw, aligned to one value) and its conversion to and from
+// float. The conversions are plain vector arithmetic equal to sf_load / sf_store (PoCL's
+// vload_half / vstore_half are scalar calls per texel).
+#if SF_STORAGE == 0
+typedef float sf_elem;
+typedef sf_vec sf_raw_a;
+typedef sf_vec __attribute__((aligned(4))) sf_raw;
+SF_INLINE sf_vec sf_decode(sf_raw r) { return r; }
+SF_INLINE sf_raw sf_encode(sf_vec v) { return v; }
+#elif SF_STORAGE == 1
+typedef ushort sf_elem;
+typedef sf_hvec sf_raw_a;
+typedef sf_hvec __attribute__((aligned(2))) sf_raw;
+// Half bits to float: normal halves rebias the exponent (+112 << 23), subnormals are
+// mantissa * 2^-24 (exact, normal in float), infinity / NaN keep an all-ones exponent.
+SF_INLINE sf_vec sf_decode(sf_raw r) {
+  const sf_uvec h = SF_CONVERT(uint, r), mag = h & 0x7fffu;
+  const sf_uvec sign = (h & 0x8000u) << 16;
+  const sf_uvec normal = mag >= 0x7c00u ? (mag << 13) | 0x7f800000u : (mag << 13) + 0x38000000u;
+  const sf_vec sub = SF_CONVERT(float, mag) * 5.9604644775390625e-8f;
+  return SF_AS(float, sign | (mag < 0x400u ? SF_AS(uint, sub) : normal));
+}
+// sf_half_bits (storage.clh) across the lanes: round to nearest even.
+SF_INLINE sf_raw sf_encode(sf_vec f) {
+  const sf_uvec x = SF_AS(uint, f), sign = (x >> 16) & 0x8000u, ax = x & 0x7fffffffu;
+  const sf_uvec sub = SF_CONVERT(uint, rint(SF_AS(float, ax) * 16777216.0f));
+  const sf_uvec r = ax - 0x38000000u;
+  const sf_uvec nrm = (r + 0x0fffu + ((r >> 13) & 1u)) >> 13;
+  const sf_uvec bits = ax >= 0x477ff000u ? (sf_uvec)0x7c00u : ax < 0x38800000u ? sub : nrm;
+  return SF_CONVERT(ushort, sign | bits);
+}
+#elif SF_STORAGE == 2
+typedef ushort sf_elem;
+typedef sf_hvec sf_raw_a;
+typedef sf_hvec __attribute__((aligned(2))) sf_raw;
+SF_INLINE sf_vec sf_decode(sf_raw r) { return SF_CONVERT(float, r) * (1.0f / 65535.0f); }
+SF_INLINE sf_raw sf_encode(sf_vec v) {
+  return SF_CONVERT(ushort, SF_CONVERT(int, rint(clamp(v, 0.0f, 1.0f) * 65535.0f)));
+}
+#else
+typedef uchar sf_elem;
+typedef sf_bvec sf_raw_a;
+typedef sf_bvec __attribute__((aligned(1))) sf_raw;
+SF_INLINE sf_vec sf_decode(sf_raw r) { return SF_CONVERT(float, r) * (1.0f / 255.0f); }
+SF_INLINE sf_raw sf_encode(sf_vec v) {
+  return SF_CONVERT(uchar, SF_CONVERT(int, rint(clamp(v, 0.0f, 1.0f) * 255.0f)));
+}
+#endif
+
 __constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 
-// Every helper must inline: a call per vector costs more than the vector's arithmetic.
-#define SF_INLINE inline __attribute__((always_inline))
 
 // Ring rows of one step: the 2R+1 taps of its first output row plus one per further row.
 #define SF_SPAN (2 * SF_RADIUS + SF_VROWS)
@@ -77,54 +145,66 @@ SF_INLINE void sf_ring_put(sf_vec* slot, int v, sf_vec h) {
   slot[v + SF_SPAN * SF_STRIP] = h;
 }
 
-// Vectors v0 .. v0 + n - 1 of the strip where they read past a border: their span, clamped to
-// the row, is copied into a private row (vector moves for the inside part), then blurred
-// like interior vectors.
-SF_INLINE void sf_hblur_padded(__global const float* row, const sf_strip* s, int v0, int n,
+// Vectors v0 .. v0 + n - 1 of the strip from a private float copy of their span, clamped to the
+// row and decoded once per texel (vector loads for the inside part), blurred like interior
+// vectors. Float32 takes this path only where the span reads past a border.
+SF_INLINE void sf_hblur_padded(__global const sf_stored* row, const sf_strip* s, int v0, int n,
                                int width, sf_vec* slot) {
   if (n <= 0) return;
   float pad[SF_STRIP * SF_VEC + 2 * SF_RADIUS];
   const int lo = s->x0 + v0 * SF_VEC - SF_RADIUS, len = n * SF_VEC + 2 * SF_RADIUS;
   const int a = max(lo, 0), b = min(lo + len, width);  // the part inside the row
-  for (int j = 0; j < a - lo; ++j) pad[j] = row[0];
+  const float first = sf_load(row, 0), last = sf_load(row, width - 1);
+  for (int j = 0; j < a - lo; ++j) pad[j] = first;
   int j = a;
   for (; j + SF_VEC <= b; j += SF_VEC)
-    *(sf_vec_u*)(pad + j - lo) = *(__global const sf_vec_u*)(row + j);
-  for (; j < b; ++j) pad[j - lo] = row[j];
-  for (j = b - lo; j < len; ++j) pad[j] = row[width - 1];
+    *(sf_vec_u*)(pad + j - lo) = sf_decode(*(__global const sf_raw*)(row + j));
+  for (; j < b; ++j) pad[j - lo] = sf_load(row, j);
+  for (j = b - lo; j < len; ++j) pad[j] = last;
   for (int v = 0; v < n; ++v)
     sf_ring_put(slot, v0 + v, sf_hblur_private(pad + SF_RADIUS + v * SF_VEC));
 }
 
-// Blurs the strip of one input row along x into a ring slot.
-SF_INLINE void sf_hblur_strip(__global const float* row, const sf_strip* s, int width,
+// Blurs the strip of one input row along x into a ring slot. Float32 reads interior vectors'
+// taps straight from the row; narrow formats decode the strip's span once instead of 2R + 1
+// times per texel.
+SF_INLINE void sf_hblur_strip(__global const sf_stored* row, const sf_strip* s, int width,
                               sf_vec* slot) {
+#if SF_STORAGE == 0
   sf_hblur_padded(row, s, 0, s->left, width, slot);
   for (int v = s->left; v < s->right; ++v)
     sf_ring_put(slot, v, sf_hblur_global(row + s->x0 + v * SF_VEC));
   sf_hblur_padded(row, s, s->right, s->vecs - s->right, width, slot);
+#else
+  sf_hblur_padded(row, s, 0, s->vecs, width, slot);
+#endif
 }
 
 // Input row i of the work-item starting at output row y0 into its ring slot.
-SF_INLINE void sf_hblur_input(__global const float* img, int y0, int i, const sf_strip* s,
+SF_INLINE void sf_hblur_input(__global const sf_stored* img, int y0, int i, const sf_strip* s,
                               int width, int height, sf_vec* ring) {
   const int y = sf_clampi(y0 - SF_RADIUS + i, 0, height - 1);
   sf_hblur_strip(img + (size_t)y * width, s, width, ring + i % SF_SPAN * SF_STRIP);
 }
 
-// One vector of an output row.
-SF_INLINE void sf_put_vec(__global float* out, int x, int width, sf_vec v) {
-  if (x + SF_VEC <= width) {
+// One vector of stored values at p (aligned to the vector under SF_STREAM).
+SF_INLINE void sf_put_raw(__global sf_stored* p, sf_raw r) {
 #if defined(SF_STREAM) && defined(__clang__)
-    __builtin_nontemporal_store(v, (__global sf_vec*)(out + x));  // aligned under SF_STREAM
+  __builtin_nontemporal_store((sf_raw_a)r, (__global sf_raw_a*)p);
 #else
-    *(__global sf_vec_u*)(out + x) = v;
+  *(__global sf_raw*)p = r;
 #endif
+}
+
+// One vector of an output row, rounded to the storage format.
+SF_INLINE void sf_put_vec(__global sf_stored* out, int x, int width, sf_vec v) {
+  if (x + SF_VEC <= width) {
+    sf_put_raw(out + x, sf_encode(v));
     return;
   }
   float lanes[SF_VEC];  // the last vector of a row: only its lanes inside the row
   *(sf_vec_u*)lanes = v;
-  for (int j = 0; x + j < width; ++j) out[x + j] = lanes[j];
+  for (int j = 0; x + j < width; ++j) sf_store(out, x + j, lanes[j]);
 }
 
 // Sums down the window win[m * SF_STRIP] (m = 0 .. SF_SPAN-1) for the SF_VROWS output rows of
@@ -146,7 +226,7 @@ SF_INLINE void sf_vblur_step(const sf_vec* win, int v, sf_vec* acc) {
 
 // Writes output rows y .. y + rows - 1 (rows <= SF_VROWS) of the strip from window `win`.
 SF_INLINE void sf_vblur_strip(const sf_vec* win, int x0, int vecs, int width, int rows,
-                              __global float* out) {
+                              __global sf_stored* out) {
   for (int v = 0; v < vecs; ++v) {
     sf_vec acc[SF_VROWS];
     sf_vblur_step(win, v, acc);
@@ -156,14 +236,14 @@ SF_INLINE void sf_vblur_strip(const sf_vec* win, int x0, int vecs, int width, in
 }
 
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur(
-    __global const float* restrict src, __global float* restrict dst, const int width,
+    __global const sf_stored* restrict src, __global sf_stored* restrict dst, const int width,
     const int height, const int plane_stride) {
   const int x0 = get_global_id(0) * (SF_STRIP * SF_VEC);
   const int y0 = get_global_id(1) * SF_ROWS;
   if (x0 >= width || y0 >= height) return;
   const size_t plane = (size_t)get_global_id(2) * plane_stride;
-  __global const float* img = src + plane;
-  __global float* out = dst + plane;
+  __global const sf_stored* img = src + plane;
+  __global sf_stored* out = dst + plane;
   const sf_strip s = sf_make_strip(x0, width);
   const int rows_out = min(SF_ROWS, height - y0);
 
@@ -181,18 +261,19 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur(
 #endif
 }
 
-// dst[i] = src[i] for i < count, SF_COPY_CHUNK floats per work-item (the in-place blur's copy
-// back from tmp: vector loads and the same stores as the blur, about 2x clEnqueueCopyBuffer on
-// PoCL). NDRange: ceil(count / SF_COPY_CHUNK), local size 1.
+// dst[i] = src[i] for i < count stored values, SF_COPY_CHUNK per work-item (the in-place blur's
+// copy back from tmp: vector loads and the same stores as the blur, about 2x
+// clEnqueueCopyBuffer on PoCL). NDRange: ceil(count / SF_COPY_CHUNK), local size 1.
 #define SF_COPY_CHUNK 4096
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur_copy(
-    __global const float* restrict src, __global float* restrict dst, const int count) {
+    __global const sf_stored* restrict src, __global sf_stored* restrict dst, const int count) {
   const int i0 = get_global_id(0) * SF_COPY_CHUNK;
   const int end = min(i0 + SF_COPY_CHUNK, count);
   int i = i0;
-  for (; i + SF_VEC <= end; i += SF_VEC)
-    sf_put_vec(dst, i, end, *(__global const sf_vec_u*)(src + i));
-  for (; i < end; ++i) dst[i] = src[i];
+  for (; i + SF_VEC <= end; i += SF_VEC) sf_put_raw(dst + i, *(__global const sf_raw*)(src + i));
+  __global const sf_elem* s = (__global const sf_elem*)src;
+  __global sf_elem* d = (__global sf_elem*)dst;
+  for (; i < end; ++i) d[i] = s[i];
 #ifdef SF_STREAM
   write_mem_fence(CLK_GLOBAL_MEM_FENCE);
 #endif

@@ -171,6 +171,24 @@ TEST_F(Cli, ReceiverDepthSizeMustMatch) {
                      "12x16");
 }
 
+// A narrow storage format with a prefilter runs (the blur filters every format): csm in unorm8
+// and f16, R = 2, on the planar receivers: in [0,1], dark under the occluder, lit beside it.
+TEST_F(Cli, NarrowStorageWithBlurRuns) {
+  for (const char* storage : {"unorm8", "f16"}) {
+    const RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " +
+                                    path("rd.exr") + " -o " + path("narrow.exr") +
+                                    " --method csm --csm-order 4 --blur-radius 2 --storage " + storage,
+                                dir_);
+    ASSERT_EQ(r.exit_code, 0) << storage << ": " << r.err;
+    const HostImage v = io::load_depth_map(path("narrow.exr"), {});
+    ASSERT_EQ(v.width, 24);
+    for (float x : v.data) ASSERT_TRUE(x >= 0.0f && x <= 1.0f) << storage << ": " << x;
+    EXPECT_LT(v.at(12, 8), 0.1f) << storage;  // under the 0.2 occluder
+    EXPECT_GT(v.at(2, 2), 1.0f - 1.0f / 255.0f) << storage;
+    fs::remove(path("narrow.exr"));
+  }
+}
+
 TEST_F(Cli, ArgumentErrors) {
   expect_input_error("filter --shadow-map " + path("sm.exr"), "--receivers or --receiver-depth");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +

@@ -10,6 +10,7 @@
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
+#include "test_methods_common.hpp"
 
 namespace sf::test {
 namespace {
@@ -113,6 +114,157 @@ TEST(Blur, InPlaceEqualsOutOfPlace) {
   enqueue_blur(runtime(), {5, 2.0f}, {}, a, tmp, a, shape).cols.wait();
   enqueue_blur(runtime(), {5, 2.0f}, {}, b, tmp, out, shape).cols.wait();
   EXPECT_EQ(from_device(a, img.texels()), from_device(out, img.texels()));
+}
+
+// The blur in every storage format: random codes (f16: both signs, exponents 2^-24 .. 2^1
+// including subnormals; unorm: every code) decoded as sf_load does, blurred by the scalar
+// reference in double, against the kernel's stored result decoded the same way. The kernel
+// decodes once, sums in float and rounds once on store, so
+//   |got - want| <= step(want) / 2 + e,  e = 1.2e-7 (R + 2) max|input|
+// (half a step of the storage format at the value, storage_step in test_methods_common.hpp, plus
+// the float error of two passes of R + 1 fma each, which may also tip a value near a rounding
+// boundary to the other neighbour).
+struct BlurStorageCase {
+  Storage storage;
+  int width, height, channels, radius, vec;
+};
+
+std::vector<uint8_t> random_codes(Storage st, size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> raw(count * storage_bytes(st));
+  for (size_t i = 0; i < count; ++i) {
+    uint32_t code = rng();
+    if (st == Storage::F16) {  // sign, exponent 0 .. 16 (values below 4), mantissa
+      code = (code & 0x8000u) | ((code >> 16) % 17u) << 10 | (code & 0x3ffu);
+    } else if (st == Storage::F32) {
+      const float v = std::uniform_real_distribution<float>(-1.0f, 1.0f)(rng);
+      std::memcpy(&code, &v, 4);
+    }
+    std::memcpy(&raw[i * storage_bytes(st)], &code, storage_bytes(st));  // little endian
+  }
+  return raw;
+}
+
+cl::Buffer raw_to_device(const std::vector<uint8_t>& raw) {
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, raw.size(),
+                    const_cast<uint8_t*>(raw.data()));
+}
+
+std::vector<uint8_t> raw_from_device(const cl::Buffer& buf, size_t bytes) {
+  std::vector<uint8_t> raw(bytes);
+  runtime().queue().enqueueReadBuffer(buf, CL_TRUE, 0, bytes, raw.data());
+  return raw;
+}
+
+class BlurStorage : public ::testing::TestWithParam<BlurStorageCase> {};
+
+TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
+  const BlurStorageCase bc = GetParam();
+  const ImageShape shape{bc.width, bc.height, bc.channels, storage_bytes(bc.storage)};
+  const size_t n = shape.plane_texels() * shape.channels;
+  const auto codes = random_codes(bc.storage, n, bc.width * 31 + bc.radius);
+  cl::Buffer src = raw_to_device(codes);
+  const auto decoded = read_stored(src, n, bc.storage);
+  ref::Planes in(bc.width, bc.height, bc.channels);
+  double maxabs = 0;
+  for (size_t i = 0; i < n; ++i) {
+    in.data[i] = decoded[i];
+    maxabs = std::max(maxabs, std::fabs(double(decoded[i])));
+  }
+  cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  ScheduleOptions sched;
+  sched.blur_vector_width = bc.vec;
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, src, tmp, dst, shape, nullptr, bc.storage)
+      .cols.wait();
+  const auto got = read_stored(dst, n, bc.storage);
+  const auto want = ref::blur(in, bc.radius, 0.0);
+  const double e = 1.2e-7 * (bc.radius + 2) * maxabs;
+  double worst = 0;  // in steps
+  for (size_t i = 0; i < n; ++i) {
+    const double w = want.data[i], step = storage_step(std::fabs(w) + e, bc.storage);
+    ASSERT_TRUE(std::isfinite(got[i])) << "index " << i;
+    ASSERT_LE(std::fabs(got[i] - w), 0.5 * step + e) << "index " << i << " want " << w;
+    if (step > 0) worst = std::max(worst, std::fabs(got[i] - w) / step);
+  }
+  if (n > size_t(bc.channels))  // the storage rounding is there (a 1x1 blur is exact)
+    EXPECT_GT(worst, 0.0);
+  // In place (through tmp and the copy back) gives the same codes.
+  cl::Buffer a = raw_to_device(codes);
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, a, tmp, a, shape, nullptr, bc.storage)
+      .cols.wait();
+  EXPECT_EQ(raw_from_device(a, shape.bytes()), raw_from_device(dst, shape.bytes()));
+}
+
+// Partial strips and vectors (odd sizes, widths below one vector), several planes, radii larger
+// than the image, every vector width.
+std::vector<BlurStorageCase> blur_storage_cases() {
+  std::vector<BlurStorageCase> out;
+  for (Storage st : {Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+    for (BlurStorageCase c : {BlurStorageCase{st, 1, 1, 1, 3, 16}, BlurStorageCase{st, 9, 1, 2, 2, 16},
+                              BlurStorageCase{st, 7, 5, 1, 32, 16}, BlurStorageCase{st, 37, 29, 3, 1, 16},
+                              BlurStorageCase{st, 64, 64, 1, 3, 16}, BlurStorageCase{st, 130, 70, 2, 7, 8},
+                              BlurStorageCase{st, 101, 67, 1, 7, 4}, BlurStorageCase{st, 257, 33, 1, 3, 16},
+                              BlurStorageCase{st, 40, 300, 1, 64, 16}})
+      out.push_back(c);
+  }
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, BlurStorage, ::testing::ValuesIn(blur_storage_cases()),
+                         [](const ::testing::TestParamInfo<BlurStorageCase>& i) {
+                           const BlurStorageCase& c = i.param;
+                           return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) +
+                                  "x" + std::to_string(c.height) + "x" + std::to_string(c.channels) +
+                                  "_R" + std::to_string(c.radius) + "_v" + std::to_string(c.vec);
+                         });
+
+// Every schedule (vector width, strip, rows) computes every texel by the same float sequence:
+// the stored codes are bit-identical in every format.
+TEST(BlurStorage, SchedulesAreBitIdentical) {
+  const ImageShape base{203, 141, 2};
+  for (Storage st : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+    ImageShape shape = base;
+    shape.value_bytes = storage_bytes(st);
+    const auto codes = random_codes(st, shape.plane_texels() * shape.channels, 5);
+    cl::Buffer src = raw_to_device(codes);
+    cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+    std::vector<uint8_t> first;
+    for (auto [vec, strip, rows] : {std::array<int, 3>{16, 0, 0}, {4, 4, 3}, {8, 256, 64}, {16, 32, 7}}) {
+      ScheduleOptions sched;
+      sched.blur_vector_width = vec;
+      sched.blur_strip_texels = strip;
+      sched.blur_rows = rows;
+      cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+      enqueue_blur(runtime(), {4, 0.0f}, sched, src, tmp, dst, shape, nullptr, st).cols.wait();
+      const auto got = raw_from_device(dst, shape.bytes());
+      if (first.empty()) first = got;
+      EXPECT_EQ(got, first) << storage_name(st) << " vec " << vec << " strip " << strip << " rows " << rows;
+    }
+  }
+}
+
+// A constant unorm image stays the same constant (the weights sum to 1 within float error, far
+// below half a step), and the all-ones image stays at the top code: no overflow past 1.
+TEST(BlurStorage, ConstantsStayConstant) {
+  for (Storage st : {Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+    const ImageShape shape{45, 23, 1, storage_bytes(st)};
+    for (uint32_t code : {0u, 1u, 77u, st == Storage::Unorm8 ? 255u : st == Storage::F16 ? 0x3c00u : 65535u}) {
+      std::vector<uint8_t> raw(shape.bytes());
+      for (size_t i = 0; i < shape.plane_texels(); ++i)
+        std::memcpy(&raw[i * shape.value_bytes], &code, shape.value_bytes);
+      cl::Buffer a = raw_to_device(raw);
+      cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+      enqueue_blur(runtime(), {7, 0.0f}, {}, a, tmp, a, shape, nullptr, st).cols.wait();
+      EXPECT_EQ(raw_from_device(a, shape.bytes()), raw) << storage_name(st) << " code " << code;
+    }
+  }
+}
+
+TEST(BlurStorage, RefusesAShapeOfAnotherFormat) {
+  const ImageShape shape{8, 8, 1, 4};
+  cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  EXPECT_THROW(enqueue_blur(runtime(), {2, 0.0f}, {}, a, a, a, shape, nullptr, Storage::F16), InputError);
 }
 
 TEST(Blur, WeightsAreNormalisedAndDefaultSigmaSpansThreeSigma) {

@@ -53,8 +53,8 @@ TEST(MethodProperties, VsmAndMsmExactForOnePlanarOccluder) {
 }
 
 // Every method, every storage it accepts, with its documented defaults: a flat receiver on the
-// surface it casts (d = z, constant maps from 0 to 1) is lit, v >= 1 - 1/255; and prefiltered in
-// float32 the same.
+// surface it casts (d = z, constant maps from 0 to 1) is lit, v >= 1 - 1/255; and prefiltered
+// (R = 2, in the method's storage) the same.
 TEST(MethodProperties, LitFlatReceiverWithDefaultBias) {
   std::vector<MethodCase> cases = basis_cases();
   cases.push_back({"sm", Storage::F32, 8});
@@ -64,7 +64,6 @@ TEST(MethodProperties, LitFlatReceiverWithDefaultBias) {
       const HostImage depth(13, 11, 1, z);
       const Receivers rx = grid_receivers(13, 11, std::vector<float>(depth.texels(), z));
       for (int radius : {0, 2}) {
-        if (radius > 0 && mc.storage != Storage::F32) continue;  // the blur stores float32 only
         FilterOptions opt = mc.options();
         opt.blur.radius = radius;
         const auto got = filter(runtime_ptr(), opt, depth, rx).visibility.data;
@@ -76,7 +75,8 @@ TEST(MethodProperties, LitFlatReceiverWithDefaultBias) {
 }
 
 // Depth exactly 0 or 1, constants and a 0/1 checkerboard: finite visibility in [0,1] for every
-// method and storage, at receivers at every depth including 0 and 1.
+// method and storage, unfiltered and prefiltered (R = 1, blurred in the storage format), at
+// receivers at every depth including 0 and 1.
 TEST(MethodProperties, DegenerateMapsGiveFiniteResultsInRange) {
   std::vector<MethodCase> cases = basis_cases();
   cases.push_back({"sm", Storage::F32, 8});
@@ -87,7 +87,6 @@ TEST(MethodProperties, DegenerateMapsGiveFiniteResultsInRange) {
       for (size_t i = 0; i < d.size(); ++i) d[i] = float(i % 5) / 4.0f;  // 0, 0.25, ..., 1
       const Receivers rx = grid_receivers(depth.width, depth.height, d);
       for (int radius : {0, 1}) {
-        if (radius > 0 && mc.storage != Storage::F32) continue;
         FilterOptions opt = mc.options();
         opt.blur.radius = radius;
         for (float v : filter(runtime_ptr(), opt, depth, rx).visibility.data)

@@ -144,7 +144,7 @@ BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions&
 }
 
 // The blur's compile-time constants: radius, the weights as exact hex-float literals, schedule.
-std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s) {
+std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
   std::string weights;
   for (float w : gaussian_weights(blur.radius, blur.sigma)) {
     char lit[32];
@@ -154,7 +154,7 @@ std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s) {
   return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weights +
          " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
          " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(kBlurStepRows) +
-         (s.stream ? " -DSF_STREAM" : "");
+         " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + (s.stream ? " -DSF_STREAM" : "");
 }
 
 // The copy back of an in-place blur, tmp -> dst, after `blurred` (blur.cl: sf_blur_copy).
@@ -177,7 +177,7 @@ cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer&
 
 BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
                         const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                        const ImageShape& shape, const EventList* wait) {
+                        const ImageShape& shape, const EventList* wait, Storage storage) {
   BlurEvents ev;
   if (blur.radius == 0) {
     if (src() != dst()) {
@@ -193,12 +193,16 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
     throw InputError("blur vector width must be 4, 8 or 16, got " + std::to_string(vec));
   if (sched.blur_strip_texels < 0 || sched.blur_strip_texels % vec != 0 || sched.blur_rows < 0)
     throw InputError("blur strip must be a multiple of the vector width and rows >= 0");
-  if (shape.value_bytes != sizeof(float)) throw InputError("the blur filters float32 images only");
+  if (shape.value_bytes != storage_bytes(storage))
+    throw InputError(std::string("blur: the image holds ") + std::to_string(shape.value_bytes) +
+                     "-byte values, storage " + storage_name(storage) + " has " +
+                     std::to_string(storage_bytes(storage)));
   // Both passes run in one kernel, which cannot blur in place: in place goes through tmp and a
   // copy back.
   const bool in_place = src() == dst();
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
-  const cl::Program p = rt.program({"common.clh", "blur.cl"}, blur_build_options(blur, s));
+  const cl::Program p =
+      rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
   cl::Kernel k(p, "sf_blur");
   k.setArg(0, src);
   k.setArg(1, in_place ? tmp : dst);

@@ -29,10 +29,6 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
   gaussian_weights(options_.blur.radius, options_.blur.sigma);  // validates the radius
   shape_ = {width, height, method_->channels(options_),
             method_->raw_depth ? 4 : storage_bytes(options_.storage)};
-  if (options_.blur.radius > 0 && options_.storage != Storage::F32 && !method_->raw_depth)
-    throw InputError(std::string("--storage ") + storage_name(options_.storage) +
-                     " with --blur-radius needs the storage-aware blur, not wired yet: use "
-                     "--storage f32 to prefilter");
   if (shape_.plane_texels() * shape_.channels > size_t(1) << 31)
     throw InputError("shadow map " + std::to_string(width) + "x" + std::to_string(height) +
                      " is too large (more than 2^31 basis values)");
@@ -76,7 +72,7 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   if (options_.blur.radius > 0 && !method_->raw_depth) {
     blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, basis_,
-                              shape_, &after);
+                              shape_, &after, options_.storage);
     filtered = blur_done_.cols;
   }
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.

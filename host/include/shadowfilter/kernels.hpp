@@ -33,16 +33,18 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
                             const cl::Buffer& depth, int width, int height,
                             const cl::Buffer& basis, const EventList* wait = nullptr);
 
-// Separable Gaussian (rows then columns, clamp-to-edge) of float32 planes, fused in one kernel
-// (kernels/blur.cl). Out of place (dst != src) it writes dst directly and returns the same event
-// twice; in place (dst == src) it writes tmp and copies back: {blur event, copy-back event}.
+// Separable Gaussian (rows then columns, clamp-to-edge) of planes in `storage` (shape.value_bytes
+// must match), fused in one kernel (kernels/blur.cl): computed in float, rounded once on store.
+// Out of place (dst != src) it writes dst directly and returns the same event twice; in place
+// (dst == src) it writes tmp and copies back: {blur event, copy-back event}.
 // Radius 0 copies src to dst. The event names are historical: rows = first, cols = last.
 struct BlurEvents {
   cl::Event rows, cols;
 };
 BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
                         const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                        const ImageShape& shape, const EventList* wait = nullptr);
+                        const ImageShape& shape, const EventList* wait = nullptr,
+                        Storage storage = Storage::F32);
 
 // Visibility of `count` receivers given as (u, v, d) arrays, bilinear lookup of the filtered basis,
 // or the footprint lookup of `lookup` (pyramids.hpp: trilinear over a mip chain, box via a SAT).

@@ -2,12 +2,12 @@
 # Seed 000 table 7.2 on bundled scenes: flagged fraction of ESM failure classification (zmax and
 # threshold) for no convolution and 3x3, 5x5, 7x7 Gaussian prefilters (--blur-radius 0..3), with
 # the trilinear (mips) lookup driven by the receivers' footprints, c = 80.
-# Usage: [SCENES="spheres backyard"] bench/esm_classify_table.sh [build dir] [extra filter options]
+# Usage: [SCENES="spheres backyard fence"] bench/esm_classify_table.sh [build dir] [extra filter options]
 # Prints per scene and mode: R=r <% of all receivers> (<% of receivers inside the map>).
 set -eu
 BUILD=${1:-build}
 shift 2>/dev/null || true
-SCENES=${SCENES:-spheres backyard}
+SCENES=${SCENES:-spheres backyard fence}
 CLI="$BUILD/shadowfilter"
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT

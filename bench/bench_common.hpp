@@ -35,6 +35,10 @@ double wall_seconds(const std::function<void()>& work);
 // in `seconds` per run (what time_runs returned).
 void set_throughput(benchmark::State& state, double bytes, double texels, double seconds);
 
+// 1920x1080 receivers of a camera-like view of a map x map shadow map, in screen order
+// (bench_pipeline.cpp): u, v, d and footprints f in level-0 texels.
+void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v,
+                        std::vector<float>& d, std::vector<float>& f);
 // Deterministic uniform random floats in [lo, hi].
 std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float hi = 1.0f);
 // A device buffer holding `host`, and an uninitialised one of `bytes`.

@@ -1,25 +1,65 @@
 // 5. The full ESM pipeline through sf::Pipeline: 2048x2048 depth, c = 80, blur R = 3, then
-// 1920x1080 random receivers. Device time = transform + blur + reconstruct (profiling events),
-// per-stage times as counters. Bytes: 8 per map texel (transform) + 16 (blur) + 16 per receiver.
+// 1920x1080 receivers, bilinear (lookup 0) or trilinear mips (lookup 1). Receivers: random
+// (rx 0: u, v, d white noise, footprints uniform in [1, 8]) or coherent (rx 1: a camera-like
+// sweep of the map in screen order, as a rendered view gives them: neighbouring pixels read
+// neighbouring texels, footprints from the map's screen derivatives, 0.6 .. 5 texels).
+// Device time = every stage's profiling events; per-stage times as counters.
+// Bytes: 8 per map texel (transform) + 16 (blur) + 16 per receiver (+ 4 with footprints).
+#include <algorithm>
+#include <cmath>
+
 #include "bench_common.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::bench {
+
+// A floor seen in perspective: screen row y maps to map row v = v0 + (y / H)^2 span (far rows
+// squeezed), columns spread linearly; depth varies smoothly around the map's values.
+void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v,
+                        std::vector<float>& d, std::vector<float>& f) {
+  constexpr int kScreenW = 1920, kScreenH = 1080;
+  const size_t count = 1920 * 1080;
+  u.resize(count), v.resize(count), d.resize(count), f.resize(count);
+  for (int y = 0; y < kScreenH; ++y) {
+    const double t = (y + 0.5) / kScreenH;
+    const double vv = 0.05 + 0.9 * t * t, dv_dy = 0.9 * 2 * t / kScreenH;
+    const double spread = 0.3 + 0.6 * t;  // near rows (t = 1) cover more of the map's width
+    for (int x = 0; x < kScreenW; ++x) {
+      const size_t i = size_t(y) * kScreenW + x;
+      const double s = (x + 0.5) / kScreenW;
+      u[i] = float(0.5 + spread * (s - 0.5));
+      v[i] = float(vv);
+      d[i] = float(0.5 + 0.3 * std::sin(6.0 * s) * t);
+      f[i] = float(std::max(spread / kScreenW, dv_dy) * map);
+    }
+  }
+}
+
 namespace {
 
 void BM_EsmPipeline(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const int radius = static_cast<int>(state.range(1));
+  const bool mips = state.range(2) == 1, coherent = state.range(3) == 1;
   const size_t texels = size_t(n) * n, count = 1920 * 1080;
   FilterOptions opt;
   opt.blur.radius = radius;
+  if (mips) opt.lookup.kind = Lookup::Mips;
   Pipeline pipe(runtime_ptr(), opt, n, n);
   cl::Buffer depth = to_device(random_floats(texels, 9));
   DeviceReceivers rx;
   rx.count = count;
-  rx.u = to_device(random_floats(count, 10));
-  rx.v = to_device(random_floats(count, 11));
-  rx.d = to_device(random_floats(count, 12));
+  if (coherent) {
+    std::vector<float> u, v, d, f;
+    coherent_receivers(n, u, v, d, f);
+    rx.u = to_device(u), rx.v = to_device(v), rx.d = to_device(d);
+    if (mips) rx.f = to_device(f);
+  } else {
+    rx.u = to_device(random_floats(count, 10));
+    rx.v = to_device(random_floats(count, 11));
+    rx.d = to_device(random_floats(count, 12));
+    if (mips) rx.f = to_device(random_floats(count, 13, 1.0f, 8.0f));
+  }
   cl::Buffer vis = device_buffer(count * sizeof(float));
   StageTimes sum;
   int runs = 0;
@@ -29,22 +69,27 @@ void BM_EsmPipeline(benchmark::State& state) {
     const StageTimes t = pipe.times();
     sum.transform += t.transform;
     sum.blur += t.blur;
+    sum.pyramid += t.pyramid;
     sum.reconstruct += t.reconstruct;
     ++runs;
-    return t.transform + t.blur + t.reconstruct;
+    return t.transform + t.blur + t.pyramid + t.reconstruct;
   });
   state.counters["transform_ms"] = 1e3 * sum.transform / runs;
   state.counters["blur_ms"] = 1e3 * sum.blur / runs;
+  state.counters["mips_ms"] = 1e3 * sum.pyramid / runs;
   state.counters["reconstruct_ms"] = 1e3 * sum.reconstruct / runs;
-  set_throughput(state, 24.0 * texels + 16.0 * count, texels, s);
+  if (s > 0) state.counters["fps"] = 1.0 / s;
+  set_throughput(state, 24.0 * texels + (mips ? 20.0 : 16.0) * count, texels, s);
 }
 
 }  // namespace
 
 void register_pipeline() {
   configure(benchmark::RegisterBenchmark("esm_pipeline/points_1920x1080", BM_EsmPipeline))
-      ->ArgNames({"size", "R"})
-      ->Args({2048, 3});
+      ->ArgNames({"size", "R", "lookup", "rx"})
+      ->Args({2048, 3, 0, 0})
+      ->Args({2048, 3, 1, 0})
+      ->Args({2048, 3, 1, 1});
 }
 
 }  // namespace sf::bench

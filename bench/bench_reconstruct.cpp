@@ -1,42 +1,83 @@
-// 4. ESM reconstruction on a 2048x2048 filtered basis: 1920x1080 random receivers (points
-// mode: u, v, d read + visibility written = 16 bytes per receiver, plus the bilinear gathers)
-// and grid mode at 2048x2048 (d and one basis texel read + visibility written = 12 bytes).
+// 4. ESM reconstruction on a 2048x2048 filtered basis: 1920x1080 receivers in points mode
+// (u, v, d read + visibility written = 16 bytes per receiver, plus the gathers), bilinear or
+// trilinear over its mip chain (footprints read: 20 bytes), random or coherent receivers
+// (bench_pipeline.cpp), and grid mode at 2048x2048 (d and one basis texel read + visibility
+// written = 12 bytes). vec: receivers per work-item (ScheduleOptions::reconstruct_vector_width).
+// Bounds (esm_reconstruct/bound_*): the same receivers through kernels that only stream
+// u, v, d -> out, or only gather the 4 (bilinear) / 8 (levels 0 and 1) texels with the least
+// index math: what reconstruction costs at best on this device.
 #include "bench_common.hpp"
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/pyramids.hpp"
 
 namespace sf::bench {
 namespace {
 
 constexpr int kMapSize = 2048;
+constexpr size_t kReceivers = 1920 * 1080;
 
 struct Basis {
   cl::Buffer buf = device_buffer(size_t(kMapSize) * kMapSize * sizeof(float));
+  cl::Buffer chain;
   Basis() {
     cl::Buffer depth = to_device(random_floats(size_t(kMapSize) * kMapSize, 4, 0.2f, 0.8f));
     const FilterOptions esm;  // c = 80
     enqueue_transform(runtime(), find_method("esm"), esm, depth, kMapSize, kMapSize, buf).wait();
+    const ImageShape shape{kMapSize, kMapSize, 1, 4};
+    chain = device_buffer(mip_layout(kMapSize, kMapSize, 1).chain_values * sizeof(float));
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, buf, chain, shape).last.wait();
   }
 };
 
-const cl::Buffer& basis() {
+const Basis& basis() {
   static Basis b;
-  return b.buf;
+  return b;
+}
+
+struct Rx {
+  cl::Buffer u, v, d, f;
+};
+
+// rx 0: random (footprints uniform in [1, 8]); rx 1: coherent.
+const Rx& receivers(bool coherent) {
+  static Rx r[2];
+  Rx& x = r[coherent ? 1 : 0];
+  if (!x.u()) {
+    if (coherent) {
+      std::vector<float> u, v, d, f;
+      coherent_receivers(kMapSize, u, v, d, f);
+      x.u = to_device(u), x.v = to_device(v), x.d = to_device(d), x.f = to_device(f);
+    } else {
+      x.u = to_device(random_floats(kReceivers, 5)), x.v = to_device(random_floats(kReceivers, 6));
+      x.d = to_device(random_floats(kReceivers, 7));
+      x.f = to_device(random_floats(kReceivers, 13, 1.0f, 8.0f));
+    }
+  }
+  return x;
 }
 
 void BM_ReconstructPoints(benchmark::State& state) {
-  const size_t count = size_t(state.range(0)) * state.range(1);
-  cl::Buffer u = to_device(random_floats(count, 5)), v = to_device(random_floats(count, 6));
-  cl::Buffer d = to_device(random_floats(count, 7));
-  cl::Buffer vis = device_buffer(count * sizeof(float));
-  const FilterOptions opt;
+  const bool mips = state.range(0) == 1;
+  const Rx& rx = receivers(state.range(1) == 1);
+  cl::Buffer vis = device_buffer(kReceivers * sizeof(float));
+  FilterOptions opt;
+  opt.schedule.reconstruct_vector_width = static_cast<int>(state.range(2));
+  LookupBuffers lookup;
+  if (mips) {
+    opt.lookup.kind = lookup.kind = Lookup::Mips;
+    lookup.chain = basis().chain;
+    lookup.footprint = rx.f;
+  }
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis(), kMapSize,
-                                             kMapSize, u, v, d, vis, count);
+    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis().buf,
+                                             kMapSize, kMapSize, rx.u, rx.v, rx.d, vis, kReceivers,
+                                             nullptr, &lookup);
     e.wait();
     return event_seconds(e);
   });
-  set_throughput(state, 4.0 * sizeof(float) * count, count, s);
+  state.counters["ns_per_receiver"] = s * 1e9 / kReceivers;
+  set_throughput(state, (mips ? 20.0 : 16.0) * kReceivers, kReceivers, s);
 }
 
 void BM_ReconstructGrid(benchmark::State& state) {
@@ -45,7 +86,7 @@ void BM_ReconstructGrid(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const FilterOptions opt;
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis(), kMapSize,
+    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, kMapSize,
                                            kMapSize, d, vis);
     e.wait();
     return event_seconds(e);
@@ -53,15 +94,70 @@ void BM_ReconstructGrid(benchmark::State& state) {
   set_throughput(state, 3.0 * sizeof(float) * count, count, s);
 }
 
+// One receiver per work-item, PoCL vectorises across work-items. taps 0: u + v + d only;
+// 4: the bilinear texels of level 0; 8: those of levels 0 and 1 (a trilinear lookup's reads).
+const char* kBoundSource = R"CLC(
+__kernel void bound_stream(__global const float* restrict u, __global const float* restrict v,
+                           __global const float* restrict d, __global float* restrict out) {
+  const int i = get_global_id(0);
+  out[i] = u[i] + v[i] + d[i];
+}
+inline float taps4(__global const float* restrict img, int w, float u, float v) {
+  const int x = clamp((int)(u * w), 0, w - 2), y = clamp((int)(v * w), 0, w - 2);
+  const int a = y * w + x;
+  return (img[a] + img[a + 1]) + (img[a + w] + img[a + w + 1]);
+}
+__kernel void bound_gather(__global const float* restrict l0, __global const float* restrict l1,
+                           int w, __global const float* restrict u, __global const float* restrict v,
+                           __global const float* restrict d, __global float* restrict out) {
+  const int i = get_global_id(0);
+  float s = d[i] + taps4(l0, w, u[i], v[i]);
+#if TAPS == 8
+  s += taps4(l1, w / 2, u[i], v[i]);
+#endif
+  out[i] = s;
+}
+)CLC";
+
+void BM_ReconstructBound(benchmark::State& state) {
+  const int taps = static_cast<int>(state.range(0));
+  const Rx& rx = receivers(state.range(1) == 1);
+  cl::Buffer out = device_buffer(kReceivers * sizeof(float));
+  cl::Program p(runtime().context(), kBoundSource);
+  p.build(("-cl-std=CL1.2 -DTAPS=" + std::to_string(taps)).c_str());
+  cl::Kernel k(p, taps == 0 ? "bound_stream" : "bound_gather");
+  if (taps == 0) {
+    k.setArg(0, rx.u), k.setArg(1, rx.v), k.setArg(2, rx.d), k.setArg(3, out);
+  } else {
+    k.setArg(0, basis().buf), k.setArg(1, basis().chain), k.setArg(2, kMapSize);
+    k.setArg(3, rx.u), k.setArg(4, rx.v), k.setArg(5, rx.d), k.setArg(6, out);
+  }
+  const double s = time_runs(state, [&] {
+    cl::Event e;
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kReceivers),
+                                           cl::NullRange, nullptr, &e);
+    e.wait();
+    return event_seconds(e);
+  });
+  state.counters["ns_per_receiver"] = s * 1e9 / kReceivers;
+  set_throughput(state, 16.0 * kReceivers, kReceivers, s);
+}
+
 }  // namespace
 
 void register_reconstruct() {
   configure(benchmark::RegisterBenchmark("esm_reconstruct/points_on_2048", BM_ReconstructPoints))
-      ->ArgNames({"w", "h"})
-      ->Args({1920, 1080});
+      ->ArgNames({"lookup", "rx", "vec"})
+      ->ArgsProduct({{0, 1}, {0, 1}, {1, 4, 8, 16}});
   configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))
       ->ArgName("size")
       ->Arg(kMapSize);
+  configure(benchmark::RegisterBenchmark("esm_reconstruct/bound", BM_ReconstructBound))
+      ->ArgNames({"taps", "rx"})
+      ->Args({0, 0})
+      ->Args({4, 0})
+      ->Args({8, 0})
+      ->Args({8, 1});
 }
 
 }  // namespace sf::bench

@@ -2,7 +2,27 @@
 // Needs common.clh, storage.clh, lookup.clh and a method header (sf_visibility, sf_method_params) before it.
 // Receivers that are background (non-finite d) or outside the light frustum get 1.
 
-// Receivers given as (u, v, d) arrays.
+// One receiver of sf_reconstruct_points (chain / sat / f as there).
+inline void sf_reconstruct_one(__global const sf_stored* restrict basis, int width, int height,
+                               __global const float* restrict u, __global const float* restrict v,
+                               __global const float* restrict d, __global float* restrict out,
+                               const sf_method_params P, __global const sf_stored* restrict chain,
+                               __global const float* restrict sat,
+                               __global const float* restrict f, int i) {
+  const float ui = u[i], vi = v[i], di = d[i];
+  if (sf_receiver_outside(ui, vi, di)) {
+    out[i] = 1.0f;
+    return;
+  }
+  float b[SF_CHANNELS];
+  sf_lookup(basis, chain, sat, width, height, ui, vi, f ? f[i] : 1.0f, b);
+  out[i] = clamp(sf_visibility(b, clamp(di, 0.0f, 1.0f), P), 0.0f, 1.0f);
+}
+
+// Receivers given as (u, v, d) arrays; SF_RX_VEC of them per work-item (lookup.clh: 1, 4, 8 or
+// 16), without branches, so that the lookup's coordinate math and the method's visibility run
+// as vectors (methods without sf_visibility_vec call sf_visibility lane by lane). The host launches
+// ceil(count / SF_RX_VEC) work-items; the last one finishes a partial vector receiver by receiver.
 __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, const int width,
                                     const int height, const int plane_stride,
                                     __global const float* restrict u, __global const float* restrict v,
@@ -13,16 +33,37 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
                                     __global const float* restrict f) {
   // chain / sat / f: the lookup's mip chain or summed-area table and the receivers' footprints
   // (lookup.clh, SF_LOOKUP); null when unused (f null = footprint 1).
-  const int i = get_global_id(0);
-  if (i >= count) return;
-  const float ui = u[i], vi = v[i], di = d[i];
-  if (sf_receiver_outside(ui, vi, di)) {
-    out[i] = 1.0f;
+  const int i0 = get_global_id(0) * SF_RX_VEC;
+  if (i0 >= count) return;
+#if SF_RX_VEC > 1
+  if (count - i0 < SF_RX_VEC) {
+    for (int i = i0; i < count; ++i)
+      sf_reconstruct_one(basis, width, height, u, v, d, out, P, chain, sat, f, i);
     return;
   }
-  float b[SF_CHANNELS];
-  sf_lookup(basis, chain, sat, width, height, ui, vi, f ? f[i] : 1.0f, b);
-  out[i] = clamp(sf_visibility(b, clamp(di, 0.0f, 1.0f), P), 0.0f, 1.0f);
+#endif
+  const sf_rxf ui = sf_rx_vload(u + i0), vi = sf_rx_vload(v + i0), di = sf_rx_vload(d + i0);
+  // !sf_receiver_outside (NaN u or v fails the range tests). Outside receivers look up the
+  // map's centre, so that their index math stays in range, and get 1.
+  const sf_rxi inside = isfinite(di) & (ui >= 0.0f) & (ui <= 1.0f) & (vi >= 0.0f) & (vi <= 1.0f);
+  const sf_rxf one = (sf_rxf)(1.0f), centre = (sf_rxf)(0.5f);
+  sf_rxf b[SF_CHANNELS];
+  sf_rx_lookup(basis, chain, sat, width, height, select(centre, ui, inside),
+               select(centre, vi, inside), f ? sf_rx_vload(f + i0) : one, b);
+  const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
+#if defined(sf_visibility_vec)
+  const sf_rxf vis = sf_visibility_vec(b, dc, P);
+#elif SF_RX_VEC == 1
+  const sf_rxf vis = sf_visibility(b, dc, P);
+#else
+  sf_rxf vis;
+  for (int j = 0; j < SF_RX_VEC; ++j) {
+    float bj[SF_CHANNELS];
+    for (int c = 0; c < SF_CHANNELS; ++c) bj[c] = b[c][j];
+    vis[j] = sf_visibility(bj, dc[j], P);
+  }
+#endif
+  sf_rx_vstore(select(one, clamp(vis, 0.0f, 1.0f), inside), out + i0);
 }
 
 // --receiver-depth mode: one receiver per shadow-map texel, at the texel centre.

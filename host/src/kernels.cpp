@@ -226,10 +226,14 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                               lookup ? &lookup->footprint : nullptr);
   // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
+  const int vec = opt.schedule.reconstruct_vector_width;
+  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
+    throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
-                               kind == Lookup::Bilinear
-                                   ? std::string()
-                                   : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind)));
+                               " -DSF_RX_VEC=" + std::to_string(vec) +
+                                   (kind == Lookup::Bilinear
+                                        ? std::string()
+                                        : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind))));
   auto buffer_or_null = [&k](cl_uint i, const cl::Buffer* b) {
     if (b && (*b)())
       k.setArg(i, *b);
@@ -250,7 +254,7 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   k.setArg(8, static_cast<int>(count));
   set_params(k, 9, method, opt);
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(count, opt.schedule),
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d((count + vec - 1) / vec, opt.schedule),
                                   local_1d(opt.schedule), wait, &e);
   return e;
 }

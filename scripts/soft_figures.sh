@@ -17,8 +17,9 @@ sweep() {
     S="$S;$M,m,-1,-1,-1,-1,1,0,-1,0"    # + z_offset where a lit texel gives 1
     S="$S;$M,m,-1,-1,-1,-1,1,30,-1,0"   # + sharpening 30, 10 M = the defaults
     S="$S;$M,m,-1,-1,-1,-1,0,30,-1,0"   # the defaults without the contact path
-    for o in 0.06 0.15 0.2; do S="$S;$M,m,$(echo "$o/$M" | bc -l),-1,-1,-1,1,30,-1,0"; done
-    for sc in 2 4; do S="$S;$M,m,-1,$sc,-1,-1,1,30,-1,0"; done
+    # (offset 0.06/M and scale 2 leave lit receivers below 1: validate() refuses them with sharpening)
+    for o in 0.15 0.2; do S="$S;$M,m,$(echo "$o/$M" | bc -l),-1,-1,-1,1,30,-1,0"; done
+    S="$S;$M,m,-1,4,-1,-1,1,30,-1,0"    # scale 4
     S="$S;$M,m,-1,-1,-1,1,1,30,-1,0"    # width x 1
     for A in 10 60; do S="$S;$M,m,-1,-1,-1,-1,1,$A,-1,0"; done
     for B in 5 20; do S="$S;$M,m,-1,-1,-1,-1,1,30,$((B * M)),0"; done

@@ -15,6 +15,7 @@
 
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
 #include "shadowfilter/soft.hpp"
 
 namespace sf::test {
@@ -199,6 +200,12 @@ TEST(SoftFigures, DISABLED_CssmSweep) {
       o.cssm_sharpen_b = B;
       o.cssm_normalise = norm != 0;
       o.light = s.light;
+      try {
+        validate(o);
+      } catch (const InputError& x) {
+        std::printf(" refused: %s |", x.what());
+        break;
+      }
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       cl::Event ev = F.prepare(dev[k].depth);
       EventList after{ev};

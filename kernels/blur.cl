@@ -46,6 +46,13 @@ typedef uchar4 sf_bvec;
 #error "SF_VEC must be 4, 8 or 16"
 #endif
 
+// Narrow formats: interior vectors decode their taps straight from the row (1: unorm, a
+// conversion and a product per tap) or the strip's span is decoded once into a private row
+// first (0: f16, whose decode is ~15 integer operations). Both give the same values.
+#ifndef SF_BLUR_DECODE_TAPS
+#define SF_BLUR_DECODE_TAPS (SF_STORAGE >= 2)
+#endif
+
 // Every helper must inline: a call per vector costs more than the vector's arithmetic.
 #define SF_INLINE inline __attribute__((always_inline))
 
@@ -122,6 +129,18 @@ __constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 SF_DEFINE_HBLUR(sf_hblur_global, __global)
 SF_DEFINE_HBLUR(sf_hblur_private, __private)
 
+// The same for stored values read straight from a global row, decoding each tap's vector.
+SF_INLINE sf_vec sf_hblur_stored(__global const sf_stored* p) {
+  sf_vec acc = sf_w[0] * sf_decode(*(__global const sf_raw*)p);
+#pragma unroll
+  for (int k = 1; k <= SF_RADIUS; ++k) {
+    const sf_vec pair =
+        sf_decode(*(__global const sf_raw*)(p - k)) + sf_decode(*(__global const sf_raw*)(p + k));
+    acc = fma((sf_vec)sf_w[k], pair, acc);
+  }
+  return acc;
+}
+
 // A work-item's strip: `vecs` vectors from x0. Vectors [left, right) are interior (their taps
 // lie inside the row); those before `left` and from `right` on read past a border.
 typedef struct {
@@ -165,15 +184,20 @@ SF_INLINE void sf_hblur_padded(__global const sf_stored* row, const sf_strip* s,
     sf_ring_put(slot, v0 + v, sf_hblur_private(pad + SF_RADIUS + v * SF_VEC));
 }
 
-// Blurs the strip of one input row along x into a ring slot. Float32 reads interior vectors'
-// taps straight from the row; narrow formats decode the strip's span once instead of 2R + 1
-// times per texel.
+// Blurs the strip of one input row along x into a ring slot. Float32 (and unorm, decoding each
+// tap) reads interior vectors' taps straight from the row; f16 decodes the strip's span once
+// instead of 2R + 1 times per texel.
 SF_INLINE void sf_hblur_strip(__global const sf_stored* row, const sf_strip* s, int width,
                               sf_vec* slot) {
 #if SF_STORAGE == 0
   sf_hblur_padded(row, s, 0, s->left, width, slot);
   for (int v = s->left; v < s->right; ++v)
     sf_ring_put(slot, v, sf_hblur_global(row + s->x0 + v * SF_VEC));
+  sf_hblur_padded(row, s, s->right, s->vecs - s->right, width, slot);
+#elif SF_BLUR_DECODE_TAPS
+  sf_hblur_padded(row, s, 0, s->left, width, slot);
+  for (int v = s->left; v < s->right; ++v)
+    sf_ring_put(slot, v, sf_hblur_stored(row + s->x0 + v * SF_VEC));
   sf_hblur_padded(row, s, s->right, s->vecs - s->right, width, slot);
 #else
   sf_hblur_padded(row, s, 0, s->vecs, width, slot);

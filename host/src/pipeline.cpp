@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "shadowfilter/errors.hpp"
 
@@ -71,8 +72,10 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
   cl::Event filtered = transform_done_;
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   if (options_.blur.radius > 0 && !method_->raw_depth) {
-    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, basis_,
+    // Out of place into scratch_, then the two buffers trade roles: no copy back.
+    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, scratch_,
                               shape_, &after, options_.storage);
+    std::swap(basis_, scratch_);
     filtered = blur_done_.cols;
   }
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.

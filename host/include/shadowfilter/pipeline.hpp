@@ -35,6 +35,8 @@ class Pipeline {
   cl::Event reconstruct(const DeviceReceivers& receivers, const cl::Buffer& visibility,
                         const EventList* wait = nullptr);
 
+  // The filtered basis of the last prefilter. With a blur the pipeline alternates between two
+  // buffers (blur out of place, no copy back): read it again after each prefilter.
   const cl::Buffer& basis() const { return basis_; }
   ImageShape basis_shape() const { return shape_; }
   const MethodDesc& method() const { return *method_; }

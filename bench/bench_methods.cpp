@@ -1,10 +1,15 @@
-// 6. Every method's kernels (issue 6): the basis transform of each basis method at 512, 2048 and
-// 4096, the reconstruction of each method (sm / pcf: the raw-depth test) at 1920x1080 random
-// receivers on a 2048 map, and cv::pyrDown beside our mean pyramid (bench_pyramid.cpp) as a
-// baseline. Device time from profiling events; bytes are what the kernel must move at least.
+// 6. Every method's kernels (issue 3): the basis transform of every basis method x storage it
+// accepts (csm at M = 4, 8, 16) at 2048^2 and every transform vector width (1 = one texel per
+// work-item, 4/8/16 = sf_transformv), the reconstruction of each method (sm / pcf: the raw-depth
+// test) at 1920x1080 random receivers on a 2048 map, and cv::pyrDown beside our mean pyramid
+// (bench_pyramid.cpp) as a baseline. Device time from profiling events; bytes are what the kernel
+// must move at least (transform: 4 bytes read + the basis bytes written per texel), so
+// bw_fraction is the transform's throughput as a fraction of the copy bandwidth.
 // Registered statically (no edit to bench_main.cpp): configure() and the copy bandwidth are
 // read when the benchmarks run, after main has measured it.
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "bench_common.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -17,18 +22,22 @@
 namespace sf::bench {
 namespace {
 
-FilterOptions options_for(const std::string& method) {
+FilterOptions options_for(const std::string& method, Storage storage = Storage::F32,
+                          int csm_order = 8) {
   FilterOptions o;
   o.method = method;
-  o.csm.order = 8;
+  o.storage = storage;
+  o.csm.order = csm_order;
+  if (method == "esm" && storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
   return o;
 }
 
-void BM_Transform(benchmark::State& state, std::string method) {
+// Args: map size, transform vector width.
+void BM_Transform(benchmark::State& state, FilterOptions opt) {
   const int n = static_cast<int>(state.range(0));
+  opt.schedule.transform_vector_width = static_cast<int>(state.range(1));
   const size_t texels = size_t(n) * n;
-  const FilterOptions opt = options_for(method);
-  const MethodDesc& m = find_method(method);
+  const MethodDesc& m = find_method(opt.method);
   const size_t out_bytes = basis_bytes_per_texel(m, opt) * texels;
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(out_bytes);
@@ -38,6 +47,7 @@ void BM_Transform(benchmark::State& state, std::string method) {
     return event_seconds(e);
   });
   state.counters["channels"] = m.channels(opt);
+  state.counters["basis_B/texel"] = double(basis_bytes_per_texel(m, opt));
   set_throughput(state, double(sizeof(float) * texels + out_bytes), double(texels), s);
 }
 
@@ -86,12 +96,17 @@ void BM_OpenCvPyrDownChain(benchmark::State& state) {
 
 const bool registered = [] {
   for (const auto& m : methods()) {
-    if (!m.raw_depth)
-      configure(benchmark::RegisterBenchmark(("transform/" + m.name).c_str(), BM_Transform, m.name))
-          ->ArgName("size")
-          ->Arg(512)
-          ->Arg(2048)
-          ->Arg(4096);
+    for (Storage st : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+      if (m.raw_depth || m.storages.find(storage_name(st)) == std::string::npos) continue;
+      for (int order : m.name == "csm" ? std::vector<int>{4, 8, 16} : std::vector<int>{0}) {
+        const std::string name = "transform/" + m.name + "/" + storage_name(st) +
+                                 (order ? "/M" + std::to_string(order) : "");
+        configure(benchmark::RegisterBenchmark(name.c_str(), BM_Transform,
+                                               options_for(m.name, st, order ? order : 8)))
+            ->ArgNames({"size", "vec"})
+            ->ArgsProduct({{2048}, {1, 4, 8, 16}});
+      }
+    }
     configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_1920x1080_on_2048").c_str(),
                                            BM_Reconstruct, m.name));
   }

@@ -1,4 +1,6 @@
-// 2. ESM basis transform, depth -> exp(c (z - 1/2)): 1 float read + 1 float written per texel.
+// 2. ESM basis transform, depth -> exp(c (z - 1/2)): 1 float read + 1 float written per texel,
+// at three map sizes, with explicit float16 vectors (sf_transformv, the default) and with one
+// texel per work-item (vector width 1). Every method and storage: bench_methods.cpp.
 #include "bench_common.hpp"
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
@@ -6,10 +8,12 @@
 namespace sf::bench {
 namespace {
 
+// Args: map size, transform vector width.
 void BM_EsmTransform(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const size_t texels = size_t(n) * n;
   FilterOptions opt;  // esm, c = 80
+  opt.schedule.transform_vector_width = static_cast<int>(state.range(1));
   const MethodDesc& esm = find_method("esm");
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(texels * sizeof(float));
@@ -25,10 +29,8 @@ void BM_EsmTransform(benchmark::State& state) {
 
 void register_transform() {
   configure(benchmark::RegisterBenchmark("esm_transform", BM_EsmTransform))
-      ->ArgName("size")
-      ->Arg(512)
-      ->Arg(2048)
-      ->Arg(4096);
+      ->ArgNames({"size", "vec"})
+      ->ArgsProduct({{512, 2048, 4096}, {1, 16}});
 }
 
 }  // namespace sf::bench

@@ -1,6 +1,7 @@
 // Issue 3 figures harness (kept out of bench/ while the bench suite is being rewritten; move it
 // there as a Google Benchmark when that lands). Run: scripts/bench_methods.sh [reps]
-// Env: ONLY=substring of method_storage_order, NOREC=1 skips reconstruction, WG=work-group size.
+// Env: ONLY=substring of method_storage_order, NOREC=1 skips reconstruction, WG=work-group size,
+// XVEC=transform vector width (default 16; the table also times width 1, one texel per item).
 // Transform throughput per method/storage vs copy bandwidth (2048x2048), memory per texel,
 // reconstruction time for 1920x1080 point receivers. Median of N device times (profiling events).
 #include <algorithm>
@@ -94,15 +95,17 @@ int main(int argc, char** argv) {
   for (int M : {4, 8, 16})
     for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) cases.push_back({"csm", s, M});
   cases.push_back({"csm", Storage::F32, 32});
-  std::printf("%-14s %-8s %4s %9s %12s %9s %8s %14s\n", "method", "storage", "M", "B/texel", "transform ms",
-              "GB/s", "of copy", "reconstruct ms");
+  std::printf("%-14s %-8s %4s %9s %12s %9s %8s %10s %8s %14s\n", "method", "storage", "M", "B/texel",
+              "transform ms", "GB/s", "of copy", "w=1 ms", "of copy", "reconstruct ms");
   const char* only = std::getenv("ONLY");
   const int wg = std::getenv("WG") ? std::atoi(std::getenv("WG")) : 0;
+  const int xvec = std::getenv("XVEC") ? std::atoi(std::getenv("XVEC")) : 16;
   const bool skip_rec = std::getenv("NOREC") != nullptr;
   for (const Case& c : cases) {
     if (only && (c.method + "_" + storage_name(c.s) + "_" + std::to_string(c.order)).find(only) == std::string::npos) continue;
     FilterOptions o;
     o.schedule.work_group_size = wg;
+    o.schedule.transform_vector_width = xvec;
     o.method = c.method;
     o.storage = c.s;
     if (c.order) o.csm.order = c.order;
@@ -111,14 +114,19 @@ int main(int argc, char** argv) {
     const MethodDesc& m = find_method(c.method);
     const size_t bpt = basis_bytes_per_texel(m, o);
     cl::Buffer basis(rt->context(), CL_MEM_READ_WRITE, bpt * W * H);
+    FilterOptions o1 = o;
+    o1.schedule.transform_vector_width = 1;
+    const double t1 = m.raw_depth ? 0 : median_time(reps, [&] { return enqueue_transform(*rt, m, o1, zb, W, H, basis); });
     const double tt = median_time(reps, [&] { return enqueue_transform(*rt, m, o, zb, W, H, basis); });
     const double bytes = double(W) * H * (4 + bpt);
     const double tr = skip_rec ? 0 : median_time(reps, [&] {
       return enqueue_reconstruct_points(*rt, m, o, basis, W, H, ub, vb, db, out, NR);
     });
-    std::printf("%-14s %-8s %4s %9zu %12.2f %9.2f %7.0f%% %14.2f%s\n", c.method.c_str(), storage_name(c.s),
-                c.order ? std::to_string(c.order).c_str() : "-", m.raw_depth ? size_t(0) : bpt, tt * 1e3,
-                bytes / tt / 1e9, 100 * bytes / tt / copy_bw, tr * 1e3, c.method == "pcf" ? "  (R = 2)" : "");
+    std::printf("%-14s %-8s %4s %9zu %12.2f %9.2f %7.0f%% %10.2f %7.0f%% %14.2f%s\n", c.method.c_str(),
+                storage_name(c.s), c.order ? std::to_string(c.order).c_str() : "-",
+                m.raw_depth ? size_t(0) : bpt, tt * 1e3, bytes / tt / 1e9, 100 * bytes / tt / copy_bw,
+                t1 * 1e3, t1 > 0 ? 100 * bytes / t1 / copy_bw : 0.0, tr * 1e3,
+                c.method == "pcf" ? "  (R = 2)" : "");
   }
   return 0;
 }

@@ -61,6 +61,37 @@ TEST_P(MethodKernels, TransformMatchesReference) {
   }
 }
 
+// The vector transform (transform.cl: sf_transformv) at every vector width, and the one-texel
+// kernel (width 1), on a 37x29 map: 1073 texels, so the last work-item finishes a partial run of
+// 1073 mod w texels with the scalar basis. Depths 0 and 1 sit in the tail. Same tolerances as
+// above; the tail and the vector body must both match.
+TEST_P(MethodKernels, TransformPartialTailEveryVectorWidth) {
+  const MethodCase mc = GetParam();
+  const MethodDesc& m = find_method(mc.method);
+  HostImage depth = random_depth(37, 29, 11);
+  const size_t texels = depth.texels();
+  depth.data[texels - 1] = 1.0f;
+  depth.data[texels - 2] = 0.0f;
+  depth.data[texels - 3] = 0.5f;
+  cl::Buffer z = to_device(depth.data);
+  for (int width : {1, 4, 8, 16}) {
+    FilterOptions opt = mc.options();
+    opt.schedule.transform_vector_width = width;
+    const size_t n = texels * m.channels(opt);
+    cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(mc.storage));
+    enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+    const auto got = read_stored(basis, n, mc.storage);
+    const auto want = ref::transform(opt, depth);
+    for (size_t i = 0; i < n; ++i) {
+      const double w = ref::quantise(want.data[i], mc.storage);
+      ASSERT_TRUE(std::isfinite(got[i])) << mc.label() << " width " << width << " value " << i;
+      ASSERT_NEAR(got[i], w, basis_tolerance(mc, want.data[i]))
+          << mc.label() << " width " << width << " channel " << i / texels << " texel "
+          << i % texels << " z=" << depth.data[i % texels];
+    }
+  }
+}
+
 // The reconstruction kernels (bilinear lookup + sf_visibility, points and grid) against the
 // reference's lookup and visibility in double *on the same stored basis* read back from the
 // device, so that only the float arithmetic of lookup and reconstruction differs. Bilinear mixes
@@ -327,6 +358,15 @@ TEST(MethodLimits, RefusalsNameTheLimit) {
   o.vsm.lbr = 1.0f;
   refused(o, "[0, 1)");
   EXPECT_THROW(parse_storage("f64"), InputError);
+  o = FilterOptions();
+  o.schedule.transform_vector_width = 3;
+  const cl::Buffer one = to_device(std::vector<float>(1, 0.5f));
+  try {
+    enqueue_transform(runtime(), find_method("esm"), o, one, 1, 1, one);
+    ADD_FAILURE() << "transform vector width 3 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1, 4, 8 or 16"), std::string::npos) << e.what();
+  }
 }
 
 // EVSM exponents are clamped to the storage's limit (not refused): the packed parameters hold

@@ -72,29 +72,29 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
     rt.queue().enqueueCopyBuffer(depth, basis, 0, 0, size_t(texels) * sizeof(float), wait, &e);
     return e;
   }
-  // Narrow storage: 16 texels per work-item with vector conversions (transform.cl). Float32: one
-  // texel per work-item, which PoCL vectorises across work-items (faster there).
-  if (opt.storage != Storage::F32) {
-    cl::Kernel k = method_kernel(rt, method, opt, "transform.cl", "sf_transform16");
-    k.setArg(0, depth);
-    k.setArg(1, basis);
-    k.setArg(2, texels);
-    k.setArg(3, texels);
-    set_params(k, 4, method, opt);
-    cl::Event e;
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((size_t(texels) + 15) / 16),
-                                    cl::NullRange, wait, &e);
-    return e;
-  }
-  cl::Kernel k = method_kernel(rt, method, opt, "transform.cl", "sf_transform");
+  // SF_XVEC texels per work-item in explicit vectors (transform.cl: sf_transformv), or one texel
+  // per work-item (sf_transform).
+  const int vec = opt.schedule.transform_vector_width;
+  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
+    throw InputError("transform vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  cl::Kernel k = vec == 1 ? method_kernel(rt, method, opt, "transform.cl", "sf_transform")
+                          : method_kernel(rt, method, opt, "transform.cl", "sf_transformv",
+                                          " -DSF_XVEC=" + std::to_string(vec));
   k.setArg(0, depth);
   k.setArg(1, basis);
   k.setArg(2, texels);
   k.setArg(3, texels);
   set_params(k, 4, method, opt);
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(texels, opt.schedule),
-                                  local_1d(opt.schedule), wait, &e);
+  // sf_transformv: work-groups of 64 items unless the schedule fixes one. PoCL gives a private
+  // basis array it does not keep in registers (csm M = 32: 64 vectors) one copy per work-item of
+  // the group on the thread's stack; its own choice (up to 4096 items) overflowed it. 64 is as
+  // fast as PoCL's choice for the other methods.
+  ScheduleOptions sched = opt.schedule;
+  if (vec > 1 && sched.work_group_size == 0) sched.work_group_size = 64;
+  const size_t items = (size_t(texels) + vec - 1) / vec;
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(items, sched), local_1d(sched), wait,
+                                  &e);
   return e;
 }
 

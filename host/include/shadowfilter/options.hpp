@@ -101,6 +101,9 @@ struct ScheduleOptions {
   int blur_rows = 0;
   // Work-group size for 1-D kernels; 0 lets the driver choose.
   int work_group_size = 0;
+  // Texels per explicit vector in the basis transform (4, 8 or 16); 1 = one texel per
+  // work-item, left to PoCL's vectoriser (the scalar baseline of the benchmarks).
+  int transform_vector_width = 16;
   // Receivers per work-item of the points reconstruction (4, 8 or 16): the lookup's coordinate
   // math and the visibility run as vectors of this width; 1 = one receiver per work-item.
   int reconstruct_vector_width = 16;

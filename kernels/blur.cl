@@ -78,17 +78,21 @@ typedef sf_hvec __attribute__((aligned(2))) sf_raw;
 SF_INLINE sf_vec sf_decode(sf_raw r) {
   const sf_uvec h = SF_CONVERT(uint, r), mag = h & 0x7fffu;
   const sf_uvec sign = (h & 0x8000u) << 16;
-  const sf_uvec normal = mag >= 0x7c00u ? (mag << 13) | 0x7f800000u : (mag << 13) + 0x38000000u;
-  const sf_vec sub = SF_CONVERT(float, mag) * 5.9604644775390625e-8f;
-  return SF_AS(float, sign | (mag < 0x400u ? SF_AS(uint, sub) : normal));
+  // Compares and conversions on int (the values fit): unsigned ones are emulated without AVX2.
+  const sf_uvec normal =
+      SF_AS(int, mag) >= 0x7c00 ? (mag << 13) | 0x7f800000u : (mag << 13) + 0x38000000u;
+  const sf_vec sub = SF_CONVERT(float, SF_AS(int, mag)) * 5.9604644775390625e-8f;
+  return SF_AS(float, sign | (SF_AS(int, mag) < 0x400 ? SF_AS(uint, sub) : normal));
 }
 // sf_half_bits (storage.clh) across the lanes: round to nearest even.
 SF_INLINE sf_raw sf_encode(sf_vec f) {
   const sf_uvec x = SF_AS(uint, f), sign = (x >> 16) & 0x8000u, ax = x & 0x7fffffffu;
-  const sf_uvec sub = SF_CONVERT(uint, rint(SF_AS(float, ax) * 16777216.0f));
+  const sf_uvec sub = SF_AS(uint, SF_CONVERT(int, rint(SF_AS(float, ax) * 16777216.0f)));
   const sf_uvec r = ax - 0x38000000u;
   const sf_uvec nrm = (r + 0x0fffu + ((r >> 13) & 1u)) >> 13;
-  const sf_uvec bits = ax >= 0x477ff000u ? (sf_uvec)0x7c00u : ax < 0x38800000u ? sub : nrm;
+  const sf_uvec bits = SF_AS(int, ax) >= 0x477ff000 ? (sf_uvec)0x7c00u
+                       : SF_AS(int, ax) < 0x38800000 ? sub
+                                                     : nrm;
   return SF_CONVERT(ushort, sign | bits);
 }
 #elif SF_STORAGE == 2

@@ -121,6 +121,34 @@ INSTANTIATE_TEST_SUITE_P(MethodsAndLookups, MethodWidths,
                                             ::testing::Values(Lookup::Bilinear, Lookup::Mips,
                                                               Lookup::Sat)));
 
+// csm M = 16 and 32 (32 and 64 planes) with mips overflowed PoCL's work-item stack at width 16
+// when the launch was large (a crash; 517 receivers did not show it): the host narrows their
+// width (kernels.cpp). 200k receivers; every 997th against the double reference.
+TEST(ReconstructWidth, WideMethodsRunWithMips) {
+  const Receivers rx = make_rx(200003, 3);
+  Receivers some;
+  some.width = 0;
+  some.height = 1;
+  some.has_footprint = true;
+  for (int i = 0; i < rx.width; i += 997) {
+    some.u.push_back(rx.u[i]), some.v.push_back(rx.v[i]), some.d.push_back(rx.d[i]);
+    some.f.push_back(rx.f[i]);
+    ++some.width;
+  }
+  for (int order : {16, 32}) {
+    FilterOptions opt;
+    opt.method = "csm";
+    opt.csm.order = order;
+    opt.blur.radius = 1;
+    opt.lookup.kind = Lookup::Mips;
+    HostImage depth = random_depth(41, 38, 8, 0.2f, 0.8f);
+    const auto got = filter(runtime_ptr(), opt, depth, rx);
+    const auto want = ref::filter(opt, depth, some);
+    for (int j = 0; j < some.width; ++j)
+      ASSERT_NEAR(got.visibility.data[size_t(j) * 997], want[j], 1e-3) << "M " << order << " receiver " << j * 997;
+  }
+}
+
 TEST(ReconstructWidth, RefusesOtherWidths) {
   FilterOptions opt;
   opt.schedule.reconstruct_vector_width = 3;

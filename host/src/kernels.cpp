@@ -226,9 +226,13 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                               lookup ? &lookup->footprint : nullptr);
   // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
-  const int vec = opt.schedule.reconstruct_vector_width;
+  int vec = opt.schedule.reconstruct_vector_width;
   if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
     throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  // At most 64 basis values per lookup and work-item: wider (csm M >= 16 at width 16, mips)
+  // overflowed PoCL's work-item stack. Only csm narrows (M = 8: width 4; M >= 16: width 1);
+  // every width gives the same values (tests/test_reconstruct_vec.cpp).
+  while (vec > 1 && method.channels(opt) * vec > 64) vec = vec == 4 ? 1 : vec / 2;
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
                                " -DSF_RX_VEC=" + std::to_string(vec) +
                                    (kind == Lookup::Bilinear

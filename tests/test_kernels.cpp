@@ -187,8 +187,9 @@ TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
     ASSERT_LE(std::fabs(got[i] - w), 0.5 * step + e) << "index " << i << " want " << w;
     if (step > 0) worst = std::max(worst, std::fabs(got[i] - w) / step);
   }
-  if (n > size_t(bc.channels))  // the storage rounding is there (a 1x1 blur is exact)
+  if (n > size_t(bc.channels)) {  // the storage rounding is there (a 1x1 blur is exact)
     EXPECT_GT(worst, 0.0);
+  }
   // In place (through tmp and the copy back) gives the same codes.
   cl::Buffer a = raw_to_device(codes);
   enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, a, tmp, a, shape, nullptr, bc.storage)
@@ -306,7 +307,7 @@ Receivers odd_and_random_receivers(unsigned seed) {
 class EsmPipeline : public ::testing::TestWithParam<std::tuple<float, int>> {};
 
 // Transform + blur + bilinear reconstruction against the double reference. The blurred basis
-// has relative error ~1e-5 and the log-space reconstruction adds ~1e-7 c: visibility in [0,1]
+// has relative error ~1e-5 and the reconstruction's exp(c (1/2 - d)) adds ~1e-7 c: visibility in [0,1]
 // is compared with an absolute tolerance 2e-5 + 1e-7 c.
 TEST_P(EsmPipeline, PointsAndGridMatchReference) {
   const auto [c, radius] = GetParam();

@@ -174,8 +174,8 @@ TEST(Numerics, EvsmAtStorageLimits) {
   }
 }
 
-// CSM orders 1..32 in unorm8 (values mapped from [-1,1] to 8 bits, no prefilter: the storage-aware
-// blur is not wired). Bound: none beyond sanity for the approximation (M = 1 is a sine); the
+// CSM orders 1..32 in unorm8 (values mapped from [-1,1] to 8 bits, no prefilter: the basis
+// quantisation alone). Bound: none beyond sanity for the approximation (M = 1 is a sine); the
 // errors are tabulated.
 TEST(Numerics, CsmOrdersInUnorm8) {
   const HostImage depth = random_depth(32, 32, 9, 0.2f, 0.8f);

@@ -2,13 +2,22 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <random>
 
 namespace sf::bench {
 namespace {
 double g_reference_bandwidth = 0.0;
-constexpr int kRepetitions = 5;
-constexpr double kMinSecondsPerRepetition = 0.2;
+// Defaults 5 repetitions of at least 0.2 s; SF_BENCH_REPETITIONS / SF_BENCH_MIN_TIME override them
+// (`make bench` uses fewer to stay within minutes on a loaded 2-core machine). Read from the
+// environment, not from flags: some suites register statically, before main sees argv.
+double env_number(const char* name, double fallback, double lo) {
+  const char* v = std::getenv(name);
+  if (!v || !*v) return fallback;
+  char* end = nullptr;
+  const double x = std::strtod(v, &end);
+  return end && *end == 0 && x >= lo ? x : fallback;
+}
 double min_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
 }  // namespace
 
@@ -71,11 +80,13 @@ cl::Buffer device_buffer(size_t bytes) {
   return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, bytes);
 }
 
+int repetitions() { return int(env_number("SF_BENCH_REPETITIONS", 5, 1)); }
+
 benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b) {
   return b->UseManualTime()
       ->Unit(benchmark::kMillisecond)
-      ->MinTime(kMinSecondsPerRepetition)
-      ->Repetitions(kRepetitions)
+      ->MinTime(env_number("SF_BENCH_MIN_TIME", 0.2, 0))
+      ->Repetitions(repetitions())
       ->ComputeStatistics("min", min_of)  // shared machines: the least disturbed repetition
       ->ReportAggregatesOnly(true);
 }

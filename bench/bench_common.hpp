@@ -45,6 +45,8 @@ std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float
 cl::Buffer to_device(const std::vector<float>& host);
 cl::Buffer device_buffer(size_t bytes);
 
+// Repetitions per benchmark: 5, or SF_BENCH_REPETITIONS.
+int repetitions();
 // Every benchmark uses these settings: manual time in ms; mean, median, stddev, cv and min over
 // the repetitions.
 benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b);
@@ -59,6 +61,10 @@ void register_opencv_blur(int size, int radius);
 void register_reconstruct();
 void register_pipeline();
 void register_pyramid();  // bench_pyramid.cpp: mips, SAT, footprint lookups
+// bench_coverage.cpp: each method x lookup x map size, and the scalar reference kernels.
+void register_coverage();
+// cv::pyrDown (one level) at one size (only with SF_HAVE_OPENCV).
+void register_opencv_pyrdown();
 
 // Measures the copy bandwidth: the best median of clEnqueueCopyBuffer and two copy kernels.
 double measure_copy_bandwidth();

@@ -28,6 +28,10 @@ int main(int argc, char** argv) {
   register_reconstruct();
   register_pipeline();
   register_pyramid();
+  register_coverage();
+#ifdef SF_HAVE_OPENCV
+  register_opencv_pyrdown();
+#endif
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -2,9 +2,11 @@
 // end to end on a small synthetic scene directory.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "evaluate.hpp"
@@ -113,6 +115,98 @@ TEST(EvalAuto, ChoosesUnderTheBoundAndSkipsMips) {
   EXPECT_EQ(exact.chosen.method, "pcf");
 }
 
+// The bundled spheres scene: camera receivers (footprints up to ~90 texels) or the planar
+// receiver_depth grid (every footprint 1).
+eval::Scene spheres(bool planar) {
+  HostImage depth = io::load_depth_map(data_path("spheres/shadowmap.exr"), {});
+  const int w = depth.width, h = depth.height;
+  Receivers rx = planar ? io::load_receiver_depth(data_path("spheres/receiver_depth.exr"), w, h, {})
+                        : io::load_receiver_image(data_path("spheres/receivers.exr"));
+  return eval::make_scene(planar ? "spheres_planar" : "spheres", std::move(depth), std::move(rx));
+}
+
+eval::AutoRequest spheres_request(double max_error, const std::string& metric = "p99") {
+  eval::AutoRequest req;
+  req.max_error = max_error;
+  req.metric = metric;
+  req.target.blur.radius = 3;
+  req.lookup_from_scene = true;
+  req.methods = {"sm", "pcf", "vsm", "msm"};
+  req.timing = {0, 1};
+  return req;
+}
+
+// Footprints all <= 1 (the planar receivers): no mip pyramid anywhere, even when asked for.
+TEST(EvalAuto, BundledPlanarSceneGetsNoMips) {
+  const eval::Scene s = spheres(true);
+  ASSERT_LE(s.max_footprint, 1.0);
+  eval::AutoRequest req = spheres_request(0.3);
+  req.lookup_from_scene = false;
+  req.target.lookup.kind = Lookup::Mips;
+  const eval::AutoResult r = eval::choose_auto(runtime_ptr(), s, req);
+  EXPECT_EQ(r.target.lookup.kind, Lookup::Bilinear);
+  ASSERT_FALSE(r.tried.empty());
+  for (const auto& row : r.tried) EXPECT_EQ(row.options.lookup.kind, Lookup::Bilinear) << row.label;
+  for (const auto& c : r.not_tried) EXPECT_EQ(c.options.lookup.kind, Lookup::Bilinear);
+  const std::string text = eval::describe(r);
+  EXPECT_NE(text.find("skipped mip pyramid: every footprint is <= 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("skipped z-max pyramid"), std::string::npos) << text;
+  // The camera receivers do need footprint weights: mips candidates exist there.
+  const eval::Scene cam = spheres(false);
+  EXPECT_GT(cam.max_footprint, 1.0);
+  FilterOptions target;
+  target.blur.radius = 3;
+  target.lookup.kind = Lookup::Mips;
+  const auto cands = eval::auto_candidates(cam, spheres_request(0.3), target, nullptr);
+  EXPECT_TRUE(std::any_of(cands.begin(), cands.end(),
+                          [](const eval::AutoCandidate& c) { return c.options.lookup.kind == Lookup::Mips; }));
+  // Cost order: the smallest csm order and the narrowest storage come first.
+  eval::AutoRequest csm = spheres_request(0.3);
+  csm.methods = {"csm"};
+  const auto cc = eval::auto_candidates(cam, csm, target, nullptr);
+  ASSERT_FALSE(cc.empty());
+  EXPECT_EQ(cc.front().options.csm.order, 1);
+  EXPECT_EQ(cc.front().options.storage, Storage::Unorm8);
+  for (size_t i = 1; i < cc.size(); ++i) EXPECT_LE(cc[i - 1].cost, cc[i].cost);
+}
+
+// A tight bound picks a more accurate (and costlier) configuration than a loose one; each choice
+// meets its bound when measured independently.
+TEST(EvalAuto, TightBoundPicksMoreAccurateThanLoose) {
+  const eval::Scene s = spheres(false);
+  const eval::AutoResult loose = eval::choose_auto(runtime_ptr(), s, spheres_request(1.0));
+  const eval::AutoResult tight = eval::choose_auto(runtime_ptr(), s, spheres_request(0.2));
+  ASSERT_TRUE(loose.found) << eval::describe(loose);
+  ASSERT_TRUE(tight.found) << eval::describe(tight);
+  EXPECT_EQ(tight.target.lookup.kind, Lookup::Mips);  // camera footprints > 1
+  EXPECT_LE(tight.chosen_row.sref.p99, 0.2);
+  EXPECT_GT(loose.chosen_row.sref.p99, 0.2) << "the loose bound should stop at a cheap, inaccurate method";
+  EXPECT_LT(tight.chosen_row.sref.p99, loose.chosen_row.sref.p99);
+  // Cheaper candidates than the tight choice's first hit were tried and missed the bound.
+  EXPECT_GT(tight.tried.size(), loose.tried.size());
+  const eval::Measured m = eval::measure(runtime_ptr(), tight.chosen, s, {0, 1});
+  BlurOptions blur;
+  blur.radius = 3;
+  const auto want = eval::s_ref_parallel(s.depth, blur, Lookup::Mips, s.receivers, eval::kDefaultSrefBias);
+  EXPECT_LE(eval::error_stats(m.visibility, want, s.valid).p99, 0.2 + 1e-6);
+}
+
+// --metric: the bound applies to the named metric (rmse here), not p99.
+TEST(EvalAuto, MetricNamesTheBound) {
+  const eval::Scene s = spheres(false);
+  const eval::AutoResult by_rmse = eval::choose_auto(runtime_ptr(), s, spheres_request(0.12, "rmse"));
+  const eval::AutoResult by_p99 = eval::choose_auto(runtime_ptr(), s, spheres_request(0.12, "p99"));
+  ASSERT_TRUE(by_rmse.found) << eval::describe(by_rmse, "rmse");
+  ASSERT_TRUE(by_p99.found) << eval::describe(by_p99);
+  EXPECT_LE(by_rmse.chosen_row.sref.rmse, 0.12);
+  EXPECT_GT(by_rmse.chosen_row.sref.p99, 0.12) << "rmse <= 0.12 admits configurations whose p99 is larger";
+  EXPECT_LE(by_p99.chosen_row.sref.p99, 0.12);
+  EXPECT_NE(by_rmse.chosen_row.label, by_p99.chosen_row.label);
+  EXPECT_NE(eval::describe(by_rmse, "rmse").find("rmse"), std::string::npos);
+  eval::AutoRequest bad = spheres_request(0.1, "p98");
+  EXPECT_THROW(eval::choose_auto(runtime_ptr(), s, bad), InputError);
+}
+
 // `shadowfilter evaluate` on a scene directory: CSV and JSON rows with the error columns, the
 // Pareto plot, exit 0; a missing directory exits 2.
 TEST(EvalCli, WritesResults) {
@@ -147,6 +241,20 @@ TEST(EvalCli, WritesResults) {
   EXPECT_TRUE(std::filesystem::exists(out + "/results.json"));
   EXPECT_TRUE(std::filesystem::exists(out + "/pareto_tiny.png"));
   EXPECT_TRUE(std::filesystem::exists(out + "/error_tiny_esm.png"));
+  // --auto with a named metric: auto.txt says what it chose under that metric.
+  const std::string auto_out = dir + "/auto";
+  const std::string auto_cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
+                               " --methods sm,pcf,vsm --grid quick --runs 1 -q --auto --auto-radius 1"
+                               " --metric rmse --max-error 0.5 -o " + auto_out + " > " + dir + "/auto_log.txt 2>&1";
+  ASSERT_EQ(std::system(auto_cmd.c_str()), 0) << auto_cmd;
+  std::ifstream auto_txt(auto_out + "/auto.txt");
+  const std::string text((std::istreambuf_iterator<char>(auto_txt)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("auto: chose"), std::string::npos) << text;
+  EXPECT_NE(text.find("rmse <= 0.5"), std::string::npos) << text;
+  EXPECT_NE(text.find("skipped mip pyramid"), std::string::npos) << text;  // footprints 1
+  const std::string bad_metric = std::string(SF_CLI_PATH) + " evaluate " + scene + " --auto --metric p98 -o " +
+                                 auto_out + " > /dev/null 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad_metric.c_str())), 2);
   const std::string bad = std::string(SF_CLI_PATH) + " evaluate " + dir + "/missing -o " + out + " > /dev/null 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
 }

@@ -33,9 +33,17 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
   c->add_flag("--no-images", a.no_images, "Write no PNGs");
   c->add_flag("-q,--quiet", a.quiet, "No progress bar and no summary table");
   c->add_flag("--auto", a.auto_args.enabled,
-              "Only what each scene requires (no mips / sat when every footprint <= 1), then pick "
-              "the fastest configuration under --max-error per scene (at the quick grid's target "
-              "weights, Gaussian R=3)");
+              "Only what each scene requires (no mips / sat when every footprint <= 1), then search "
+              "methods, parameters, lookups and storages in estimated-cost order for the fastest "
+              "configuration under --max-error against s_ref of the --auto-radius / --auto-lookup weights");
+  c->add_option("--auto-radius", a.auto_radius, "--auto: Gaussian radius of the target weights")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
+  c->add_option("--auto-lookup", a.auto_lookup,
+                "--auto: lookup of the target weights: auto (trilinear mips where some footprint > 1, "
+                "else bilinear) | bilinear | mips | sat")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "bilinear", "mips", "sat"}));
   c->add_option("--max-error", a.auto_args.max_error, "--auto: error bound")->capture_default_str();
   c->add_option("--metric", a.auto_args.metric, "--auto: metric against s_ref")->capture_default_str();
   c->add_option("--sref-bias", a.auto_args.sref_bias,
@@ -105,12 +113,15 @@ int run_evaluate(const EvaluateArgs& a) {
       req.max_error = a.auto_args.max_error;
       req.metric = a.auto_args.metric;
       req.sref_bias = a.auto_args.sref_bias;
-      req.target.blur.radius = 3;
-      req.target.lookup.kind = Lookup::Mips;
+      req.target.blur.radius = a.auto_radius;
+      req.lookup_from_scene = a.auto_lookup == "auto";
+      req.target.lookup.kind = a.auto_lookup == "mips"  ? Lookup::Mips
+                               : a.auto_lookup == "sat" ? Lookup::Sat
+                                                        : Lookup::Bilinear;
       req.methods = methods;
       req.timing = timing;
       const auto r = eval::choose_auto(runtime, scene, req);
-      auto_lines.push_back("== " + scene.name + "\n" + eval::describe(r));
+      auto_lines.push_back("== " + scene.name + "\n" + eval::describe(r, req.metric));
     }
     for (auto& r : rows) {
       r.visibility.clear();
@@ -120,6 +131,13 @@ int run_evaluate(const EvaluateArgs& a) {
   }
   eval::write_csv((fs::path(a.out_dir) / "results.csv").string(), all);
   eval::write_json((fs::path(a.out_dir) / "results.json").string(), all, skipped, runtime->info().device_name);
+  if (a.auto_args.enabled) {
+    const std::string path = (fs::path(a.out_dir) / "auto.txt").string();
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw InputError("cannot write '" + path + "'");
+    for (const auto& l : auto_lines) std::fputs(l.c_str(), f);
+    std::fclose(f);
+  }
 
   if (!a.quiet) {
     std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max",
@@ -129,7 +147,9 @@ int run_evaluate(const EvaluateArgs& a) {
                   r.sref.p99, r.sref.rmse, r.sref.max, r.hard.valid ? r.hard.rmse : -1.0, r.device_bytes / 1048576.0);
     for (const auto& s : skipped)
       std::printf("skipped %s / %s: %s\n", s.scene.c_str(), s.label.c_str(), s.reason.c_str());
-    for (const auto& l : auto_lines) std::fputs(l.c_str(), stdout);
+  }
+  for (const auto& l : auto_lines) std::fputs(l.c_str(), stdout);
+  if (!a.quiet) {
     std::printf("shadowfilter evaluate: %zu configurations on %zu scenes, device %s -> %s\n", all.size(),
                 scenes.size(), runtime->info().device_name.c_str(), a.out_dir.c_str());
   }

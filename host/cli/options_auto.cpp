@@ -45,10 +45,10 @@ FilterOptions choose_auto_options(const FilterArgs& a, const HostImage& depth, c
   });
   bar.reset();
   if (!r.found) {
-    std::fputs(eval::describe(r).c_str(), stderr);
+    std::fputs(eval::describe(r, req.metric).c_str(), stderr);
     throw InputError("--auto: no configuration meets " + req.metric + " <= " + std::to_string(req.max_error));
   }
-  std::fputs(eval::describe(r).c_str(), stdout);
+  std::fputs(eval::describe(r, req.metric).c_str(), stdout);
   FilterOptions chosen = r.chosen;
   chosen.schedule = a.options.schedule;
   return chosen;

@@ -445,163 +445,230 @@ std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string
 
 // --- --auto -----------------------------------------------------------------------------------------
 
-namespace {
-int storage_cost(Storage s) { return storage_bytes(s); }
-}  // namespace
+double estimated_cost(const FilterOptions& o, int map_w, int map_h, size_t receivers) {
+  // Rough nanoseconds on the development machine (2 cores, PoCL; quick grid in docs/results.md):
+  // per map texel for the prefilter stages, per receiver for the reconstruction.
+  const MethodDesc& m = find_method(o.method);
+  const double T = double(map_w) * map_h, N = double(receivers);
+  if (m.raw_depth) {
+    if (o.method == "sm") return 1e-6 * N * 9.0;
+    const double side = 2.0 * o.blur.radius + 2.0;  // pcf reads every texel of the support
+    return 1e-6 * N * (8.0 + 1.2 * side * side);
+  }
+  const int ch = m.channels(o);
+  const double bytes = double(basis_bytes_per_texel(m, o));
+  double texel = 0.5 * ch * (o.method == "csm" ? 2.0 : 1.0);  // transform
+  if (o.blur.radius > 0) texel += 0.25 * bytes * (1.0 + o.blur.radius / 8.0);
+  if (o.lookup.kind == Lookup::Mips) texel += 0.1 * bytes;
+  if (o.lookup.kind == Lookup::Sat) texel += 0.5 * bytes + 0.5 * ch;
+  double rx = 9.0;  // vsm, evsm2: one Chebyshev bound
+  if (o.method == "esm") rx = 25.0;  // log-space exp
+  if (o.method == "evsm4") rx = 40.0;
+  if (o.method == "msm") rx = 60.0;  // Hamburger: Cholesky + cubic
+  if (o.method == "msm-hausdorff") rx = 50.0;
+  if (o.method == "csm") rx = 6.0 * ch;
+  if (o.lookup.kind == Lookup::Mips) rx *= 2.0;  // two bilinear levels
+  if (o.lookup.kind == Lookup::Sat) rx *= 2.5;   // four float-float corners
+  if (o.esm_classify.mode == EsmClassify::Threshold) rx += 6.0;
+  if (o.esm_classify.mode == EsmClassify::ZMax) {
+    texel += 0.4;  // the z-max pyramid of the depth
+    rx += 10.0;
+  }
+  return 1e-6 * (T * texel + N * rx);
+}
+
+std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest& req, const FilterOptions& target,
+                                           std::vector<Skipped>* refused) {
+  const std::vector<std::string> names = req.methods.empty() ? parse_methods("all") : req.methods;
+  std::vector<Lookup> lookups{Lookup::Bilinear};
+  if (target.lookup.kind != Lookup::Bilinear) lookups.push_back(target.lookup.kind);
+  std::vector<FilterOptions> all;
+  for (const auto& name : names) {
+    const MethodDesc& m = find_method(name);
+    FilterOptions base = target;
+    base.method = name;
+    base.esm_classify = EsmClassifyOptions{};
+    base.lookup.kind = Lookup::Bilinear;
+    if (m.raw_depth) {
+      base.depth_test.bias = float(req.sref_bias);
+      all.push_back(base);  // sm / pcf: no basis, no lookup (they follow no footprint)
+      continue;
+    }
+    std::vector<Storage> storages;
+    {
+      std::stringstream ss(m.storages);
+      std::string st;
+      while (ss >> st) storages.push_back(parse_storage(st));
+    }
+    std::vector<FilterOptions> params;
+    auto variant = [&](auto&& set) {
+      FilterOptions o = base;
+      set(o);
+      params.push_back(o);
+    };
+    if (name == "esm") {
+      for (float c : {20.0f, 40.0f, 80.0f, 160.0f})
+        for (EsmClassify k : {EsmClassify::None, EsmClassify::Threshold, EsmClassify::ZMax})
+          variant([&](FilterOptions& o) {
+            o.esm.c = c;
+            o.esm_classify.mode = k;
+          });
+    } else if (name == "vsm") {
+      for (float a : {0.0f, 0.2f, 0.4f}) variant([&](FilterOptions& o) { o.vsm.lbr = a; });
+    } else if (name == "evsm2" || name == "evsm4") {
+      for (float c : {20.0f, 40.0f}) variant([&](FilterOptions& o) { o.evsm.pos = c; });
+    } else if (name == "csm") {
+      for (int M : {1, 2, 4, 8, 16, 32}) variant([&](FilterOptions& o) { o.csm.order = M; });
+    } else {
+      params.push_back(base);
+    }
+    for (const auto& p : params)
+      for (Storage st : storages)
+        for (Lookup lk : lookups) {
+          FilterOptions o = p;
+          o.storage = st;
+          o.lookup.kind = lk;
+          // evsm's warp is clamped to 5.54 in f16: the c+ variants are one configuration there.
+          if (st == Storage::F16 && name.rfind("evsm", 0) == 0 && p.evsm.pos != 20.0f) continue;
+          if (st == Storage::F16 && name == "esm" && p.esm.c > 20.0f) continue;  // f16 holds c <= 22
+          try {
+            m.validate(o);
+          } catch (const InputError& e) {
+            if (refused) refused->push_back({scene.name, config_label(o), e.what()});
+            continue;
+          }
+          all.push_back(o);
+        }
+  }
+  std::vector<AutoCandidate> out;
+  for (const auto& o : all)
+    out.push_back({o, estimated_cost(o, scene.depth.width, scene.depth.height, scene.valid_count)});
+  std::stable_sort(out.begin(), out.end(),
+                   [](const AutoCandidate& a, const AutoCandidate& b) { return a.cost < b.cost; });
+  return out;
+}
 
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                        const std::function<void(size_t, size_t)>& progress) {
   check_metric(req.metric);
   if (!(req.max_error >= 0)) throw InputError("--max-error must be a non-negative number");
+  if (!(req.cost_slack >= 1)) throw InputError("--auto cost slack must be >= 1");
   AutoResult res;
   FilterOptions target = req.target;
-  // What the scene needs. Mips / SAT with every footprint <= 1 read level 0 with the bilinear
-  // (mips: LOD 0) or unit-box (= bilinear) weights: the pyramid would only cost time.
-  if (target.lookup.kind != Lookup::Bilinear && scene.max_footprint <= 1.0) {
-    res.skipped.push_back(std::string(target.lookup.kind == Lookup::Mips ? "mip pyramid" : "summed-area table") +
+  if (req.lookup_from_scene) target.lookup.kind = scene.max_footprint > 1.0 ? Lookup::Mips : Lookup::Bilinear;
+  // Mips / SAT with every footprint <= 1 read level 0 with the bilinear (mips: LOD 0) or unit-box
+  // (= bilinear) weights: the table would only cost time.
+  if (scene.max_footprint <= 1.0) {
+    const bool asked = target.lookup.kind != Lookup::Bilinear;
+    res.skipped.push_back(std::string(asked && target.lookup.kind == Lookup::Sat ? "summed-area table" : "mip pyramid") +
                           ": every footprint is <= 1 texel (max " + fmt(scene.max_footprint) +
                           "), so the lookup equals bilinear");
     target.lookup.kind = Lookup::Bilinear;
   }
-  res.notes.push_back("target: s_ref with " + std::string(target.blur.radius > 0 ? "Gaussian R=" + std::to_string(target.blur.radius) : "no prefilter") +
+  res.target = target;
+  res.notes.push_back("target: s_ref with " +
+                      std::string(target.blur.radius > 0 ? "Gaussian R=" + std::to_string(target.blur.radius) : "no prefilter") +
                       (target.lookup.kind == Lookup::Mips ? ", trilinear mips" : target.lookup.kind == Lookup::Sat ? ", box (sat)" : ", bilinear") +
-                      ", depth bias " + fmt(req.sref_bias) + "; " + req.metric + " <= " + fmt(req.max_error) + " over " + std::to_string(scene.valid_count) + " receivers");
-  res.notes.push_back("max footprint " + fmt(scene.max_footprint) + " texels");
-  if (target.esm_classify.mode == EsmClassify::None)
-    res.skipped.push_back("z-max pyramid: no classification asked (--esm-classify none)");
+                      ", depth bias " + fmt(req.sref_bias) + "; " + req.metric + " <= " + fmt(req.max_error) +
+                      " over " + std::to_string(scene.valid_count) + " receivers (max footprint " +
+                      fmt(scene.max_footprint) + " texels)");
   SrefCache cache(scene, req.sref_bias);
   const std::vector<double>& sref = cache.get(target.blur, target.lookup.kind);
 
-  // Candidate families, each an ordered list tried cheapest first; a family stops at its first
-  // configuration under the bound (a larger csm order / a wider storage would only cost more).
-  std::vector<std::string> names = req.methods.empty() ? parse_methods("all") : req.methods;
-  struct Family {
-    std::string what;
-    std::vector<FilterOptions> options;
-    bool stop_at_first = true;
-  };
-  std::vector<Family> families;
-  for (const auto& name : names) {
-    const MethodDesc& m = find_method(name);
-    FilterOptions base = target;
-    base.method = name;
-    if (name != "esm") base.esm_classify = EsmClassifyOptions{};
-    if (m.raw_depth) base.depth_test.bias = float(req.sref_bias);
-    if (m.raw_depth) {
-      families.push_back({name, {base}, true});
+  const std::vector<AutoCandidate> cands = auto_candidates(scene, req, target, &res.refused);
+  double limit = INFINITY;  // measure up to cost_slack x the first hit's estimate
+  size_t done = 0;
+  for (const auto& c : cands) {
+    if (c.cost > limit) {
+      res.not_tried.push_back(c);
       continue;
     }
-    // Storages cheapest first.
-    std::vector<Storage> st;
-    {
-      std::stringstream ss(m.storages);
-      std::string s;
-      while (ss >> s) st.push_back(parse_storage(s));
-      std::sort(st.begin(), st.end(), [](Storage a, Storage b) { return storage_cost(a) < storage_cost(b); });
+    Row row;
+    try {
+      Measured m = measure(rt, c.options, scene, req.timing);
+      row = timed_row(scene, c.options, m);
+      row.sref = error_stats(m.visibility, sref, scene.valid);
+    } catch (const InputError& e) {
+      res.refused.push_back({scene.name, config_label(c.options), e.what()});
+      if (progress) progress(++done, cands.size());
+      continue;
     }
-    if (name == "csm") {
-      // Smallest order first; within an order, cheapest storage first.
-      Family f{"csm (smallest order, cheapest storage that meets the bound)", {}, true};
-      for (int M : {2, 4, 8, 16, 32})
-        for (Storage s : st) {
-          FilterOptions o = base;
-          o.csm.order = M;
-          o.storage = s;
-          f.options.push_back(o);
-        }
-      families.push_back(f);
-    } else if (name == "esm") {
-      for (float c : {40.0f, 80.0f, 160.0f}) {
-        Family f{"esm c=" + fmt(c), {}, true};
-        for (Storage s : st) {
-          FilterOptions o = base;
-          o.esm.c = c;
-          o.storage = s;
-          f.options.push_back(o);
-        }
-        families.push_back(f);
-      }
-    } else {
-      Family f{name, {}, true};
-      for (Storage s : st) {
-        FilterOptions o = base;
-        o.storage = s;
-        f.options.push_back(o);
-      }
-      families.push_back(f);
+    if (progress) progress(++done, cands.size());
+    res.tried.push_back(row);
+    res.tried_cost.push_back(c.cost);
+    if (metric_value(row.sref, req.metric) > req.max_error) continue;
+    if (res.first_hit.empty()) {
+      res.first_hit = row.label;
+      limit = c.cost * req.cost_slack;
+    }
+    if (!res.found || row.time_ms < res.chosen_row.time_ms) {
+      res.found = true;
+      res.chosen = c.options;
+      res.chosen_row = row;
     }
   }
-  size_t total = 0, done = 0;
-  for (const auto& f : families) total += f.options.size();
-  for (const auto& f : families) {
-    bool met = false;
-    for (const auto& o : f.options) {
-      ++done;
-      if (met) {
-        if (progress) progress(done, total);
-        continue;
+  if (progress) progress(cands.size(), cands.size());
+  // What the choice does without, and why.
+  bool any_zmax = false;
+  for (const auto& c : cands) any_zmax |= c.options.esm_classify.mode == EsmClassify::ZMax;
+  if (!res.found || res.chosen.esm_classify.mode != EsmClassify::ZMax)
+    res.skipped.push_back(std::string("z-max pyramid: ") +
+                          (any_zmax ? "the chosen configuration does not classify ESM failures"
+                                    : "no candidate classifies ESM failures (esm not among the methods)"));
+  if (res.found && res.chosen.lookup.kind == Lookup::Bilinear && target.lookup.kind != Lookup::Bilinear)
+    res.skipped.push_back(std::string(target.lookup.kind == Lookup::Mips ? "mip pyramid" : "summed-area table") +
+                          ": bilinear already meets the bound at the scene's footprints");
+  if (res.found && res.chosen.method == "csm") {
+    for (const auto& row : res.tried)
+      if (row.method == "csm" && row.options.csm.order < res.chosen.csm.order &&
+          metric_value(row.sref, req.metric) > req.max_error) {
+        res.notes.push_back("csm: smaller orders miss the bound (" + row.label + ": " + req.metric + " " +
+                            fmt(metric_value(row.sref, req.metric)) + ")");
+        break;
       }
-      Row row;
-      try {
-        Measured m = measure(rt, o, scene, req.timing);
-        row = timed_row(scene, o, m);
-        row.sref = error_stats(m.visibility, sref, scene.valid);
-      } catch (const InputError& e) {
-        res.refused.push_back({scene.name, config_label(o), e.what()});
-        if (progress) progress(done, total);
-        continue;
-      }
-      if (progress) progress(done, total);
-      const double err = metric_value(row.sref, req.metric);
-      res.tried.push_back(row);
-      if (err <= req.max_error) {
-        met = true;
-        if (!res.found || row.time_ms < res.chosen_row.time_ms) {
-          res.found = true;
-          res.chosen = o;
-          res.chosen_row = row;
-        }
-        if (f.options.size() > 1 && &o != &f.options.back())
-          res.skipped.push_back(f.what + ": stopped at " + row.label + " (meets the bound; the rest cost more)");
-      }
-    }
   }
-  if (!res.found) return res;
-  // Report the runner-ups that met the bound but were slower, and those over the bound.
+  if (!res.not_tried.empty()) {
+    std::map<std::string, int> by_method;
+    for (const auto& c : res.not_tried) ++by_method[c.options.method];
+    std::string list;
+    for (const auto& [m, n] : by_method) list += (list.empty() ? "" : ", ") + m + " (" + std::to_string(n) + ")";
+    res.skipped.push_back(std::to_string(res.not_tried.size()) + " configurations estimated at more than " +
+                          fmt(req.cost_slack) + "x the first one under the bound (" + res.first_hit +
+                          "): " + list);
+  }
   return res;
 }
 
-std::string describe(const AutoResult& r) {
+std::string describe(const AutoResult& r, const std::string& metric) {
   std::ostringstream s;
   for (const auto& n : r.notes) s << "auto: " << n << "\n";
   if (!r.found) {
     s << "auto: no configuration meets the bound";
     const Row* best = nullptr;
     for (const auto& row : r.tried)
-      if (!best || row.sref.p99 < best->sref.p99) best = &row;
+      if (!best || metric_value(row.sref, metric) < metric_value(best->sref, metric)) best = &row;
     if (best)
-      s << "; closest: " << best->label << " (p99 " << fmt(best->sref.p99) << ", rmse " << fmt(best->sref.rmse)
-        << ", " << fmt(best->time_ms) << " ms)";
+      s << "; closest: " << best->label << " (" << metric << " " << fmt(metric_value(best->sref, metric)) << ", "
+        << fmt(best->time_ms) << " ms)";
     s << "\n";
   } else {
     const Row& c = r.chosen_row;
-    s << "auto: chose " << c.label << ": " << fmt(c.time_ms) << " ms (median of " << c.runs
-      << "), p99 " << fmt(c.sref.p99) << ", rmse " << fmt(c.sref.rmse) << ", max " << fmt(c.sref.max)
-      << ", " << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
+    s << "auto: chose " << c.label << ": " << fmt(c.time_ms) << " ms (median of " << c.runs << "), " << metric
+      << " " << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99) << ", rmse " << fmt(c.sref.rmse)
+      << ", max " << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
+    s << "auto: why: " << r.first_hit << " was the first configuration under the bound in estimated-cost order; "
+      << "the fastest measured of the " << r.tried.size() << " tried up to the cost slack\n";
   }
   for (const auto& k : r.skipped) s << "auto: skipped " << k << "\n";
-  for (const auto& row : r.tried) {
-    if (r.found && row.label == r.chosen_row.label) continue;
-    s << "auto:   tried " << row.label << ": " << fmt(row.time_ms) << " ms, p99 " << fmt(row.sref.p99)
-      << ", rmse " << fmt(row.sref.rmse) << "\n";
+  for (size_t i = 0; i < r.tried.size(); ++i) {
+    const Row& row = r.tried[i];
+    s << "auto:   tried " << row.label << ": " << fmt(row.time_ms) << " ms (estimate " << fmt(r.tried_cost[i], 3)
+      << "), " << metric << " " << fmt(metric_value(row.sref, metric)) << "\n";
   }
-  // Refusals grouped by reason (the storage-aware blur alone refuses a dozen).
+  // Refusals grouped by reason.
   std::map<std::string, std::string> by_reason;
   for (const auto& k : r.refused) {
-    std::string reason = k.reason;
-    const size_t colon = reason.find(':');
-    if (reason.rfind("--storage", 0) == 0 && colon != std::string::npos) reason = reason.substr(reason.find(' ', 10) + 1);
-    auto& list = by_reason[reason];
+    auto& list = by_reason[k.reason];
     list += (list.empty() ? "" : ", ") + k.label;
   }
   for (const auto& [reason, list] : by_reason) s << "auto: refused (" << reason << "): " << list << "\n";

@@ -136,28 +136,53 @@ std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string
 double row_metric(const Row& r, const std::string& metric);  // "p99", "hard_rmse", ...
 
 // --- --auto -----------------------------------------------------------------------------------
+// The search: every candidate (method x parameters x lookup x storage, esm also x classification)
+// is ordered by an estimated cost, measured in that order, and the search stops at the first one
+// whose error against s_ref of the target weights is <= max_error; candidates whose estimate is
+// within `cost_slack` of that first hit are measured too (the estimate is rough) and the fastest
+// measured one that meets the bound is chosen. What the scene does not need is never generated:
+// no mips / sat when every footprint <= 1 (they equal bilinear), no z-max pyramid unless a
+// candidate classifies; a larger csm order or a wider storage only comes after the cheaper ones.
 struct AutoRequest {
   double max_error = 0.05;
   std::string metric = "p99";  // against s_ref of the target weights
   double sref_bias = kDefaultSrefBias;
   FilterOptions target;        // its blur and lookup define the target weights
+  // true: the target lookup is what the scene needs (trilinear mips when some footprint > 1,
+  // bilinear otherwise) instead of target.lookup.
+  bool lookup_from_scene = false;
   std::vector<std::string> methods;  // empty = every method
   TimingSettings timing;
+  double cost_slack = 1.5;
 };
+struct AutoCandidate {
+  FilterOptions options;
+  double cost = 0;  // estimated ms on the development machine (ordering only)
+};
+// Estimated milliseconds of prefilter + reconstruct on a w x h map and n receivers: per-texel and
+// per-receiver costs by method, channels, storage bytes and lookup, taken from the quick grid on
+// the 2-core development machine (docs/results.md). Only its order matters.
+double estimated_cost(const FilterOptions& o, int map_w, int map_h, size_t receivers);
 struct AutoResult {
   bool found = false;
   FilterOptions chosen;
   Row chosen_row;
-  std::vector<std::string> skipped;  // "what: why"
-  std::vector<std::string> notes;    // what the scene needs
-  std::vector<Row> tried;
+  FilterOptions target;               // after the scene's needs (mips dropped when f <= 1)
+  std::string first_hit;              // label of the first candidate under the bound (cost order)
+  std::vector<std::string> skipped;   // "what: why"
+  std::vector<std::string> notes;     // what the scene needs
+  std::vector<Row> tried;             // measured, in cost order
+  std::vector<double> tried_cost;     // their estimates
+  std::vector<AutoCandidate> not_tried;  // costlier than cost_slack x the first hit
   std::vector<Skipped> refused;
 };
-// Picks the fastest configuration whose error against s_ref of the target weights stays under
-// max_error. pcf computes s_ref itself, so a choice always exists (up to float rounding).
+// Every candidate for the target on this scene, cheapest estimate first; `refused` gets those the
+// methods reject (e.g. esm c = 80 in f16).
+std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest& req, const FilterOptions& target,
+                                           std::vector<Skipped>* refused);
 // `progress` (may be empty) is called after each candidate with (done, total).
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                        const std::function<void(size_t, size_t)>& progress = {});
-std::string describe(const AutoResult& r);  // the lines --auto prints
+std::string describe(const AutoResult& r, const std::string& metric = "p99");  // the lines --auto prints
 
 }  // namespace sf::eval

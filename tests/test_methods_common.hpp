@@ -2,7 +2,9 @@
 // Helpers shared by the method tests: every basis method x storage the registry accepts, reading
 // stored planes back in any storage format, and structured depth maps.
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -110,6 +112,52 @@ inline std::vector<HostImage> stress_depths() {
   out.push_back(checker);
   out.push_back(random_depth(61, 47, 7));
   return out;
+}
+
+// Random stored texels of format s (bytes as the device reads them) and their values as sf_load
+// gives them (half: exponents 2^-10 .. 2^-1 with every mantissa; unorm: every code).
+struct StoredImage {
+  std::vector<uint8_t> bytes;
+  std::vector<float> values;
+};
+inline StoredImage random_stored(size_t count, Storage s, unsigned seed) {
+  StoredImage img;
+  img.bytes.resize(count * storage_bytes(s));
+  img.values.resize(count);
+  std::mt19937 rng(seed);
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t r = rng();
+    switch (s) {
+      case Storage::F32: {
+        const float v = float(r >> 8) * (1.0f / 16777216.0f);
+        std::memcpy(&img.bytes[4 * i], &v, 4);
+        img.values[i] = v;
+        break;
+      }
+      case Storage::F16: {
+        const uint16_t h = uint16_t(((5 + r % 10) << 10) | ((r >> 8) & 1023));
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = half_to_float(h);
+        break;
+      }
+      case Storage::Unorm16: {
+        const uint16_t h = uint16_t(r >> 16);
+        std::memcpy(&img.bytes[2 * i], &h, 2);
+        img.values[i] = h * (1.0f / 65535.0f);
+        break;
+      }
+      case Storage::Unorm8:
+        img.bytes[i] = uint8_t(r >> 24);
+        img.values[i] = img.bytes[i] * (1.0f / 255.0f);
+        break;
+    }
+  }
+  return img;
+}
+
+inline cl::Buffer stored_buffer(const StoredImage& img) {
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, img.bytes.size(),
+                    const_cast<uint8_t*>(img.bytes.data()));
 }
 
 }  // namespace sf::test

@@ -2,13 +2,13 @@
 // a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
 // a missing file or a missing map is an input error: exit 2, one line naming the problem, no output.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
 
@@ -16,24 +16,6 @@ namespace sf::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-size_t count_lines(const std::string& s) {
-  size_t n = 0;
-  for (char c : s) n += (c == '\n');
-  return n;
-}
 
 class SoftCli : public ::testing::Test {
  protected:
@@ -61,17 +43,7 @@ class SoftCli : public ::testing::Test {
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
   void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
   RunResult run(const std::string& args) const {
-    const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd = std::string(SF_CLI_PATH) + " soft --method pcss --light-extent 1 --light-size 0.2 " +
-                            args + " > " + out + " 2> " + err;
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
+    return run_cli("soft --method pcss --light-extent 1 --light-size 0.2 " + args, dir_);
   }
   void expect_input_error(const std::string& args, const std::string& expect) const {
     const RunResult r = run(args + " -o " + path("out.exr"));

@@ -172,12 +172,8 @@ __kernel void sf_pcf_points_footprint(__global const float* restrict depth, cons
                                       const int count, const float bias, const int radius,
                                       const sf_pcf_weights g, __global const float* restrict f) {
   const int i = get_global_id(0);
-  if (i >= count) return;
-  const float ui = u[i], vi = v[i], di = d[i];
-  if (sf_receiver_outside(ui, vi, di)) {
-    out[i] = 1.0f;
-    return;
-  }
+  float ui, vi, di;
+  if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, clamp(di, 0.0f, 1.0f),
                             bias, radius, &g);
 }
@@ -189,12 +185,8 @@ __kernel void sf_pcf_points(__global const float* restrict depth, const int widt
                             const int count, const float bias, const int radius,
                             const sf_pcf_weights g) {
   const int i = get_global_id(0);
-  if (i >= count) return;
-  const float ui = u[i], vi = v[i], di = d[i];
-  if (sf_receiver_outside(ui, vi, di)) {
-    out[i] = 1.0f;
-    return;
-  }
+  float ui, vi, di;
+  if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const float x = fma(ui, (float)width, -0.5f), y = fma(vi, (float)height, -0.5f);
   out[i] = sf_pcf(depth, width, height, x, y, clamp(di, 0.0f, 1.0f), bias, radius, &g);
 }

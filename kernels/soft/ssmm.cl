@@ -33,12 +33,8 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
                              __global const float* restrict f, __global float* restrict out,
                              const int count, const sf_soft_light L, const int n, const int mode) {
   const int i = get_global_id(0);
-  if (i >= count) return;
-  const float ui = u[i], vi = v[i], di = d[i];
-  if (sf_receiver_outside(ui, vi, di)) {
-    out[i] = 1.0f;
-    return;
-  }
+  float ui, vi, di;
+  if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const float dd = clamp(di, 0.0f, 1.0f);
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const int top = sf_mip_top(W, H);

@@ -32,6 +32,22 @@ Rx random_rx(int n, unsigned seed) {
   return r;
 }
 
+// n random_rx receivers with footprints (one row) and depths uniform in [dlo, dhi).
+Receivers random_receivers(int n, unsigned seed, unsigned depth_seed, float dlo, float dhi) {
+  const Rx r = random_rx(n, seed);
+  Receivers rx;
+  rx.width = n;
+  rx.height = 1;
+  rx.u = r.u;
+  rx.v = r.v;
+  rx.f = r.f;
+  rx.has_footprint = true;
+  std::mt19937 rng(depth_seed);
+  std::uniform_real_distribution<float> dd(dlo, dhi);
+  for (int i = 0; i < n; ++i) rx.d.push_back(dd(rng));
+  return rx;
+}
+
 // Device lookups of `img` (planar, N channels) at the receivers: out[c][i].
 std::vector<std::vector<float>> device_lookup(const ref::Planes& img, Lookup kind, const Rx& rx) {
   const ImageShape shape{img.width, img.height, img.channels, 4};
@@ -143,17 +159,7 @@ TEST_P(EsmLookupPipeline, MatchesReference) {
   HostImage depth = random_depth(70, 51, 3, 0.3f, 0.7f);
   for (int y = 10; y < 25; ++y)
     for (int x = 5; x < 40; ++x) depth.at(x, y) = 0.1f;
-  const Rx r = random_rx(500, 9);
-  Receivers rx;
-  rx.width = int(r.u.size());
-  rx.height = 1;
-  rx.u = r.u;
-  rx.v = r.v;
-  rx.f = r.f;
-  rx.has_footprint = true;
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<float> dd(0.2f, 0.9f);
-  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  const Receivers rx = random_receivers(500, 9, 4, 0.2f, 0.9f);
   const auto got = filter(runtime_ptr(), opt, depth, rx);
   const auto want = ref::filter(opt, depth, rx);
   // The box lookup subtracts table entries of the whole map's magnitude: float-float keeps about
@@ -165,10 +171,10 @@ TEST_P(EsmLookupPipeline, MatchesReference) {
   for (size_t i = 0; i < want.size(); ++i) {
     double tol = 2e-5 + 1e-7 * opt.esm.c;
     if (kind == Lookup::Sat) {
-      const double side = std::max(1.0, double(r.f[i]));
+      const double side = std::max(1.0, double(rx.f[i]));
       tol += 4 * std::ldexp(s_total, -44) / (side * side) * std::exp(opt.esm.c * (0.5 - double(rx.d[i])));
     }
-    ASSERT_NEAR(got.visibility.data[i], want[i], tol) << "receiver " << i << " f=" << r.f[i];
+    ASSERT_NEAR(got.visibility.data[i], want[i], tol) << "receiver " << i << " f=" << rx.f[i];
   }
 }
 
@@ -233,17 +239,7 @@ TEST_P(PcfFootprints, EqualsSRefWithTheSameWeights) {
   HostImage depth = random_depth(67, 45, 21, 0.0f, 1.0f);
   for (int y = 10; y < 30; ++y)
     for (int x = 20; x < 50; ++x) depth.at(x, y) = 0.1f;
-  const Rx r = random_rx(400, 31 + radius);
-  Receivers rx;
-  rx.width = int(r.u.size());
-  rx.height = 1;
-  rx.u = r.u;
-  rx.v = r.v;
-  rx.f = r.f;
-  rx.has_footprint = true;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> dd(0.05f, 0.95f);
-  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  const Receivers rx = random_receivers(400, 31 + radius, 5, 0.05f, 0.95f);
   expect_pcf_is_sref(opt, depth, rx, "67x45 kind " + std::to_string(int(kind)) + " R " + std::to_string(radius));
 }
 
@@ -257,17 +253,7 @@ TEST(PcfFootprints, SmIgnoresFootprints) {
   opt.method = "sm";
   opt.depth_test.bias = 0.0f;
   const HostImage depth = random_depth(40, 30, 8, 0.0f, 1.0f);
-  const Rx r = random_rx(200, 3);
-  Receivers rx;
-  rx.width = int(r.u.size());
-  rx.height = 1;
-  rx.u = r.u;
-  rx.v = r.v;
-  rx.f = r.f;
-  rx.has_footprint = true;
-  std::mt19937 rng(6);
-  std::uniform_real_distribution<float> dd(0.0f, 1.0f);
-  for (size_t i = 0; i < r.u.size(); ++i) rx.d.push_back(dd(rng));
+  const Receivers rx = random_receivers(200, 3, 6, 0.0f, 1.0f);
   const auto plain = filter(runtime_ptr(), opt, depth, rx).visibility.data;
   opt.lookup.kind = Lookup::Mips;
   const auto mips = filter(runtime_ptr(), opt, depth, rx).visibility.data;

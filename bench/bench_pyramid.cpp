@@ -103,16 +103,20 @@ void register_pyramid() {
   configure(benchmark::RegisterBenchmark("mips/chain", BM_MipChain))
       ->ArgNames({"size", "channels"})
       ->Args({512, 1})
+      ->Args({512, 4})
       ->Args({kMap, 1})
       ->Args({kMap, 4})
-      ->Args({4096, 1});
+      ->Args({4096, 1})
+      ->Args({4096, 4});
   configure(benchmark::RegisterBenchmark("mips/zmax_chain", BM_ZMaxChain))->ArgName("size")->Arg(512)->Arg(kMap)->Arg(4096);
   configure(benchmark::RegisterBenchmark("sat/table", BM_Sat))
       ->ArgNames({"size", "channels"})
       ->Args({512, 1})
+      ->Args({512, 4})
       ->Args({kMap, 1})
       ->Args({kMap, 4})
-      ->Args({4096, 1});
+      ->Args({4096, 1})
+      ->Args({4096, 4});
   configure(benchmark::RegisterBenchmark("esm_reconstruct/lookup_1920x1080_on_2048", BM_ReconstructLookup))
       ->ArgName("lookup")  // 0 bilinear, 1 mips (trilinear), 2 sat (box)
       ->Arg(0)

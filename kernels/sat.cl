@@ -1,52 +1,33 @@
-// Summed-area tables of planar N-channel images, accumulated in float-float ("double-float":
-// a value is hi + lo, two floats, about 48 significant bits) so that the table keeps its
-// precision at 4096x4096 (docs/lookups.md has the measured bound).
+// Summed-area tables of planar N-channel images, accumulated in double and stored as float-float
+// ("double-float": a value is hi + lo, two floats) so that the table keeps its precision at
+// 4096x4096 (docs/lookups.md has the measured bound).
 // Needs common.clh, storage.clh and vecio.clh before it.
 //
 // Layout (float): channel c has two planes of (W+1) x (H+1), row pitch W+1: hi at 2c P, lo at
 // (2c+1) P with P = (W+1)(H+1). S[y][x] = sum of texels [0, x) x [0, y) (row 0 and column 0
 // are zero), so the area-weighted sum over any box is a bilinear interpolation of S at its
-// corners (lookup.clh, sf_lookup_box).
+// corners (lookup.clh, sf_lookup_box). Every entry is the double sum split into hi = the
+// nearest float and lo = the nearest float to the (exact) remainder: |hi + lo - S| <= 2^-48 |S|
+// plus the double rounding of the sum, <= (x + y + band_rows) 2^-53 sum|texels| (worst case).
 //
 // Two launches:
-// - sf_sat_bands: column sums of each band of rows (float-float), one work-item per
+// - sf_sat_bands: column sums of each band of rows (double), one work-item per
 //   SF_SAT_STRIP columns x band x channel walking the band's rows in order.
 // - sf_sat_rows: one work-item per band x channel. Its first S row comes from the bands above
-//   (column carries, prefix along the row in float-float). The band's rows then go in blocks
-//   of 8 rows x 8 columns, left to right: the block is transposed in registers so that the
-//   row prefix becomes 8 sequential float-float additions with one row per vector lane (a
-//   running total per row carried from block to block), transposed back (hi and lo), and
-//   S[y+1] = S[y] + row prefix added down the block's columns from the S row above the block
-//   (written by the same work-item one block row earlier, still in cache). Every entry is the
-//   exact sum to about 2^-44 of its magnitude: no partial sum is ever rounded to float.
-// Traffic: the image is read twice (bands, rows) and the table written once; the old row-vector
-// version (a log-step prefix of 16 texels in float-float) spent ~4x the arithmetic per texel.
+//   (column carries, prefix along the row). The band's rows then go in blocks of 8 rows x 8
+//   columns, left to right: the block is transposed in registers so that the row prefix
+//   becomes 8 sequential double8 additions with one row per vector lane (a running total per
+//   row carried from block to block), transposed back, and S[y+1] = S[y] + row prefix added
+//   down the block's columns from the unrounded S row above the block (a double row per band
+//   in the scratch, still in cache).
+// Traffic: the image is read twice (bands, rows) and the table written once. The previous
+// float-float version was bound by the latency of its running sum (a chain of ~8 dependent
+// float additions per column step): a double addition is one.
 
-#define SF_DD_DEFINE(T, S)                                                           \
-  inline void sf_two_sum##S(T a, T b, T* s, T* e) {                                 \
-    *s = a + b;                                                                     \
-    const T bb = *s - a;                                                            \
-    *e = (a - (*s - bb)) + (b - bb);                                                \
-  }                                                                                 \
-  /* (hi, lo) += (bhi, blo) */                                                      \
-  inline void sf_dd_add##S(T* hi, T* lo, T bhi, T blo) {                            \
-    T s, e;                                                                         \
-    sf_two_sum##S(*hi, bhi, &s, &e);                                                \
-    e += *lo + blo;                                                                 \
-    *hi = s + e;                                                                    \
-    *lo = e - (*hi - s);                                                            \
-  }                                                                                 \
-  /* (hi, lo) += b */                                                               \
-  inline void sf_dd_add1##S(T* hi, T* lo, T b) {                                    \
-    T s, e;                                                                         \
-    sf_two_sum##S(*hi, b, &s, &e);                                                  \
-    e += *lo;                                                                       \
-    *hi = s + e;                                                                    \
-    *lo = e - (*hi - s);                                                            \
-  }
-SF_DD_DEFINE(float, )
-SF_DD_DEFINE(float8, 8)
-SF_DD_DEFINE(float16, 16)
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+
+typedef double8 __attribute__((aligned(8))) sf_double8u;
+typedef double16 __attribute__((aligned(8))) sf_double16u;
 
 // 16 texels of a stored plane row from x (zeros from W on).
 inline float16 sf_sat_load_stored(__global const sf_stored* row, int x, int W) {
@@ -61,18 +42,36 @@ inline float8 sf_sat_load_stored8(__global const sf_stored* row, int x, int W) {
   for (int i = 0; i < 8; ++i) t[i] = x + i < W ? sf_load(row, x + i) : 0.0f;
   return vload8(0, t);
 }
-// 16 floats from p[x] on, elements from n on read as 0.
-inline float16 sf_sat_load(__global const float* p, int x, int n) {
-  if (x + 16 <= n) return *(__global const sf_float16u*)(p + x);
-  float t[16];
-  for (int i = 0; i < 16; ++i) t[i] = x + i < n ? p[x + i] : 0.0f;
+// 16 / 8 doubles from p[x] on, elements from n on read as 0.
+inline double16 sf_sat_load16d(__global const double* p, int x, int n) {
+  if (x + 16 <= n) return *(__global const sf_double16u*)(p + x);
+  double t[16];
+  for (int i = 0; i < 16; ++i) t[i] = x + i < n ? p[x + i] : 0.0;
   return vload16(0, t);
 }
-inline float8 sf_sat_load8(__global const float* p, int x, int n) {
-  if (x + 8 <= n) return *(__global const sf_float8u*)(p + x);
-  float t[8];
-  for (int i = 0; i < 8; ++i) t[i] = x + i < n ? p[x + i] : 0.0f;
+inline double8 sf_sat_load8d(__global const double* p, int x, int n) {
+  if (x + 8 <= n) return *(__global const sf_double8u*)(p + x);
+  double t[8];
+  for (int i = 0; i < 8; ++i) t[i] = x + i < n ? p[x + i] : 0.0;
   return vload8(0, t);
+}
+inline void sf_sat_put16d(__global double* p, int x, int n, double16 v) {
+  if (x + 16 <= n) {
+    *(__global sf_double16u*)(p + x) = v;
+    return;
+  }
+  double t[16];
+  vstore16(v, 0, t);
+  for (int i = 0; i < 16 && x + i < n; ++i) p[x + i] = t[i];
+}
+inline void sf_sat_put8d(__global double* p, int x, int n, double8 v) {
+  if (x + 8 <= n) {
+    *(__global sf_double8u*)(p + x) = v;
+    return;
+  }
+  double t[8];
+  vstore8(v, 0, t);
+  for (int i = 0; i < 8 && x + i < n; ++i) p[x + i] = t[i];
 }
 inline void sf_sat_put(__global float* p, int x, int n, float16 v) {
   if (x + 16 <= n) {
@@ -94,108 +93,106 @@ inline void sf_sat_put8(__global float* p, int x, int n, float8 v) {
 }
 
 // In-register 8x8 transpose (unpack, 4-lane shuffle, 128-bit lane permute: 24 shuffles).
-#define SF_UNPACKLO(a, b) (float8)((a).s0, (b).s0, (a).s1, (b).s1, (a).s4, (b).s4, (a).s5, (b).s5)
-#define SF_UNPACKHI(a, b) (float8)((a).s2, (b).s2, (a).s3, (b).s3, (a).s6, (b).s6, (a).s7, (b).s7)
-#define SF_SHUFLO(a, b) (float8)((a).s0, (a).s1, (b).s0, (b).s1, (a).s4, (a).s5, (b).s4, (b).s5)
-#define SF_SHUFHI(a, b) (float8)((a).s2, (a).s3, (b).s2, (b).s3, (a).s6, (a).s7, (b).s6, (b).s7)
-#define SF_PERMLO(a, b) (float8)((a).lo, (b).lo)
-#define SF_PERMHI(a, b) (float8)((a).hi, (b).hi)
-#define SF_TRANSPOSE8(r0, r1, r2, r3, r4, r5, r6, r7)                                  \
+#define SF_UNPACKLO(T, a, b) (T)((a).s0, (b).s0, (a).s1, (b).s1, (a).s4, (b).s4, (a).s5, (b).s5)
+#define SF_UNPACKHI(T, a, b) (T)((a).s2, (b).s2, (a).s3, (b).s3, (a).s6, (b).s6, (a).s7, (b).s7)
+#define SF_SHUFLO(T, a, b) (T)((a).s0, (a).s1, (b).s0, (b).s1, (a).s4, (a).s5, (b).s4, (b).s5)
+#define SF_SHUFHI(T, a, b) (T)((a).s2, (a).s3, (b).s2, (b).s3, (a).s6, (a).s7, (b).s6, (b).s7)
+#define SF_PERMLO(T, a, b) (T)((a).lo, (b).lo)
+#define SF_PERMHI(T, a, b) (T)((a).hi, (b).hi)
+// T: float8 or double8.
+#define SF_TRANSPOSE8(T, r0, r1, r2, r3, r4, r5, r6, r7)                               \
   {                                                                                     \
-    const float8 t0 = SF_UNPACKLO(r0, r1), t1 = SF_UNPACKHI(r0, r1);                    \
-    const float8 t2 = SF_UNPACKLO(r2, r3), t3 = SF_UNPACKHI(r2, r3);                    \
-    const float8 t4 = SF_UNPACKLO(r4, r5), t5 = SF_UNPACKHI(r4, r5);                    \
-    const float8 t6 = SF_UNPACKLO(r6, r7), t7 = SF_UNPACKHI(r6, r7);                    \
-    const float8 s0 = SF_SHUFLO(t0, t2), s1 = SF_SHUFHI(t0, t2);                        \
-    const float8 s2 = SF_SHUFLO(t1, t3), s3 = SF_SHUFHI(t1, t3);                        \
-    const float8 s4 = SF_SHUFLO(t4, t6), s5 = SF_SHUFHI(t4, t6);                        \
-    const float8 s6 = SF_SHUFLO(t5, t7), s7 = SF_SHUFHI(t5, t7);                        \
-    r0 = SF_PERMLO(s0, s4);                                                             \
-    r1 = SF_PERMLO(s1, s5);                                                             \
-    r2 = SF_PERMLO(s2, s6);                                                             \
-    r3 = SF_PERMLO(s3, s7);                                                             \
-    r4 = SF_PERMHI(s0, s4);                                                             \
-    r5 = SF_PERMHI(s1, s5);                                                             \
-    r6 = SF_PERMHI(s2, s6);                                                             \
-    r7 = SF_PERMHI(s3, s7);                                                             \
+    const T t0 = SF_UNPACKLO(T, r0, r1), t1 = SF_UNPACKHI(T, r0, r1);                   \
+    const T t2 = SF_UNPACKLO(T, r2, r3), t3 = SF_UNPACKHI(T, r2, r3);                   \
+    const T t4 = SF_UNPACKLO(T, r4, r5), t5 = SF_UNPACKHI(T, r4, r5);                   \
+    const T t6 = SF_UNPACKLO(T, r6, r7), t7 = SF_UNPACKHI(T, r6, r7);                   \
+    const T s0 = SF_SHUFLO(T, t0, t2), s1 = SF_SHUFHI(T, t0, t2);                       \
+    const T s2 = SF_SHUFLO(T, t1, t3), s3 = SF_SHUFHI(T, t1, t3);                       \
+    const T s4 = SF_SHUFLO(T, t4, t6), s5 = SF_SHUFHI(T, t4, t6);                       \
+    const T s6 = SF_SHUFLO(T, t5, t7), s7 = SF_SHUFHI(T, t5, t7);                       \
+    r0 = SF_PERMLO(T, s0, s4);                                                          \
+    r1 = SF_PERMLO(T, s1, s5);                                                          \
+    r2 = SF_PERMLO(T, s2, s6);                                                          \
+    r3 = SF_PERMLO(T, s3, s7);                                                          \
+    r4 = SF_PERMHI(T, s0, s4);                                                          \
+    r5 = SF_PERMHI(T, s1, s5);                                                          \
+    r6 = SF_PERMHI(T, s2, s6);                                                          \
+    r7 = SF_PERMHI(T, s3, s7);                                                          \
   }
 
 #ifndef SF_SAT_STRIP
 #define SF_SAT_STRIP 256
 #endif
 
-// Band sums: bands (float) holds, for channel c and band b, the hi row at ((c nb + b) 2) W and
-// the lo row right after it. One work-item per SF_SAT_STRIP columns x band x channel walks the
-// band's rows in order (contiguous reads), its column sums in the output rows (in L1).
+// S = hi + lo: hi the nearest float, lo the nearest float to the exact double d - hi.
+inline void sf_sat_split8(double8 d, float8* hi, float8* lo) {
+  *hi = convert_float8(d);
+  *lo = convert_float8(d - convert_double8(*hi));
+}
+
+// Band sums: scratch (double) holds, for channel c and band b, the column sums of the band's
+// rows at (c nb + b) W. One work-item per SF_SAT_STRIP columns x band x channel walks the
+// band's rows in order (contiguous reads), its column sums in the output row (in L1).
 // NDRange (ceil(W / SF_SAT_STRIP), nb, N), local (1, 1, 1).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_bands(
     __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
-    const int nb, __global float* restrict bands) {
+    const int nb, __global double* restrict scratch) {
   const int xs = get_global_id(0) * SF_SAT_STRIP, b = get_global_id(1), c = get_global_id(2);
   const int xe = min(W, xs + SF_SAT_STRIP);
   __global const sf_stored* plane = src + (size_t)c * W * H;
   const int y0 = b * band_rows, y1 = min(H, y0 + band_rows);
-  __global float* oh = bands + (size_t)(c * nb + b) * 2 * W;
-  __global float* ol = oh + W;
-  for (int x = xs; x < xe; x += 16) {
-    sf_sat_put(oh, x, xe, sf_sat_load_stored(plane + (size_t)y0 * W, x, W));
-    sf_sat_put(ol, x, xe, (float16)(0.0f));
-  }
+  __global double* o = scratch + (size_t)(c * nb + b) * W;
+  for (int x = xs; x < xe; x += 16)
+    sf_sat_put16d(o, x, xe, convert_double16(sf_sat_load_stored(plane + (size_t)y0 * W, x, W)));
   for (int y = y0 + 1; y < y1; ++y) {
     __global const sf_stored* row = plane + (size_t)y * W;
     if (xe - xs == SF_SAT_STRIP) {
-      for (int x = xs; x < xe; x += 16) {
-        float16 hi = *(__global sf_float16u*)(oh + x), lo = *(__global sf_float16u*)(ol + x);
-        sf_dd_add116(&hi, &lo, SF_VLOAD(16, row, x));
-        *(__global sf_float16u*)(oh + x) = hi;
-        *(__global sf_float16u*)(ol + x) = lo;
-      }
+      for (int x = xs; x < xe; x += 16)
+        *(__global sf_double16u*)(o + x) += convert_double16(SF_VLOAD(16, row, x));
     } else {
-      for (int x = xs; x < xe; x += 16) {
-        float16 hi = sf_sat_load(oh, x, xe), lo = sf_sat_load(ol, x, xe);
-        sf_dd_add116(&hi, &lo, sf_sat_load_stored(row, x, W));
-        sf_sat_put(oh, x, xe, hi);
-        sf_sat_put(ol, x, xe, lo);
-      }
+      for (int x = xs; x < xe; x += 16)
+        sf_sat_put16d(o, x, xe, sf_sat_load16d(o, x, xe) + convert_double16(sf_sat_load_stored(row, x, W)));
     }
   }
 }
 
-// NDRange (nb, N), local (1, 1): see the file comment.
+// NDRange (nb, N), local (1, 1): see the file comment. scratch: the band sums (N nb W doubles)
+// then one row of W doubles per band and channel (the band's last S row, unrounded).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
     __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
-    const int nb, __global const float* restrict bands, __global float* restrict sat) {
+    const int nb, __global double* restrict scratch, __global float* restrict sat) {
   const int b = get_global_id(0), c = get_global_id(1);
   const int y0 = b * band_rows, y1 = min(H, y0 + band_rows);
-  const int Wp = W + 1;
+  const int Wp = W + 1, N = get_global_size(1);
   const size_t P = (size_t)Wp * (H + 1);
   __global float* shi = sat + 2 * c * P;
   __global float* slo = shi + P;
   __global const sf_stored* plane = src + (size_t)c * W * H;
-  __global const float* cb = bands + (size_t)c * nb * 2 * W;
+  __global const double* cb = scratch + (size_t)c * nb * W;
+  __global double* vrow = scratch + (size_t)(N + c) * nb * W + (size_t)b * W;
 
   // S row y0: prefix along x of the column carries sum_{b' < b} bands(b').
   {
-    float thi = 0.0f, tlo = 0.0f;
+    double t = 0.0;
     __global float* rh = shi + (size_t)y0 * Wp;
     __global float* rl = slo + (size_t)y0 * Wp;
     rh[0] = 0.0f;
     rl[0] = 0.0f;
-    for (int x = 0; x < W; x += 16) {
-      float16 chi = 0.0f, clo = 0.0f;
-      for (int k = 0; k < b; ++k)
-        sf_dd_add16(&chi, &clo, sf_sat_load(cb + (size_t)k * 2 * W, x, W),
-                    sf_sat_load(cb + (size_t)k * 2 * W + W, x, W));
-      float h[16], l[16];
-      vstore16(chi, 0, h);
-      vstore16(clo, 0, l);
-      for (int i = 0; i < 16 && x + i < W; ++i) {
-        sf_dd_add(&thi, &tlo, h[i], l[i]);
-        h[i] = thi;
-        l[i] = tlo;
+    for (int x = 0; x < W; x += 8) {
+      double8 cs = 0.0;
+      for (int k = 0; k < b; ++k) cs += sf_sat_load8d(cb + (size_t)k * W, x, W);
+      double d[8];
+      vstore8(cs, 0, d);
+      for (int i = 0; i < 8; ++i) {
+        t += d[i];
+        d[i] = t;
       }
-      sf_sat_put(rh + 1, x, W, vload16(0, h));
-      sf_sat_put(rl + 1, x, W, vload16(0, l));
+      const double8 s = vload8(0, d);
+      sf_sat_put8d(vrow, x, W, s);
+      float8 h, l;
+      sf_sat_split8(s, &h, &l);
+      sf_sat_put8(rh + 1, x, W, h);
+      sf_sat_put8(rl + 1, x, W, l);
     }
   }
   // Input rows ys .. ys + 7 -> S rows ys + 1 .. ys + 8. The band owns S rows y0 .. y1 - 1
@@ -207,13 +204,14 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
       shi[(size_t)(ys + 1 + i) * Wp] = 0.0f;
       slo[(size_t)(ys + 1 + i) * Wp] = 0.0f;
     }
-    float8 thi = 0.0f, tlo = 0.0f;  // running row totals, lane i = row ys + i
-    __global const float* ah = shi + (size_t)ys * Wp + 1;
-    __global const float* al = slo + (size_t)ys * Wp + 1;
+    double8 t = 0.0;  // running row totals, lane i = row ys + i
     __global const sf_stored* in = plane + (size_t)ys * W;
+    __global float* oh = shi + (size_t)(ys + 1) * Wp + 1;
+    __global float* ol = slo + (size_t)(ys + 1) * Wp + 1;
     for (int x = 0; x < W; x += 8) {
+      const bool full = nr == 8 && x + 8 <= W;
       float8 r0, r1, r2, r3, r4, r5, r6, r7;
-      if (nr == 8 && x + 8 <= W) {
+      if (full) {
         r0 = SF_VLOAD(8, in, x);
         r1 = SF_VLOAD(8, in + W, x);
         r2 = SF_VLOAD(8, in + 2 * W, x);
@@ -233,30 +231,33 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
         r6 = nr > 6 ? sf_sat_load_stored8(in + 6 * W, x, W) : z;
         r7 = nr > 7 ? sf_sat_load_stored8(in + 7 * W, x, W) : z;
       }
-      SF_TRANSPOSE8(r0, r1, r2, r3, r4, r5, r6, r7)  // r_j = column x + j, lane i = row ys + i
-      float8 h0, h1, h2, h3, h4, h5, h6, h7, l0, l1, l2, l3, l4, l5, l6, l7;
-#define SF_STEP(j) sf_dd_add18(&thi, &tlo, r##j); h##j = thi; l##j = tlo;
+      SF_TRANSPOSE8(float8, r0, r1, r2, r3, r4, r5, r6, r7)  // r_j = column x + j, lane i = row ys + i
+      double8 h0, h1, h2, h3, h4, h5, h6, h7;
+#define SF_STEP(j) t += convert_double8(r##j); h##j = t;
       SF_STEP(0) SF_STEP(1) SF_STEP(2) SF_STEP(3) SF_STEP(4) SF_STEP(5) SF_STEP(6) SF_STEP(7)
 #undef SF_STEP
-      SF_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7)  // h_i + l_i = row ys + i's prefix, columns x..
-      SF_TRANSPOSE8(l0, l1, l2, l3, l4, l5, l6, l7)
-      float8 vh = sf_sat_load8(ah, x, W), vl = sf_sat_load8(al, x, W);
-      __global float* oh = shi + (size_t)(ys + 1) * Wp + 1;
-      __global float* ol = slo + (size_t)(ys + 1) * Wp + 1;
-      if (nr == 8 && x + 8 <= W) {
+      SF_TRANSPOSE8(double8, h0, h1, h2, h3, h4, h5, h6, h7)  // h_i = row ys + i's prefix, columns x..
+      // Rows past nr are zero (their prefixes too): v ends as S row ys + nr.
+      double8 v = sf_sat_load8d(vrow, x, W);
+      float8 fh, fl;
+      if (full) {
 #define SF_OUT(i)                                                 \
-  sf_dd_add8(&vh, &vl, h##i, l##i);                               \
-  *(__global sf_float8u*)(oh + (size_t)(i) * Wp + x) = vh;        \
-  *(__global sf_float8u*)(ol + (size_t)(i) * Wp + x) = vl;
+  v += h##i;                                                      \
+  sf_sat_split8(v, &fh, &fl);                                     \
+  *(__global sf_float8u*)(oh + (size_t)(i) * Wp + x) = fh;        \
+  *(__global sf_float8u*)(ol + (size_t)(i) * Wp + x) = fl;
         SF_OUT(0) SF_OUT(1) SF_OUT(2) SF_OUT(3) SF_OUT(4) SF_OUT(5) SF_OUT(6) SF_OUT(7)
 #undef SF_OUT
+        *(__global sf_double8u*)(vrow + x) = v;
       } else {
-        const float8 ph[8] = {h0, h1, h2, h3, h4, h5, h6, h7}, pl[8] = {l0, l1, l2, l3, l4, l5, l6, l7};
+        const double8 ph[8] = {h0, h1, h2, h3, h4, h5, h6, h7};
         for (int i = 0; i < nr; ++i) {
-          sf_dd_add8(&vh, &vl, ph[i], pl[i]);
-          sf_sat_put8(oh + (size_t)i * Wp, x, W, vh);
-          sf_sat_put8(ol + (size_t)i * Wp, x, W, vl);
+          v += ph[i];
+          sf_sat_split8(v, &fh, &fl);
+          sf_sat_put8(oh + (size_t)i * Wp, x, W, fh);
+          sf_sat_put8(ol + (size_t)i * Wp, x, W, fl);
         }
+        sf_sat_put8d(vrow, x, W, v);
       }
     }
   }

@@ -1,5 +1,5 @@
-// Summed-area tables (kernels/sat.cl): two launches, float-float accumulation, the row prefix
-// in transposed 8x8 blocks.
+// Summed-area tables (kernels/sat.cl): two launches, double accumulation stored as float-float,
+// the row prefix in transposed 8x8 blocks.
 #include <algorithm>
 #include <string>
 
@@ -14,13 +14,13 @@ constexpr int kStrip = 256;  // columns per work-item of sf_sat_bands (SF_SAT_ST
 SatLayout sat_layout(const ImageShape& shape) {
   SatLayout L;
   // Bands of rows: one work-item each in the second launch. 16 bands keep two CPU cores busy
-  // while the carries a band reads (the column sums of the bands above it, 8 bytes per column
-  // each) stay a few percent of the image.
+  // while the carries a band reads (the column sums of the bands above it, one double per
+  // column each) stay a few percent of the image.
   L.bands = std::clamp(shape.height / 32, 1, 16);
   L.band_rows = (shape.height + L.bands - 1) / L.bands;
   L.bands = (shape.height + L.band_rows - 1) / L.band_rows;
   L.table_floats = 2 * size_t(shape.channels) * (size_t(shape.width) + 1) * (size_t(shape.height) + 1);
-  L.band_floats = 2 * size_t(shape.channels) * L.bands * size_t(shape.width);
+  L.band_floats = 4 * size_t(shape.channels) * L.bands * size_t(shape.width);  // 2 rows of doubles
   return L;
 }
 

@@ -44,7 +44,7 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
 struct SatLayout {
   int bands = 1, band_rows = 1;  // row bands of the two-launch build
   size_t table_floats = 0;       // 2 channels (W+1)(H+1)
-  size_t band_floats = 0;        // scratch: 2 channels bands W
+  size_t band_floats = 0;        // scratch: 4 channels bands W (band sums and rows, double)
 };
 SatLayout sat_layout(const ImageShape& shape);
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,

@@ -191,6 +191,33 @@ TEST(CsmDefaults, LitReceiversLitAndErrorFallsWithOrder) {
   }
 }
 
+// The unorm transform gives codes straight from the scaled recurrence (csm.clh: unorm8 unclamped,
+// its range argued from the error bound). Dense depths over [0, 1] at the highest order (the most
+// recurrence drift), 4133 texels so that the last work-item's scalar tail is checked too: every
+// code within one of the reference's rounding (float error plus one step, as in test_methods.cpp;
+// a code that wrapped past 255 or below 0 would be off by the whole range).
+TEST(CsmUnormCodes, DenseDepthsWithinOneCode) {
+  HostImage depth(4133, 1, 1);
+  for (int i = 0; i < depth.width; ++i) depth.at(i, 0) = float(i) / float(depth.width - 1);
+  cl::Buffer z = to_device(depth.data);
+  for (Storage st : {Storage::Unorm8, Storage::Unorm16})
+    for (int M : {1, 7, 32}) {
+      const MethodCase mc{"csm", st, M};
+      const FilterOptions opt = mc.options();
+      const MethodDesc& m = find_method("csm");
+      const size_t n = depth.texels() * m.channels(opt);
+      cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(st));
+      enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+      const auto got = read_stored(basis, n, st);
+      const auto want = ref::transform(opt, depth);
+      const double step = storage_step(0.5, st), tol = 2e-6 + 6e-7 * M + step;
+      double worst = 0;
+      for (size_t i = 0; i < n; ++i)
+        worst = std::max(worst, std::fabs(got[i] - ref::quantise(want.data[i], st)));
+      EXPECT_LE(worst, tol) << storage_name(st) << " M=" << M;
+    }
+}
+
 // msm in unorm16: quantising the optimised moments (steps of 1.5e-5) moves the power moments by
 // ~1e-5, against a moment bias of 6e-5; a flat receiver near depth 0 then falls in its own shadow.
 // The smallest depth bias that keeps d = z lit for z = k/256 is the unorm16 default.

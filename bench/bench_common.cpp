@@ -80,6 +80,36 @@ cl::Buffer device_buffer(size_t bytes) {
   return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, bytes);
 }
 
+LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape,
+                            const cl::Buffer& footprint) {
+  LookupBuffers lk;
+  lk.kind = kind;
+  lk.footprint = footprint;
+  if (kind == Lookup::Mips) {
+    lk.chain = device_buffer(mip_layout(shape.width, shape.height, shape.channels).chain_values * sizeof(float));
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, basis, lk.chain, shape).last.wait();
+  } else if (kind == Lookup::Sat) {
+    const SatLayout L = sat_layout(shape);
+    lk.sat = device_buffer(L.table_floats * sizeof(float));
+    cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
+    enqueue_sat(runtime(), Storage::F32, basis, lk.sat, bands, shape).last.wait();
+  }
+  return lk;
+}
+
+void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, unsigned seed) {
+  const size_t values = shape.plane_texels() * shape.channels;
+  const size_t chain_values = mip_layout(shape.width, shape.height, shape.channels).chain_values;
+  cl::Buffer src = to_device(random_floats(values, seed));
+  cl::Buffer chain = device_buffer(std::max<size_t>(chain_values, 1) * sizeof(float));
+  const double s = time_runs(state, [&] {
+    PassEvents e = enqueue_pyramid(runtime(), op, Storage::F32, src, chain, shape);
+    e.last.wait();
+    return event_seconds(e.first, e.last);
+  });
+  set_throughput(state, 4.0 * double(values + chain_values), double(values), s);
+}
+
 int repetitions() { return int(env_number("SF_BENCH_REPETITIONS", 5, 1)); }
 
 benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/pyramids.hpp"
 #include "shadowfilter/runtime.hpp"
 
 namespace sf::bench {
@@ -44,6 +45,16 @@ std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float
 // A device buffer holding `host`, and an uninitialised one of `bytes`.
 cl::Buffer to_device(const std::vector<float>& host);
 cl::Buffer device_buffer(size_t bytes);
+// The table a footprint lookup reads, built (and waited for) outside the timing from a float32
+// basis of `shape`: mips -> the mean chain, sat -> the float-float table, bilinear -> none.
+// bench_pyramid.cpp still builds its own (same code; to be switched over by its owner).
+LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape,
+                            const cl::Buffer& footprint);
+
+// A mip pyramid (Reduce::Mean of `shape.channels` planes, or the Max / Min depth pyramids) of
+// random float32 values, timed from its first to its last launch; bytes: level 0 read + every
+// level written. For bench_coverage.cpp (z-min); bench_pyramid.cpp may call it for mean / z-max.
+void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, unsigned seed);
 
 // Repetitions per benchmark: 5, or SF_BENCH_REPETITIONS.
 int repetitions();

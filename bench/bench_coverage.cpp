@@ -1,6 +1,7 @@
 // 8. What issue 6 asks beyond the per-kernel suites: every reconstruction (each method x each
-// lookup: bilinear, trilinear mips, SAT box) at 512, 2048 and 4096 maps, and the scalar double
-// reference of the transform, the mip chain, the SAT and s_ref in the same binary.
+// lookup: bilinear, trilinear mips, SAT box), the z-min pyramid and the ESM failure
+// classification (zmax, threshold) at 512, 2048 and 4096 maps, and the scalar double reference
+// of the transform, the mip chain, the SAT and s_ref in the same binary.
 // Receivers: 512x512 random points with footprints 1..64 texels (log-uniform), so every LOD is
 // read; tables built once outside the timing. csm at order 4 (8 channels: a 4096 SAT of order 8
 // would need 2 GiB). Bytes per receiver: u, v, d, f read + v written, plus the taps the lookup
@@ -67,18 +68,7 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   const ImageShape shape{n, n, ch, 4};
   cl::Buffer basis = device_buffer(shape.bytes());
   enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
-  LookupBuffers lk;
-  lk.kind = kind;
-  lk.footprint = rx.f;
-  if (kind == Lookup::Mips) {
-    lk.chain = device_buffer(mip_layout(n, n, ch).chain_values * sizeof(float));
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, basis, lk.chain, shape).last.wait();
-  } else if (kind == Lookup::Sat) {
-    const SatLayout L = sat_layout(shape);
-    lk.sat = device_buffer(L.table_floats * sizeof(float));
-    cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
-    enqueue_sat(runtime(), Storage::F32, basis, lk.sat, bands, shape).last.wait();
-  }
+  const LookupBuffers lk = lookup_tables(kind, basis, shape, rx.f);
   const double s = time_runs(state, [&] {
     cl::Event e = enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx,
                                              nullptr, &lk);
@@ -88,6 +78,43 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   const double taps = kind == Lookup::Bilinear ? 4.0 : 8.0;
   state.counters["channels"] = ch;
   set_throughput(state, (20.0 + 4.0 * taps * ch) * kRx, double(kRx), s);
+}
+
+// The z-min pyramid of the raw depth (ssmm's blocker search); mean and z-max: bench_pyramid.cpp.
+void BM_ZMinChain(benchmark::State& state) {
+  time_chain(state, Reduce::Min, ImageShape{int(state.range(0)), int(state.range(0)), 1, 4}, 26);
+}
+
+// ESM failure classification (mode 1 zmax, 2 threshold) of the random receivers after an esm
+// reconstruction with trilinear mips; the basis, its chain and the z-max pyramid are built once.
+// Bytes per receiver: u, v, d, f, visibility read and visibility written (24), one flag byte.
+void BM_EsmClassify(benchmark::State& state) {
+  const int n = int(state.range(0));
+  FilterOptions opt;  // esm, c = 80
+  opt.esm_classify.mode = state.range(1) == 1 ? EsmClassify::ZMax : EsmClassify::Threshold;
+  opt.lookup.kind = Lookup::Mips;
+  const MethodDesc& esm = find_method("esm");
+  const RandomReceivers& rx = receivers();
+  const ImageShape shape{n, n, 1, 4};
+  ClassifyInputs in;
+  in.width = in.height = n;
+  in.depth = to_device(random_floats(shape.plane_texels(), 27, 0.2f, 0.8f));
+  in.basis = device_buffer(shape.bytes());
+  enqueue_transform(runtime(), esm, opt, in.depth, n, n, in.basis).wait();
+  in.lookup = lookup_tables(Lookup::Mips, in.basis, shape, rx.f);
+  if (opt.esm_classify.mode == EsmClassify::ZMax) {
+    in.zmax_chain = device_buffer(std::max<size_t>(mip_layout(n, n, 1).chain_values, 1) * sizeof(float));
+    enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, in.depth, in.zmax_chain, shape).last.wait();
+  }
+  enqueue_reconstruct_points(runtime(), esm, opt, in.basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx, nullptr, &in.lookup)
+      .wait();
+  cl::Buffer flags = device_buffer(kRx);
+  const double s = time_runs(state, [&] {
+    cl::Event e = enqueue_esm_classify_points(runtime(), opt, in, rx.u, rx.v, rx.d, rx.vis, flags, kRx);
+    e.wait();
+    return event_seconds(e);
+  });
+  set_throughput(state, 25.0 * kRx, double(kRx), s);
 }
 
 HostImage random_depth(int n, unsigned seed) {
@@ -159,6 +186,16 @@ void register_coverage() {
       for (int lookup : {0, 1, 2})
         if (!m.raw_depth || lookup == 0) b->Args({size, lookup});
   }
+  configure(benchmark::RegisterBenchmark("mips/zmin_chain", BM_ZMinChain))
+      ->Repetitions(reps())
+      ->ArgName("size")
+      ->Arg(512)
+      ->Arg(2048)
+      ->Arg(4096);
+  configure(benchmark::RegisterBenchmark("esm_classify/points_512x512", BM_EsmClassify))
+      ->Repetitions(reps())
+      ->ArgNames({"size", "mode"})  // mode: 1 zmax, 2 threshold
+      ->ArgsProduct({{512, 2048, 4096}, {1, 2}});
   for (const auto& m : methods())
     if (!m.raw_depth)
       configure(benchmark::RegisterBenchmark(("reference/transform/" + m.name).c_str(), BM_RefTransform, m.name))

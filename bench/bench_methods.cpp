@@ -1,18 +1,22 @@
 // 6. Every method's kernels (issue 3): the basis transform of every basis method x storage it
-// accepts (csm at M = 4, 8, 16) at 2048^2 and every transform vector width (1 = one texel per
-// work-item, 4/8/16 = sf_transformv), the reconstruction of each method (sm / pcf: the raw-depth
-// test) at 1920x1080 random receivers on a 2048 map, and cv::pyrDown beside our mean pyramid
-// (bench_pyramid.cpp) as a baseline. Device time from profiling events; bytes are what the kernel
-// must move at least (transform: 4 bytes read + the basis bytes written per texel), so
-// bw_fraction is the transform's throughput as a fraction of the copy bandwidth.
+// accepts (csm at M = 4, 8, 16; the case list of shadowfilter/method_cases.hpp, shared with the
+// method tests) at 2048^2 and every transform vector width (1 = one texel per work-item,
+// 4/8/16 = sf_transformv), and at 512^2 and 4096^2 with the default width 16 (csm at M = 4 only
+// at 4096: M = 16 in f32 is 2 GiB of basis); the reconstruction of each method (sm / pcf: the
+// raw-depth test) at 1920x1080 random receivers on 512, 2048 and 4096 maps; and cv::pyrDown
+// beside our mean pyramid (bench_pyramid.cpp) as a baseline. Device time from profiling events;
+// bytes are what the kernel must move at least (transform: 4 bytes read + the basis bytes written
+// per texel), so bw_fraction is the transform's throughput as a fraction of the copy bandwidth.
 // Registered statically (no edit to bench_main.cpp): configure() and the copy bandwidth are
 // read when the benchmarks run, after main has measured it.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "bench_common.hpp"
 #include "shadowfilter/kernels.hpp"
+#include "shadowfilter/method_cases.hpp"
 #include "shadowfilter/methods.hpp"
 
 #ifdef SF_HAVE_OPENCV
@@ -21,16 +25,6 @@
 
 namespace sf::bench {
 namespace {
-
-FilterOptions options_for(const std::string& method, Storage storage = Storage::F32,
-                          int csm_order = 8) {
-  FilterOptions o;
-  o.method = method;
-  o.storage = storage;
-  o.csm.order = csm_order;
-  if (method == "esm" && storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
-  return o;
-}
 
 // Args: map size, transform vector width.
 void BM_Transform(benchmark::State& state, FilterOptions opt) {
@@ -51,10 +45,11 @@ void BM_Transform(benchmark::State& state, FilterOptions opt) {
   set_throughput(state, double(sizeof(float) * texels + out_bytes), double(texels), s);
 }
 
+// Arg: map size.
 void BM_Reconstruct(benchmark::State& state, std::string method) {
-  const int n = 2048;
+  const int n = static_cast<int>(state.range(0));
   const size_t texels = size_t(n) * n, count = size_t(1920) * 1080;
-  const FilterOptions opt = options_for(method);
+  const FilterOptions opt = MethodCase{method, Storage::F32, 8}.options();
   const MethodDesc& m = find_method(method);
   cl::Buffer depth = to_device(random_floats(texels, 3));
   cl::Buffer u = to_device(random_floats(count, 4)), v = to_device(random_floats(count, 5)),
@@ -95,21 +90,26 @@ void BM_OpenCvPyrDownChain(benchmark::State& state) {
 #endif
 
 const bool registered = [] {
-  for (const auto& m : methods()) {
-    for (Storage st : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
-      if (m.raw_depth || m.storages.find(storage_name(st)) == std::string::npos) continue;
-      for (int order : m.name == "csm" ? std::vector<int>{4, 8, 16} : std::vector<int>{0}) {
-        const std::string name = "transform/" + m.name + "/" + storage_name(st) +
-                                 (order ? "/M" + std::to_string(order) : "");
-        configure(benchmark::RegisterBenchmark(name.c_str(), BM_Transform,
-                                               options_for(m.name, st, order ? order : 8)))
-            ->ArgNames({"size", "vec"})
-            ->ArgsProduct({{2048}, {1, 4, 8, 16}});
-      }
-    }
-    configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_1920x1080_on_2048").c_str(),
-                                           BM_Reconstruct, m.name));
+  for (const MethodCase& mc : method_storage_cases({4, 8, 16})) {
+    const std::string name = "transform/" + mc.method + "/" + storage_name(mc.storage) +
+                             (mc.method == "csm" ? "/M" + std::to_string(mc.csm_order) : "");
+    auto* b = configure(benchmark::RegisterBenchmark(name.c_str(), BM_Transform, mc.options()))
+                  ->ArgNames({"size", "vec"})
+                  ->ArgsProduct({{2048}, {1, 4, 8, 16}})
+                  ->Args({512, 16});
+    if (mc.method != "csm" || mc.csm_order == 4) b->Args({4096, 16});
   }
+  // 4096: at most 2 repetitions (csm takes about a second a run on the loaded 2-core machine).
+  for (const auto& m : methods())
+    for (bool large : {false, true}) {
+      auto* b = configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_1920x1080").c_str(),
+                                                       BM_Reconstruct, m.name))
+                    ->ArgName("size");
+      if (large)
+        b->Repetitions(std::min(2, repetitions()))->Arg(4096);
+      else
+        b->Arg(512)->Arg(2048);
+    }
 #ifdef SF_HAVE_OPENCV
   configure(benchmark::RegisterBenchmark("mips/opencv_buildPyramid", BM_OpenCvPyrDownChain))
       ->ArgName("size")

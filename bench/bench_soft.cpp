@@ -1,7 +1,8 @@
 // 7. Soft shadows (issue 7; docs/soft.md): time per receiver of pcss, cssm (M = 4, 16; mips and
 // SAT), ssmm and ssmm-improved against the light size, on a 512x512 map (floor at z = 0.9 under
 // rectangular occluders at 0.3..0.7) with 160x120 random receivers on the floor. Reconstruction only
-// (the per-map prepare step does not depend on the receivers), device time.
+// (the per-map prepare step does not depend on the receivers), device time. BM_SoftMapSize: the
+// prepare step and the reconstruction of each at 512, 2048 and 4096 maps.
 // Self-registering (BENCHMARK macros): no entry in bench_main.cpp.
 // BM_SoftConstantCost asserts the claim of seed 000 ch. 8 for every cssm variant (M = 4, 16; mips
 // and SAT): the time per receiver at L = 0.2 is below 1.3x that at L = 0.0125 (fails with
@@ -13,6 +14,7 @@
 // cache-resident levels at large widths. Now every receiver runs both stages.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -31,17 +33,21 @@ struct SoftScene {
   size_t n = 0;
 };
 
-const SoftScene& scene() {
-  static SoftScene s = [] {
-    std::vector<float> z(size_t(kMap) * kMap, 0.9f);
+// An n x n map (default 512) with the occluders scaled to it; built once per size.
+const SoftScene& scene(int n = kMap) {
+  static std::map<int, SoftScene> scenes;
+  auto it = scenes.find(n);
+  if (it != scenes.end()) return it->second;
+  return scenes[n] = [n] {
+    std::vector<float> z(size_t(n) * n, 0.9f);
     std::mt19937 rng(5);
-    std::uniform_int_distribution<int> pos(0, kMap - 1), len(8, kMap / 6);
+    std::uniform_int_distribution<int> pos(0, n - 1), len(8 * n / kMap, n / 6);
     std::uniform_real_distribution<float> zz(0.3f, 0.7f);
     for (int k = 0; k < 40; ++k) {
       const int x0 = pos(rng), y0 = pos(rng), w = len(rng), h = len(rng);
       const float b = zz(rng);
-      for (int y = y0; y < std::min(kMap, y0 + h); ++y)
-        for (int x = x0; x < std::min(kMap, x0 + w); ++x) z[size_t(y) * kMap + x] = std::min(z[size_t(y) * kMap + x], b);
+      for (int y = y0; y < std::min(n, y0 + h); ++y)
+        for (int x = x0; x < std::min(n, x0 + w); ++x) z[size_t(y) * n + x] = std::min(z[size_t(y) * n + x], b);
     }
     SoftScene s;
     s.n = size_t(kRxW) * kRxH;
@@ -51,7 +57,6 @@ const SoftScene& scene() {
     s.d = to_device(std::vector<float>(s.n, 0.9f));
     return s;
   }();
-  return s;
 }
 
 SoftOptions options(int method, double size) {
@@ -75,17 +80,19 @@ const char* kLabels[] = {"pcss", "cssm_M4_mips", "cssm_M4_sat", "cssm_M16_mips",
 struct Prepared {
   std::unique_ptr<SoftFilter> f;
   cl::Buffer out;
+  const SoftScene* scene = nullptr;
 };
-Prepared prepare(int method, double size) {
-  const SoftScene& s = scene();
+Prepared prepare(int method, double size, int map = kMap) {
+  const SoftScene& s = scene(map);
   Prepared p;
-  p.f = std::make_unique<SoftFilter>(runtime_ptr(), options(method, size), kMap, kMap);
+  p.f = std::make_unique<SoftFilter>(runtime_ptr(), options(method, size), map, map);
   p.out = device_buffer(s.n * sizeof(float));
+  p.scene = &s;
   p.f->prepare(s.depth).wait();
   return p;
 }
 double run_once(Prepared& p, const cl::Buffer* zavg = nullptr) {
-  const SoftScene& s = scene();
+  const SoftScene& s = *p.scene;
   cl::Event e = p.f->run(s.u, s.v, s.d, cl::Buffer(), p.out, s.n, nullptr, zavg);
   e.wait();
   const double dev = event_seconds(e);
@@ -136,12 +143,57 @@ void BM_SoftConstantCost(benchmark::State& state) {
     state.SkipWithError("constant cost violated: cssm's time per receiver grows with the light size");
 }
 
+// Map sizes (issue 6: 512, 2048, 4096): the per-map prepare step (cssm: transform + mips or SAT;
+// ssmm: the min-depth pyramid) and the reconstruction at L = 0.05, device time of both per
+// iteration, no warm-up (prepare() and one run happen before the timing); 3 timed runs at 512, one
+// above (pcss and cssm take seconds a run there). cssm M = 16 at 512 only (its SAT at 2048 is over
+// the 2 GiB per buffer PoCL allows, its mips take seconds a run), no cssm SAT at 4096 (over 2 GiB
+// at M = 4 too).
+void BM_SoftMapSize(benchmark::State& state) {
+  const int method = int(state.range(0)), map = int(state.range(1));
+  Prepared p;
+  try {
+    p = prepare(method, kSizes[2], map);
+    run_once(p);
+  } catch (const std::exception& e) {  // e.g. a buffer over the device's limit
+    state.SkipWithError(e.what());
+    return;
+  }
+  const SoftScene& s = *p.scene;
+  double prep = 0, run = 0;
+  const double total = time_runs(
+      state,
+      [&] {
+        p.f->prepare(s.depth).wait();
+        const SoftTimes t = p.f->times();
+        const double r = run_once(p);
+        prep += t.transform + t.pyramid + t.sat;
+        run += r;
+        return t.transform + t.pyramid + t.sat + r;
+      },
+      0);
+  const double runs = double(state.iterations());
+  state.SetLabel(kLabels[method]);
+  state.counters["prepare_ms"] = 1e3 * prep / runs;
+  state.counters["reconstruct_ms"] = 1e3 * run / runs;
+  if (total > 0) state.counters["Mtexel/s"] = double(map) * map * 1e-6 / total;
+}
+
 void soft_args(benchmark::internal::Benchmark* b) {
   for (int m = 0; m < 7; ++m)
     for (int l = 0; l < 5; ++l) b->Args({m, l});
 }
 
 BENCHMARK(BM_SoftReconstruct)->Apply(soft_args)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+void soft_map_args(benchmark::internal::Benchmark* b, bool large) {
+  for (int m = 0; m < 7; ++m)
+    for (int map : {512, 2048, 4096})
+      if ((map > 512) == large && (map == 512 || m == 0 || m == 1 || m >= 5 || (m == 2 && map < 4096)))
+        b->Args({m, map});
+  b->ArgNames({"method", "size"})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(large ? 1 : 3);
+}
+BENCHMARK(BM_SoftMapSize)->Apply([](benchmark::internal::Benchmark* b) { soft_map_args(b, false); });
+BENCHMARK(BM_SoftMapSize)->Apply([](benchmark::internal::Benchmark* b) { soft_map_args(b, true); });
 BENCHMARK(BM_SoftConstantCost)->DenseRange(0, 6)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

@@ -10,31 +10,13 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/method_cases.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/options.hpp"
 
 namespace sf::test {
 
-struct MethodCase {
-  std::string method;
-  Storage storage = Storage::F32;
-  int csm_order = 8;
-  FilterOptions options() const {
-    FilterOptions o;
-    o.method = method;
-    o.storage = storage;
-    o.csm.order = csm_order;
-    if (method == "esm" && storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
-    return o;
-  }
-  std::string label() const {
-    std::string s = method + "_" + storage_name(storage);
-    if (method == "csm") s += "_M" + std::to_string(csm_order);
-    for (char& c : s)
-      if (c == '-') c = '_';
-    return s;
-  }
-};
+using ::sf::MethodCase;  // shadowfilter/method_cases.hpp: shared with sf_bench
 
 // Every basis method with every storage it accepts (csm at M = 4; more orders in f32).
 inline std::vector<MethodCase> basis_cases() {

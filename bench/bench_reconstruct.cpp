@@ -2,7 +2,8 @@
 // (u, v, d read + visibility written = 16 bytes per receiver, plus the gathers), bilinear or
 // trilinear over its mip chain (footprints read: 20 bytes), random or coherent receivers
 // (bench_pipeline.cpp), and grid mode at 2048x2048 (d and one basis texel read + visibility
-// written = 12 bytes). vec: receivers per work-item (ScheduleOptions::reconstruct_vector_width).
+// written = 12 bytes). vec: receivers per work-item (ScheduleOptions::reconstruct_vector_width);
+// joined 1: the mip levels in one buffer, as the pipeline keeps them (kernels.cpp).
 // Bounds (esm_reconstruct/bound_*): the same receivers through kernels that only stream
 // u, v, d -> out, or only gather the 4 (bilinear) / 8 (levels 0 and 1) texels with the least
 // index math: what reconstruction costs at best on this device.
@@ -17,16 +18,25 @@ namespace {
 constexpr int kMapSize = 2048;
 constexpr size_t kReceivers = 1920 * 1080;
 
+// The filtered basis and its mip chain, in two buffers (buf, chain) and as the pipeline keeps
+// them: one buffer (joined) with level 0 at 0 and the chain (joined_chain, a sub-buffer) after it.
 struct Basis {
   cl::Buffer buf = device_buffer(size_t(kMapSize) * kMapSize * sizeof(float));
-  cl::Buffer chain;
+  cl::Buffer chain, joined, joined_chain;
   Basis() {
     cl::Buffer depth = to_device(random_floats(size_t(kMapSize) * kMapSize, 4, 0.2f, 0.8f));
     const FilterOptions esm;  // c = 80
     enqueue_transform(runtime(), find_method("esm"), esm, depth, kMapSize, kMapSize, buf).wait();
     const ImageShape shape{kMapSize, kMapSize, 1, 4};
-    chain = device_buffer(mip_layout(kMapSize, kMapSize, 1).chain_values * sizeof(float));
+    const size_t level0 = shape.bytes(), chain_bytes = mip_layout(kMapSize, kMapSize, 1).chain_values * sizeof(float);
+    chain = device_buffer(chain_bytes);
     enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, buf, chain, shape).last.wait();
+    joined = device_buffer(level0 + chain_bytes + 4);  // one padding value (kernels.cpp)
+    cl_buffer_region region{level0, chain_bytes + 4};
+    joined_chain = joined.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+    runtime().queue().enqueueCopyBuffer(buf, joined, 0, 0, level0);
+    runtime().queue().enqueueCopyBuffer(chain, joined, 0, level0, chain_bytes);
+    runtime().queue().finish();
   }
 };
 
@@ -64,13 +74,15 @@ void BM_ReconstructPoints(benchmark::State& state) {
   FilterOptions opt;
   opt.schedule.reconstruct_vector_width = static_cast<int>(state.range(2));
   LookupBuffers lookup;
+  const bool joined = mips && state.range(3) == 1;
   if (mips) {
     opt.lookup.kind = lookup.kind = Lookup::Mips;
-    lookup.chain = basis().chain;
+    lookup.chain = joined ? basis().joined_chain : basis().chain;
     lookup.footprint = rx.f;
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis().buf,
+    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt,
+                                             joined ? basis().joined : basis().buf,
                                              kMapSize, kMapSize, rx.u, rx.v, rx.d, vis, kReceivers,
                                              nullptr, &lookup);
     e.wait();
@@ -147,8 +159,9 @@ void BM_ReconstructBound(benchmark::State& state) {
 
 void register_reconstruct() {
   configure(benchmark::RegisterBenchmark("esm_reconstruct/points_on_2048", BM_ReconstructPoints))
-      ->ArgNames({"lookup", "rx", "vec"})
-      ->ArgsProduct({{0, 1}, {0, 1}, {1, 4, 8, 16}});
+      ->ArgNames({"lookup", "rx", "vec", "joined"})
+      ->ArgsProduct({{0}, {0, 1}, {1, 4, 8, 16}, {0}})
+      ->ArgsProduct({{1}, {0, 1}, {1, 4, 8, 16}, {0, 1}});
   configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))
       ->ArgName("size")
       ->Arg(kMapSize);

@@ -30,9 +30,12 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
                                     const int count, const sf_method_params P,
                                     __global const sf_stored* restrict chain,
                                     __global const float* restrict sat,
-                                    __global const float* restrict f) {
+                                    __global const float* restrict f,
+                                    __constant int* restrict level_offsets) {
   // chain / sat / f: the lookup's mip chain or summed-area table and the receivers' footprints
-  // (lookup.clh, SF_LOOKUP); null when unused (f null = footprint 1).
+  // (lookup.clh, SF_LOOKUP); null when unused (f null = footprint 1). SF_MIPS_JOINED: basis
+  // holds the chain too (chain points into it) and level_offsets[k] is level k's element offset
+  // in basis (lookup.clh); null otherwise.
   const int i0 = get_global_id(0) * SF_RX_VEC;
   if (i0 >= count) return;
 #if SF_RX_VEC > 1
@@ -48,7 +51,7 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
   const sf_rxi inside = isfinite(di) & (ui >= 0.0f) & (ui <= 1.0f) & (vi >= 0.0f) & (vi <= 1.0f);
   const sf_rxf one = (sf_rxf)(1.0f), centre = (sf_rxf)(0.5f);
   sf_rxf b[SF_CHANNELS];
-  sf_rx_lookup(basis, chain, sat, width, height, select(centre, ui, inside),
+  sf_rx_lookup(basis, chain, sat, level_offsets, width, height, select(centre, ui, inside),
                select(centre, vi, inside), f ? sf_rx_vload(f + i0) : one, b);
   const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
 #if defined(sf_visibility_vec)

@@ -12,6 +12,7 @@
 #include "reference.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::test {
@@ -147,6 +148,67 @@ TEST(ReconstructWidth, WideMethodsRunWithMips) {
     for (int j = 0; j < some.width; ++j)
       ASSERT_NEAR(got.visibility.data[size_t(j) * 997], want[j], 1e-3) << "M " << order << " receiver " << j * 997;
   }
+}
+
+// Mips: the pipeline keeps level 0 and the chain in one buffer (kernels.cpp: SF_MIPS_JOINED;
+// one base for every gather, f32 texel pairs as 8-byte loads, a table of level offsets, a
+// vector log2); callers may pass them as two buffers (per-lane buffer choice, PoCL's log2).
+// Both layouts give the same visibility (the two log2 differ by ulps: tolerance 2e-5 + 1e-7 c
+// for ESM, 1e-5 for the moments), at every storage and for maps one texel wide or tall (the
+// pair loads then read the padding value after the chain).
+TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
+  const Receivers rx = make_rx(1003, 9);
+  auto u = to_device(rx.u), v = to_device(rx.v), d = to_device(rx.d), f = to_device(rx.f);
+  const size_t align = std::max<size_t>(runtime().device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
+  const std::pair<const char*, Storage> cases[] = {
+      {"esm", Storage::F32}, {"vsm", Storage::F32}, {"vsm", Storage::F16}, {"msm", Storage::Unorm16}};
+  const std::pair<int, int> sizes[] = {{67, 45}, {1, 37}, {37, 1}, {1, 1}};
+  int compared = 0;
+  for (const auto& [method, storage] : cases) {
+    for (const auto& [w, h] : sizes) {
+      FilterOptions opt;
+      opt.method = method;
+      opt.storage = storage;
+      opt.blur.radius = 1;
+      opt.lookup.kind = Lookup::Mips;
+      Pipeline pipe(runtime_ptr(), opt, w, h);
+      pipe.prefilter(to_device(random_depth(w, h, 5, 0.2f, 0.8f).data)).wait();
+      const ImageShape shape = pipe.basis_shape();
+      const size_t vb = shape.value_bytes, chain_values = mip_layout(w, h, shape.channels).chain_values;
+      auto& q = runtime().queue();
+      cl::Buffer level0(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+      q.enqueueCopyBuffer(pipe.basis(), level0, 0, 0, shape.bytes());
+      LookupBuffers separate;
+      separate.kind = Lookup::Mips;
+      separate.footprint = f;
+      separate.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(chain_values, 1) * vb);
+      enqueue_pyramid(runtime(), Reduce::Mean, storage, level0, separate.chain, shape).last.wait();
+      const size_t off = (shape.bytes() + align - 1) / align * align;
+      cl::Buffer joined(runtime().context(), CL_MEM_READ_WRITE, off + (chain_values + 1) * vb);
+      q.enqueueCopyBuffer(level0, joined, 0, 0, shape.bytes());
+      if (chain_values) q.enqueueCopyBuffer(separate.chain, joined, 0, off, chain_values * vb);
+      LookupBuffers one = separate;
+      cl_buffer_region region{off, (chain_values + 1) * vb};
+      one.chain = joined.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+      q.finish();
+      const double tol = opt.method == "esm" ? 2e-5 + 1e-7 * opt.esm.c : 1e-5;
+      for (int width : {1, 16}) {
+        opt.schedule.reconstruct_vector_width = width;
+        cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4), b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
+        const MethodDesc& m = find_method(method);
+        enqueue_reconstruct_points(runtime(), m, opt, level0, w, h, u, v, d, a, rx.u.size(), nullptr, &separate);
+        enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, b, rx.u.size(), nullptr, &one);
+        const auto va = from_device(a, rx.u.size()), vj = from_device(b, rx.u.size());
+        for (size_t i = 0; i < va.size(); ++i) {
+          ASSERT_TRUE(std::isfinite(vj[i])) << method << " " << storage_name(storage) << " " << w << "x" << h;
+          ASSERT_NEAR(vj[i], va[i], tol) << method << " " << storage_name(storage) << " " << w << "x" << h
+                                         << " width " << width << " receiver " << i;
+          compared += va[i] > 0.01 && va[i] < 0.99;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 1000);  // not all lit or all dark
 }
 
 TEST(ReconstructWidth, RefusesOtherWidths) {

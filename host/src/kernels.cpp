@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #include "shadowfilter/errors.hpp"
@@ -216,6 +217,25 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   return ev;
 }
 
+namespace {
+
+// The element offset of `chain` in `basis` when chain is a sub-buffer of basis (the pipeline's
+// joined mip layout: level 0 at 0, the chain after it, then one padding value that the pair
+// loads of the last texel read) and every index fits an int; else -1.
+int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, const FilterOptions& opt,
+                        size_t chain_values) {
+  if (!chain() || !basis()) return -1;
+  if (chain.getInfo<CL_MEM_ASSOCIATED_MEMOBJECT>()() != basis()) return -1;
+  const size_t bytes = storage_bytes(opt.storage), offset = chain.getInfo<CL_MEM_OFFSET>();
+  const size_t size = chain.getInfo<CL_MEM_SIZE>();
+  if (offset % bytes != 0 || size < (chain_values + 1) * bytes ||
+      (offset + size) / bytes > size_t(std::numeric_limits<int>::max()))
+    return -1;
+  return static_cast<int>(offset / bytes);
+}
+
+}  // namespace
+
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                      const cl::Buffer& basis, int width, int height,
                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
@@ -233,11 +253,29 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   // overflowed PoCL's work-item stack. Only csm narrows (M = 8: width 4; M >= 16: width 1);
   // every width gives the same values (tests/test_reconstruct_vec.cpp).
   while (vec > 1 && method.channels(opt) * vec > 64) vec = vec == 4 ? 1 : vec / 2;
+  const MipLayout mips = kind == Lookup::Mips ? mip_layout(width, height, method.channels(opt)) : MipLayout{};
+  const int chain_offset =
+      kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain, opt, mips.chain_values) : -1;
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
                                " -DSF_RX_VEC=" + std::to_string(vec) +
                                    (kind == Lookup::Bilinear
                                         ? std::string()
-                                        : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind))));
+                                        : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind))) +
+                                   (chain_offset >= 0 ? " -DSF_MIPS_JOINED" : "") +
+                                   (chain_offset >= 0 || (kind == Lookup::Bilinear && width >= 2)
+                                        ? " -DSF_RX_PAIRS"
+                                        : ""));
+  cl::Buffer level_offsets;  // held until the launch: setArg does not keep it alive
+  if (chain_offset >= 0) {  // level k's element offset in basis, k = 0 .. top
+    std::vector<cl_int> offsets{0};
+    for (int l = 1; l <= mips.top(); ++l)
+      offsets.push_back(chain_offset + static_cast<cl_int>(mips.levels[l].offset));
+    level_offsets = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                               offsets.size() * sizeof(cl_int), offsets.data());
+    k.setArg(13, level_offsets);
+  } else {
+    k.setArg(13, sizeof(cl_mem), nullptr);
+  }
   auto buffer_or_null = [&k](cl_uint i, const cl::Buffer* b) {
     if (b && (*b)())
       k.setArg(i, *b);

@@ -9,6 +9,15 @@
 
 namespace sf {
 
+namespace {
+
+cl::Buffer sub_buffer(cl::Buffer parent, size_t origin, size_t size) {
+  cl_buffer_region region{origin, size};
+  return parent.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+}
+
+}  // namespace
+
 void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, const std::string& what) {
   const auto& info = rt.info();
   auto mib = [](size_t b) { return std::to_string((b + (1 << 20) - 1) >> 20) + " MiB"; };
@@ -34,9 +43,9 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
     throw InputError("shadow map " + std::to_string(width) + "x" + std::to_string(height) +
                      " is too large (more than 2^31 basis values)");
   check_fits_device(*rt_, shape_.bytes(), 2 * shape_.bytes(), "the basis images");
-  basis_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
   if (options_.blur.radius > 0 && !method_->raw_depth) scratch_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
   allocate_lookups();
+  if (!basis_()) basis_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
 }
 
 // Only what the options need: a mean pyramid for mips, a SAT for sat, a z-max pyramid of the
@@ -51,8 +60,19 @@ void Pipeline::allocate_lookups() {
     check_fits_device(*rt_, bytes, 2 * shape_.bytes() + lookup_bytes_, "the lookup tables");
     return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   };
-  if (!method_->raw_depth && options_.lookup.kind == Lookup::Mips)
-    chain_ = alloc(mip_layout(shape_.width, shape_.height, shape_.channels).chain_values * shape_.value_bytes);
+  if (!method_->raw_depth && options_.lookup.kind == Lookup::Mips) {
+    // One buffer for level 0 (basis_) and the chain (chain_), two sub-buffers of mips_: the
+    // reconstruction addresses every level from one base (kernels.cpp, SF_MIPS_JOINED). The
+    // chain starts at the device's sub-buffer alignment; one padding value after it.
+    const size_t align = std::max<size_t>(rt_->device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
+    const size_t level0 = (shape_.bytes() + align - 1) / align * align;
+    const size_t chain =
+        (mip_layout(shape_.width, shape_.height, shape_.channels).chain_values + 1) * shape_.value_bytes;
+    mips_ = alloc(level0 + chain);
+    lookup_bytes_ -= shape_.bytes();  // level 0 is the basis, counted in device_bytes()
+    basis_ = sub_buffer(mips_, 0, shape_.bytes());
+    chain_ = sub_buffer(mips_, level0, chain);
+  }
   if (!method_->raw_depth && options_.lookup.kind == Lookup::Sat) {
     const SatLayout L = sat_layout(shape_);
     sat_ = alloc(L.table_floats * sizeof(float));
@@ -63,19 +83,18 @@ void Pipeline::allocate_lookups() {
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
+  const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
   transform_done_ = enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height,
-                                      basis_, wait);
+                                      blur ? scratch_ : basis_, wait);
   EventList after{transform_done_};
   blur_done_ = BlurEvents{};
   depth_ = depth;
   pyramid_done_ = sat_done_ = zmax_done_ = PassEvents{};
   cl::Event filtered = transform_done_;
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
-  if (options_.blur.radius > 0 && !method_->raw_depth) {
-    // Out of place into scratch_, then the two buffers trade roles: no copy back.
-    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, basis_, scratch_, scratch_,
+  if (blur) {  // out of place, scratch_ -> basis_: no copy back
+    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, scratch_, basis_, basis_,
                               shape_, &after, options_.storage);
-    std::swap(basis_, scratch_);
     filtered = blur_done_.cols;
   }
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.
@@ -104,6 +123,8 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
                                 const EventList* wait) {
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
+  // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).
+  const cl::Buffer& rx_basis = mips_() ? mips_ : basis_;
   lookup.chain = chain_;
   lookup.sat = sat_;
   lookup.footprint = rx.f;
@@ -111,7 +132,7 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
     reconstruct_done_ = enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width,
                                                  shape_.height, rx.d, visibility, wait);
   } else {
-    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, basis_, shape_.width,
+    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, rx_basis, shape_.width,
                                                    shape_.height, rx.u, rx.v, rx.d, visibility,
                                                    rx.count, wait, &lookup);
   }

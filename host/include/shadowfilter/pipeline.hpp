@@ -35,8 +35,8 @@ class Pipeline {
   cl::Event reconstruct(const DeviceReceivers& receivers, const cl::Buffer& visibility,
                         const EventList* wait = nullptr);
 
-  // The filtered basis of the last prefilter. With a blur the pipeline alternates between two
-  // buffers (blur out of place, no copy back): read it again after each prefilter.
+  // The filtered basis of the last prefilter (always the same buffer; with mips a sub-buffer
+  // of the one that holds the mip chain too).
   const cl::Buffer& basis() const { return basis_; }
   ImageShape basis_shape() const { return shape_; }
   const MethodDesc& method() const { return *method_; }
@@ -60,6 +60,7 @@ class Pipeline {
   // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
   void allocate_lookups();
   size_t lookup_bytes_ = 0;
+  cl::Buffer mips_;  // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer chain_, sat_, sat_bands_, zmax_chain_, depth_, flags_;
   size_t flags_count_ = 0;
   PassEvents pyramid_done_, sat_done_, zmax_done_;

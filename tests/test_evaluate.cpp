@@ -101,11 +101,18 @@ TEST(EvalAuto, ChoosesUnderTheBoundAndSkipsMips) {
   const eval::Measured m = eval::measure(runtime_ptr(), r.chosen, s, {0, 1});
   const auto want = eval::s_ref_parallel(s.depth, req.target.blur, Lookup::Bilinear, s.receivers, req.sref_bias);
   EXPECT_LE(eval::error_stats(m.visibility, want, s.valid).p99, 0.02 + 1e-6);
-  // The choice is the fastest of the tried configurations under the bound.
-  for (const auto& row : r.tried)
-    if (row.sref.p99 <= req.max_error) {
-      EXPECT_LE(r.chosen_row.time_ms, row.time_ms) << row.label;
-    }
+  // The choice is the fastest of the finalists (median over the interleaved rounds of its time
+  // over the round's fastest) up to the tie band: at least the requested tolerance, wider when
+  // the rounds measured noise. Every finalist met the bound.
+  EXPECT_GE(r.tolerance, req.time_tolerance);
+  ASSERT_FALSE(r.finalists.empty());
+  for (const auto& f : r.finalists) {
+    EXPECT_GE(f.score, 1.0) << f.label;
+    EXPECT_LE(r.chosen_score, (1.0 + r.tolerance) * f.score) << f.label;
+    const auto row = std::find_if(r.tried.begin(), r.tried.end(), [&](const eval::Row& t) { return t.label == f.label; });
+    ASSERT_NE(row, r.tried.end());
+    EXPECT_LE(row->sref.p99, req.max_error) << f.label;
+  }
   // A bound vsm cannot meet at the square's edges (ESM is exact on this two-depth scene: the
   // occluded texels weigh exp(-80 * 0.3)) still finds pcf, exact up to float rounding.
   req.max_error = 1e-5;
@@ -189,6 +196,22 @@ TEST(EvalAuto, TightBoundPicksMoreAccurateThanLoose) {
   blur.radius = 3;
   const auto want = eval::s_ref_parallel(s.depth, blur, Lookup::Mips, s.receivers, eval::kDefaultSrefBias);
   EXPECT_LE(eval::error_stats(m.visibility, want, s.valid).p99, 0.2 + 1e-6);
+}
+
+// The choice does not hang on one run's luck on a loaded machine: the candidates under the bound
+// run again in interleaved rounds, each keeps its fastest run, and a tie within the tolerance goes
+// to the lower estimate, so a second search on the same scene chooses the same configuration.
+TEST(EvalAuto, SameChoiceTwice) {
+  const eval::Scene s = spheres(false);
+  eval::AutoRequest req = spheres_request(0.2);
+  req.timing = {1, 3};  // the CLI's defaults
+  const eval::AutoResult a = eval::choose_auto(runtime_ptr(), s, req);
+  const eval::AutoResult b = eval::choose_auto(runtime_ptr(), s, req);
+  ASSERT_TRUE(a.found) << eval::describe(a);
+  ASSERT_TRUE(b.found) << eval::describe(b);
+  EXPECT_GE(a.finalists.size(), 2u) << "a choice between measured candidates\n" << eval::describe(a);
+  EXPECT_EQ(a.chosen_row.label, b.chosen_row.label) << eval::describe(a) << eval::describe(b);
+  EXPECT_EQ(a.chosen_row.runs, req.timing.runs * (1 + req.final_rounds)) << "the first pass and every final round";
 }
 
 // --metric: the bound applies to the named metric (rmse here), not p99.

@@ -28,6 +28,8 @@ struct AutoArgs {
   std::string metric = "p99";
   std::string methods = "all";
   int runs = 3;
+  int rounds = 5;           // interleaved re-measurements of the candidates under the bound
+  double tolerance = 0.05;  // least tie band (the measured noise widens it); the cheaper estimate wins
   double sref_bias = 0.01;  // depth bias of s_ref (eval::kDefaultSrefBias; 0 = the unbiased test)
 };
 void add_auto_options(CLI::App& cmd, AutoArgs& args);

@@ -21,7 +21,15 @@ void add_auto_options(CLI::App& c, AutoArgs& a) {
       ->capture_default_str();
   c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")
       ->capture_default_str();
-  c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate (median)")->capture_default_str();
+  c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")->capture_default_str();
+  c.add_option("--auto-rounds", a.rounds,
+               "--auto: interleaved rounds in which the candidates under the bound run again; each keeps its "
+               "fastest run")
+      ->capture_default_str();
+  c.add_option("--auto-tolerance", a.tolerance,
+               "--auto: least tie band: fastest runs within this fraction (or the measured noise, when larger) "
+               "of the fastest are a tie, which goes to the lower estimated cost")
+      ->capture_default_str();
   c.add_option("--sref-bias", a.sref_bias,
                "--auto: depth bias b of s_ref, H(z - d + b) (default 0.01: lit tilted surfaces stay lit)")
       ->capture_default_str();
@@ -37,6 +45,8 @@ FilterOptions choose_auto_options(const FilterArgs& a, const HostImage& depth, c
   req.target = a.options;
   req.methods = eval::parse_methods(a.auto_args.methods);
   req.timing.runs = std::max(1, a.auto_args.runs);
+  req.final_rounds = a.auto_args.rounds;
+  req.time_tolerance = a.auto_args.tolerance;
   const eval::Scene scene = eval::make_scene("input", depth, receivers);
   std::unique_ptr<scene::Progress> bar;
   const eval::AutoResult r = eval::choose_auto(runtime, scene, req, [&](size_t done, size_t total) {

@@ -548,11 +548,76 @@ std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest
   return out;
 }
 
+// The choice among the candidates under the bound (`hits`, indices in res.tried). One run's time
+// on a loaded machine is off by tens of percent, and a short quiet moment can make one
+// candidate's fastest run half the others', so the finalists run again in interleaved rounds and
+// are compared within each round: a candidate's score is the median over the rounds of its time
+// (fastest of the round's runs) over the round's fastest time (1 = fastest in every round). The
+// tie band is the noise of those ratios (median over the finalists of median / min - 1), at least
+// time_tolerance; within it the lowest estimate wins, which makes the choice repeatable.
+// Finalists: the hits whose first pass is within 3x of the fastest, at most 8.
+static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
+                            const std::vector<size_t>& hits, AutoResult& res) {
+  constexpr size_t kMaxFinalists = 8;
+  std::vector<size_t> fin = hits;
+  std::stable_sort(fin.begin(), fin.end(), [&](size_t a, size_t b) { return res.tried[a].min_ms < res.tried[b].min_ms; });
+  const double first_best = res.tried[fin.front()].min_ms;
+  while (fin.size() > kMaxFinalists || res.tried[fin.back()].min_ms > 3.0 * first_best) fin.pop_back();
+  // ratio[k]: candidate k's time over the fastest of the same pass (the first pass when no rounds).
+  std::vector<std::vector<double>> ratio(fin.size());
+  auto add_pass = [&](const std::vector<double>& t) {
+    const double best = *std::min_element(t.begin(), t.end());
+    for (size_t k = 0; k < fin.size(); ++k) ratio[k].push_back(t[k] / best);
+  };
+  const TimingSettings t{1, std::max(1, req.timing.runs)};
+  for (int round = 0; round < req.final_rounds && fin.size() > 1; ++round) {
+    std::vector<double> pass(fin.size());
+    for (size_t j = 0; j < fin.size(); ++j) {
+      const size_t k = (j + size_t(round)) % fin.size();  // rotate: no fixed position in a round
+      Row& row = res.tried[fin[k]];
+      pass[k] = measure(rt, row.options, scene, t).min_ms;
+      row.min_ms = std::min(row.min_ms, pass[k]);
+      row.runs += t.runs;
+    }
+    add_pass(pass);
+  }
+  if (ratio.front().empty()) {
+    std::vector<double> first;
+    for (size_t i : fin) first.push_back(res.tried[i].min_ms);
+    add_pass(first);
+  }
+  std::vector<double> score(fin.size()), noise;
+  for (size_t k = 0; k < fin.size(); ++k) {
+    score[k] = median(ratio[k]);
+    noise.push_back(score[k] / *std::min_element(ratio[k].begin(), ratio[k].end()) - 1.0);
+  }
+  res.noise = fin.size() > 1 ? median(noise) : 0.0;
+  res.tolerance = std::max(req.time_tolerance, res.noise);
+  std::vector<size_t> order(fin.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return score[a] < score[b]; });
+  const double best = score[order.front()];
+  size_t pick = order.front();
+  for (size_t k : order)
+    if (score[k] <= best * (1.0 + res.tolerance) && res.tried_cost[fin[k]] < res.tried_cost[fin[pick]]) pick = k;
+  for (size_t k : order) {
+    const Row& row = res.tried[fin[k]];
+    res.finalists.push_back({row.label, row.min_ms, score[k], res.tried_cost[fin[k]]});
+  }
+  if (pick != order.front())
+    res.tie = res.tried[fin[order.front()]].label + " scored " + fmt(100.0 * (score[pick] / best - 1.0), 2) +
+              "% faster, within the " + fmt(100.0 * res.tolerance, 2) + "% band, and has a higher estimate";
+  res.chosen = res.tried[fin[pick]].options;
+  res.chosen_row = res.tried[fin[pick]];
+  res.chosen_score = score[pick];
+}
+
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                        const std::function<void(size_t, size_t)>& progress) {
   check_metric(req.metric);
   if (!(req.max_error >= 0)) throw InputError("--max-error must be a non-negative number");
   if (!(req.cost_slack >= 1)) throw InputError("--auto cost slack must be >= 1");
+  if (req.final_rounds < 0 || !(req.time_tolerance >= 0)) throw InputError("--auto final rounds and tolerance must be >= 0");
   AutoResult res;
   FilterOptions target = req.target;
   if (req.lookup_from_scene) target.lookup.kind = scene.max_footprint > 1.0 ? Lookup::Mips : Lookup::Bilinear;
@@ -576,7 +641,8 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   const std::vector<double>& sref = cache.get(target.blur, target.lookup.kind);
 
   const std::vector<AutoCandidate> cands = auto_candidates(scene, req, target, &res.refused);
-  double limit = INFINITY;  // measure up to cost_slack x the first hit's estimate
+  std::vector<size_t> hits;  // indices in res.tried of the candidates under the bound
+  double limit = INFINITY;   // measure up to cost_slack x the first hit's estimate
   size_t done = 0;
   for (const auto& c : cands) {
     if (c.cost > limit) {
@@ -601,13 +667,13 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
       res.first_hit = row.label;
       limit = c.cost * req.cost_slack;
     }
-    if (!res.found || row.time_ms < res.chosen_row.time_ms) {
-      res.found = true;
-      res.chosen = c.options;
-      res.chosen_row = row;
-    }
+    hits.push_back(res.tried.size() - 1);
   }
   if (progress) progress(cands.size(), cands.size());
+  if (!hits.empty()) {
+    choose_measured(rt, scene, req, hits, res);
+    res.found = true;
+  }
   // What the choice does without, and why.
   bool any_zmax = false;
   for (const auto& c : cands) any_zmax |= c.options.esm_classify.mode == EsmClassify::ZMax;
@@ -653,11 +719,19 @@ std::string describe(const AutoResult& r, const std::string& metric) {
     s << "\n";
   } else {
     const Row& c = r.chosen_row;
-    s << "auto: chose " << c.label << ": " << fmt(c.time_ms) << " ms (median of " << c.runs << "), " << metric
-      << " " << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99) << ", rmse " << fmt(c.sref.rmse)
-      << ", max " << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
+    s << "auto: chose " << c.label << ": " << fmt(c.min_ms) << " ms (fastest of " << c.runs << " runs; median of the first pass "
+      << fmt(c.time_ms) << "), " << metric << " " << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99)
+      << ", rmse " << fmt(c.sref.rmse) << ", max " << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3)
+      << " MiB\n";
     s << "auto: why: " << r.first_hit << " was the first configuration under the bound in estimated-cost order; "
-      << "the fastest measured of the " << r.tried.size() << " tried up to the cost slack\n";
+      << "of the " << r.tried.size() << " tried up to the cost slack, the " << r.finalists.size()
+      << " under the bound ran again in interleaved rounds and this one was the fastest"
+      << (r.tie.empty() ? "" : " within noise (" + r.tie + ")") << "\n";
+    std::string list;
+    for (const auto& f : r.finalists)
+      list += (list.empty() ? "" : ", ") + f.label + " x" + fmt(f.score, 3) + " (" + fmt(f.min_ms) + " ms)";
+    s << "auto: finalists (median time over the round's fastest; fastest run): " << list << "; measured noise "
+      << fmt(100.0 * r.noise, 2) << "%, tie band " << fmt(100.0 * r.tolerance, 2) << "%\n";
   }
   for (const auto& k : r.skipped) s << "auto: skipped " << k << "\n";
   for (size_t i = 0; i < r.tried.size(); ++i) {

@@ -139,10 +139,16 @@ double row_metric(const Row& r, const std::string& metric);  // "p99", "hard_rms
 // The search: every candidate (method x parameters x lookup x storage, esm also x classification)
 // is ordered by an estimated cost, measured in that order, and the search stops at the first one
 // whose error against s_ref of the target weights is <= max_error; candidates whose estimate is
-// within `cost_slack` of that first hit are measured too (the estimate is rough) and the fastest
-// measured one that meets the bound is chosen. What the scene does not need is never generated:
-// no mips / sat when every footprint <= 1 (they equal bilinear), no z-max pyramid unless a
-// candidate classifies; a larger csm order or a wider storage only comes after the cheaper ones.
+// within `cost_slack` of that first hit are measured too (the estimate is rough). The choice is
+// by measured time, made robust to a loaded machine: the candidates that meet the bound (those
+// whose first run is within 3x of the fastest, at most 8) run again in `final_rounds`
+// interleaved rounds; each scores the median over the rounds of its time over the round's
+// fastest, and among those within the tie band of the best score (the noise of the rounds, at
+// least `time_tolerance`) the one with the lowest estimate is chosen: a tie within noise goes to
+// the cheaper configuration, the same one on every run. What the scene
+// does not need is never generated: no mips / sat when every footprint <= 1 (they equal
+// bilinear), no z-max pyramid unless a candidate classifies; a larger csm order or a wider
+// storage only comes after the cheaper ones.
 struct AutoRequest {
   double max_error = 0.05;
   std::string metric = "p99";  // against s_ref of the target weights
@@ -154,6 +160,8 @@ struct AutoRequest {
   std::vector<std::string> methods;  // empty = every method
   TimingSettings timing;
   double cost_slack = 1.5;
+  int final_rounds = 5;          // interleaved re-measurements of the finalists (0: the first pass only)
+  double time_tolerance = 0.05;  // least tie band: minimum times within it of the fastest are a tie
 };
 struct AutoCandidate {
   FilterOptions options;
@@ -171,7 +179,18 @@ struct AutoResult {
   std::string first_hit;              // label of the first candidate under the bound (cost order)
   std::vector<std::string> skipped;   // "what: why"
   std::vector<std::string> notes;     // what the scene needs
-  std::vector<Row> tried;             // measured, in cost order
+  std::vector<Row> tried;             // measured, in cost order; min_ms over every run (final rounds too)
+  struct Finalist {
+    std::string label;
+    double min_ms = 0;  // fastest run
+    double score = 0;   // median over the final rounds of its time / the round's fastest
+    double cost = 0;    // estimate
+  };
+  std::vector<Finalist> finalists;     // the re-measured candidates under the bound, best score first
+  double chosen_score = 0;
+  std::string tie;                     // when the choice is not the fastest run: why (the tie rule)
+  double noise = 0;                    // measured: median over the finalists of median / min - 1 of their ratios
+  double tolerance = 0;                // the tie band used: max(time_tolerance, noise)
   std::vector<double> tried_cost;     // their estimates
   std::vector<AutoCandidate> not_tried;  // costlier than cost_slack x the first hit
   std::vector<Skipped> refused;

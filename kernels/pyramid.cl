@@ -7,11 +7,13 @@
 // the order the scalar reference documents.
 //
 // Two kernels build the chain in few launches (PoCL pays ~0.2 ms per launch):
-// - sf_pyramid_tiles: one work-item per 32x32 tile of a level s and channel; produces up to
-//   SF_TILE_LEVELS (5) levels below s from the tile alone. Clamping never leaves a tile: a
-//   level-(s+j) texel reads level-s texels [i 2^j, (i+1) 2^j) clamped to the level, and the
-//   clamped index lies in the last tile. Interior tiles (fully inside level s) take a vector
-//   path with no clamping at any level.
+// - sf_pyramid_tiles: one work-item per SF_WIDE (4) 32x32 tiles side by side of a level s and
+//   channel; produces up to SF_TILE_LEVELS (5) levels below s from each tile alone. Clamping
+//   never leaves a tile: a level-(s+j) texel reads level-s texels [i 2^j, (i+1) 2^j) clamped to
+//   the level, and the clamped index lies in the last tile. Interior tiles (fully inside level
+//   s) take a vector path with no clamping at any level; when all SF_WIDE are interior, their
+//   rows are read and written as one run per row (512 bytes of level s, whole cache lines of
+//   level s+1) instead of 128-byte pieces of 32 rows per work-item.
 // - sf_pyramid_tail: one work-item per channel finishes the small levels down to 1x1.
 
 #if SF_REDUCE == 0
@@ -26,6 +28,9 @@
 
 #define SF_TILE 32
 #define SF_TILE_LEVELS 5
+#ifndef SF_WIDE
+#define SF_WIDE 4
+#endif
 
 // Reduces rows 2r, 2r+1 of `n2` texels (vectors a = row 2r, b = row 2r + 1) to n2/2 texels.
 #define SF_RED_VEC(a, b) SF_RED((a).even, (a).odd, (b).even, (b).odd)
@@ -89,6 +94,67 @@ inline void sf_tile_interior(__global const sf_stored* src, int ws, int x0, int 
   }
 }
 
+// SF_WIDE interior tiles side by side at (x0, y0) of level s: the same levels as
+// sf_tile_interior, but every row of every level is read and written as one run of SF_WIDE
+// tiles (rows of 32 SF_WIDE texels, full cache lines from level 1 on) instead of 128-byte
+// pieces of 32 rows at a time.
+inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0, int m,
+                          __global sf_stored* chain, int W, int H, int N, int s, int c) {
+  int w, h;
+  float16 l1[SF_WIDE][16];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
+    for (int r = 0; r < 16; ++r) {
+      const size_t a = (size_t)(y0 + 2 * r) * ws + x0, b = a + ws;
+      const size_t o = (size_t)(y0 / 2 + r) * w + x0 / 2;
+      for (int t = 0; t < SF_WIDE; ++t) {
+        const float16 a0 = SF_VLOAD(16, src, a + 32 * t), a1 = SF_VLOAD(16, src, a + 32 * t + 16);
+        const float16 b0 = SF_VLOAD(16, src, b + 32 * t), b1 = SF_VLOAD(16, src, b + 32 * t + 16);
+        const float16 v = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
+        l1[t][r] = v;
+        SF_VSTORE(16, v, dst, o + 16 * t);
+      }
+    }
+  }
+  if (m < 2) return;
+  float8 l2[SF_WIDE][8];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 2, c, &w, &h);
+    for (int r = 0; r < 8; ++r)
+      for (int t = 0; t < SF_WIDE; ++t) {
+        l2[t][r] = SF_RED_VEC(l1[t][2 * r], l1[t][2 * r + 1]);
+        SF_VSTORE(8, l2[t][r], dst, (size_t)(y0 / 4 + r) * w + x0 / 4 + 8 * t);
+      }
+  }
+  if (m < 3) return;
+  float4 l3[SF_WIDE][4];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 3, c, &w, &h);
+    for (int r = 0; r < 4; ++r)
+      for (int t = 0; t < SF_WIDE; ++t) {
+        l3[t][r] = SF_RED_VEC(l2[t][2 * r], l2[t][2 * r + 1]);
+        SF_VSTORE(4, l3[t][r], dst, (size_t)(y0 / 8 + r) * w + x0 / 8 + 4 * t);
+      }
+  }
+  if (m < 4) return;
+  float2 l4[SF_WIDE][2];
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 4, c, &w, &h);
+    for (int r = 0; r < 2; ++r)
+      for (int t = 0; t < SF_WIDE; ++t) {
+        l4[t][r] = SF_RED_VEC(l3[t][2 * r], l3[t][2 * r + 1]);
+        SF_VSTORE(2, l4[t][r], dst, (size_t)(y0 / 16 + r) * w + x0 / 16 + 2 * t);
+      }
+  }
+  if (m < 5) return;
+  {
+    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 5, c, &w, &h);
+    for (int t = 0; t < SF_WIDE; ++t)
+      sf_store(dst, (size_t)(y0 / 32) * w + x0 / 32 + t,
+               SF_RED(l4[t][0].x, l4[t][0].y, l4[t][1].x, l4[t][1].y));
+  }
+}
+
 // Edge tile: scalar, with the clamping of methods.md at every level. The tile is reduced in
 // place (row stride SF_TILE): output (j, i) reads (2j.., 2i..), never an earlier output.
 inline void sf_tile_edge(__global const sf_stored* src, int ws, int hs, int x0, int y0, int m,
@@ -121,22 +187,29 @@ inline void sf_tile_edge(__global const sf_stored* src, int ws, int hs, int x0, 
   }
 }
 
-// NDRange (ceil(ws / 32), ceil(hs / 32), N), local (1, 1, 1). `src` + `src_off` is level s
-// (level 0's buffer, or the chain itself); writes levels s+1 .. s+m (m <= 5) into `chain`.
+// NDRange (ceil(ws / (32 SF_WIDE)), ceil(hs / 32), N), local (1, 1, 1): one work-item per
+// SF_WIDE tiles side by side. `src` + `src_off` is level s (level 0's buffer, or the chain
+// itself); writes levels s+1 .. s+m (m <= 5) into `chain`.
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_pyramid_tiles(
     __global const sf_stored* src, const int src_off, __global sf_stored* chain, const int W,
     const int H, const int N, const int s, const int m) {
-  const int x0 = get_global_id(0) * SF_TILE, y0 = get_global_id(1) * SF_TILE;
+  const int xw = get_global_id(0) * SF_TILE * SF_WIDE, y0 = get_global_id(1) * SF_TILE;
   const int c = get_global_id(2);
   int ws, hs;
   size_t unused;
   sf_mip_level(W, H, N, s, &ws, &hs, &unused);
-  if (x0 >= ws || y0 >= hs) return;
+  if (xw >= ws || y0 >= hs) return;
   __global const sf_stored* plane = src + src_off + (size_t)c * ws * hs;
-  if (x0 + SF_TILE <= ws && y0 + SF_TILE <= hs)
-    sf_tile_interior(plane, ws, x0, y0, m, chain, W, H, N, s, c);
-  else
-    sf_tile_edge(plane, ws, hs, x0, y0, m, chain, W, H, N, s, c);
+  if (xw + SF_TILE * SF_WIDE <= ws && y0 + SF_TILE <= hs) {
+    sf_tiles_wide(plane, ws, xw, y0, m, chain, W, H, N, s, c);
+    return;
+  }
+  for (int x0 = xw; x0 < min(ws, xw + SF_TILE * SF_WIDE); x0 += SF_TILE) {
+    if (x0 + SF_TILE <= ws && y0 + SF_TILE <= hs)
+      sf_tile_interior(plane, ws, x0, y0, m, chain, W, H, N, s, c);
+    else
+      sf_tile_edge(plane, ws, hs, x0, y0, m, chain, W, H, N, s, c);
+  }
 }
 
 // NDRange (N): one work-item per channel reduces level s (at src + src_off) down to 1x1,

@@ -10,6 +10,7 @@ namespace {
 
 constexpr int kTile = 32;          // pyramid.cl SF_TILE
 constexpr int kTileLevels = 5;     // levels per tile launch
+constexpr int kWide = 4;           // pyramid.cl SF_WIDE: tiles side by side per work-item
 constexpr int kTailMaxSide = 128;  // levels this small are finished by one work-item per channel
 
 std::string storage_define(Storage s) { return " -DSF_STORAGE=" + std::to_string(static_cast<int>(s)); }
@@ -44,7 +45,8 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
   }
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
                              "-cl-std=CL1.2" + storage_define(storage) +
-                                 " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)));
+                                 " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
+                                 " -DSF_WIDE=" + std::to_string(kWide));
   const int W = shape.width, H = shape.height, N = shape.channels;
   const cl::Buffer* src = &level0;
   int s = 0, src_off = 0;
@@ -72,7 +74,7 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     const int m = std::min(kTileLevels, L.top() - s);
     cl::Kernel k = level_kernel("sf_pyramid_tiles");
     k.setArg(7, m);
-    const cl::NDRange global((L.levels[s].width + kTile - 1) / kTile,
+    const cl::NDRange global((L.levels[s].width + kTile * kWide - 1) / (kTile * kWide),
                              (L.levels[s].height + kTile - 1) / kTile, N);
     cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), deps, &e);

@@ -83,16 +83,16 @@ void Pipeline::allocate_lookups() {
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
+  // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
   transform_done_ = enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height,
                                       blur ? scratch_ : basis_, wait);
-  EventList after{transform_done_};
   blur_done_ = BlurEvents{};
   depth_ = depth;
   pyramid_done_ = sat_done_ = zmax_done_ = PassEvents{};
   cl::Event filtered = transform_done_;
-  // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   if (blur) {  // out of place, scratch_ -> basis_: no copy back
+    EventList after{transform_done_};
     blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, scratch_, basis_, basis_,
                               shape_, &after, options_.storage);
     filtered = blur_done_.cols;

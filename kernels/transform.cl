@@ -17,15 +17,16 @@ typedef SF_CAT(ushort, SF_XVEC) __attribute__((aligned(2))) sf_xushort_u;
 typedef SF_CAT(uchar, SF_XVEC) __attribute__((aligned(1))) sf_xuchar_u;
 
 // SF_XVEC values of one plane, rounded as sf_store rounds them (unorm: within one code at ties,
-// below). f16: vcvtps2ph, round to nearest even like vstore_half_rte. LLVM folds the store into
-// vcvtps2ph's memory form, which the EPYC (Zen 4) of our runs executes slowly: the transform of
-// evsm4 f16 took 15% more time than through a register, so on x86 with AVX-512 an empty asm makes
-// the conversion give a register; elsewhere vstore_halfn_rte (vector code in PoCL; the scalar
-// vstore_half is a call per texel). Unorm: the value in code units plus 1.5 * 2^23 holds the
-// nearest integer (ties to even, as rint) in its low mantissa bits, cheaper than a float ->
-// integer conversion. A method that defines SF_BASISV_CODES gives code units in (-0.5, max + 0.5)
-// from sf_basisv (csm: see its header); otherwise the value in [0,1] is clamped and scaled with
-// contraction off, so the product is rounded first as in sf_store.
+// below). f16: vcvtps2ph, round to nearest even like vstore_half_rte. From vstore_half16_rte
+// LLVM folds the store into vcvtps2ph's memory form, which the AMD EPYC of our runs executes
+// slowly (evsm4 f16 took 15% more time than converting into a register and storing that), so on
+// x86 with AVX-512 the conversion is an asm statement with a register result; elsewhere
+// vstore_halfn_rte (vector code in PoCL; the scalar vstore_half is a call per texel).
+// Unorm: the value in code units plus 1.5 * 2^23 holds the nearest integer (ties to even, as
+// rint) in its low mantissa bits, cheaper than a float -> integer conversion. A method that
+// defines SF_BASISV_CODES gives code units in (-0.5, max + 0.5) from sf_basisv (csm: see its
+// header); otherwise the value in [0,1] is clamped and scaled with contraction off, so the
+// product is rounded first as in sf_store.
 inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 #pragma OPENCL FP_CONTRACT OFF
 #if SF_STORAGE == 0
@@ -109,7 +110,8 @@ __kernel void sf_transformv(__global const float* restrict depth, __global sf_st
       sf_store_planev(basis + k * (size_t)plane_stride + i0 + r * SF_XVEC, a[r]);
 #pragma unroll
     for (int r = 0; r < SF_XREP; ++r)
-      sf_store_planev(basis + (SF_BASISV_PAIRS + k) * (size_t)plane_stride + i0 + r * SF_XVEC, b[r]);
+      sf_store_planev(basis + (SF_BASISV_PAIRS + k) * (size_t)plane_stride + i0 + r * SF_XVEC,
+                      b[r]);
   }
 #else
   sf_xfloat b[SF_XREP][SF_CHANNELS];

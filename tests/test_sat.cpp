@@ -67,6 +67,50 @@ INSTANTIATE_TEST_SUITE_P(Sizes, Sat,
                                            Size{16, 16, 1}, Size{17, 33, 1}, Size{100, 37, 3},
                                            Size{257, 300, 1}, Size{640, 1000, 1}));
 
+// Every entry of a 4096x4096 table against a long double (64-bit mantissa) table of the same
+// floats. sat.cl sums in double (worst case (x + y + band_rows + bands) 2^-53 of S for
+// non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-48 |S|):
+// tolerance 1e-12 |S|; docs/lookups.md quotes the measured maximum.
+TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) {
+  const int n = 4096;
+  std::vector<float> host(size_t(n) * n);
+  std::mt19937 rng(4096);
+  std::uniform_real_distribution<float> dist(0.0f, 1.0f);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
+  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4});
+  const auto got = from_device(d.table, d.layout.table_floats);
+  const size_t Wp = n + 1, P = Wp * Wp;
+  std::vector<long double> row(Wp, 0.0L);  // S row y of the exact table
+  double worst = 0;
+  int wx = 0, wy = 0;
+  for (int y = 0; y <= n; ++y) {
+    if (y > 0) {
+      long double t = 0;
+      for (int x = 0; x < n; ++x) {
+        t += host[size_t(y - 1) * n + x];
+        row[x + 1] += t;
+      }
+    }
+    for (int x = 1; x <= n; ++x) {
+      const size_t i = size_t(y) * Wp + x;
+      const long double v = (long double)got[i] + (long double)got[P + i];
+      if (y == 0) {
+        ASSERT_EQ(v, 0.0L);
+        continue;
+      }
+      const double rel = double(fabsl(v - row[x]) / row[x]);
+      if (rel > worst) {
+        worst = rel;
+        wx = x;
+        wy = y;
+      }
+    }
+  }
+  std::printf("[ SAT 4096x4096 ] max |entry error| / S = %.3g (at %d,%d)\n", worst, wx, wy);
+  EXPECT_LT(worst, 1e-12);
+}
+
 // Box lookups (lookup.clh, sf_lookup_box) against the brute-force area-weighted mean at random
 // centres and footprints, including boxes past the edges (clamp-to-edge). Values in [0,1) with a
 // smooth gradient (a worst case for plain float prefix sums: every prefix grows like x*y).

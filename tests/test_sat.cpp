@@ -26,8 +26,8 @@ DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage sto
   return s;
 }
 
-// Every entry hi + lo of a device table (sat.cl layout) against the double table: float-float
-// (about 2^-44 relative per addition), tolerance 1e-11 |S| + 1e-12.
+// Every entry hi + lo of a device table (sat.cl layout) against the double table: double sums
+// split into hi + lo (2^-48 relative), tolerance 1e-11 |S| + 1e-12.
 void expect_table(const std::vector<float>& got, const ref::Planes& want, const std::string& label) {
   const int W = want.width - 1, H = want.height - 1;
   const size_t P = size_t(W + 1) * (H + 1);
@@ -47,7 +47,7 @@ struct Size {
 class Sat : public ::testing::TestWithParam<Size> {};
 
 // Every entry hi + lo against the double table. Every partial sum (row totals, column sums, the
-// band carries) is float-float, about 2^-44 relative per addition: tolerance 1e-11 |S| + 1e-12
+// band carries) is double, stored as hi + lo (2^-48): tolerance 1e-11 |S| + 1e-12
 // (a plain float32 prefix anywhere would be off by ~6e-8 of a row's sum).
 TEST_P(Sat, TableMatchesTheReference) {
   const Size s = GetParam();
@@ -114,8 +114,8 @@ TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) {
 // Box lookups (lookup.clh, sf_lookup_box) against the brute-force area-weighted mean at random
 // centres and footprints, including boxes past the edges (clamp-to-edge). Values in [0,1) with a
 // smooth gradient (a worst case for plain float prefix sums: every prefix grows like x*y).
-// Documented bound (docs/lookups.md): |error| <= 2.5e-7 * max|value|. Measured 8.4e-8 at 2048
-// and 8.7e-8 at 4096: float-float entries (~2^-44 relative) leave the final float32 rounding of the
+// Documented bound (docs/lookups.md): |error| <= 2.5e-7 * max|value|. Measured 9.4e-8 at 2048
+// and 9.5e-8 at 4096: the table entries (2^-48 relative) leave the final float32 rounding of the
 // mean (half an ulp, 3e-8 at 0.5) and of the area as the largest terms; plain float32 prefix
 // sums miss this bound by four orders of magnitude at 4096 (their entries reach 8e6).
 struct BoxCase {

@@ -17,12 +17,13 @@ struct DeviceSat {
   SatLayout layout;
 };
 
-DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage storage = Storage::F32) {
+DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage storage = Storage::F32,
+                     SatAccumulator accumulator = SatAccumulator::Auto) {
   DeviceSat s;
   s.layout = sat_layout(shape);
   s.table = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, s.layout.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, s.layout.band_floats * sizeof(float));
-  enqueue_sat(runtime(), storage, src, s.table, bands, shape).last.wait();
+  enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, accumulator).last.wait();
   return s;
 }
 
@@ -44,41 +45,47 @@ void expect_table(const std::vector<float>& got, const ref::Planes& want, const 
 struct Size {
   int w, h, channels;
 };
-class Sat : public ::testing::TestWithParam<Size> {};
+// Both accumulators (sat_accum.clh): double where the device has it (PoCL does), and the
+// float-float fallback for devices without cl_khr_fp64.
+class Sat : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator>> {};
 
 // Every entry hi + lo against the double table. Every partial sum (row totals, column sums, the
-// band carries) is double, stored as hi + lo (2^-48): tolerance 1e-11 |S| + 1e-12
-// (a plain float32 prefix anywhere would be off by ~6e-8 of a row's sum).
+// band carries) is double, stored as hi + lo (2^-48), or float-float (about 2^-44 relative per
+// addition): tolerance 1e-11 |S| + 1e-12 (a plain float32 prefix anywhere would be off by ~6e-8
+// of a row's sum).
 TEST_P(Sat, TableMatchesTheReference) {
-  const Size s = GetParam();
+  const auto [s, accumulator] = GetParam();
   ref::Planes in(s.w, s.h, s.channels);
   std::mt19937 rng(s.w * 31 + s.h);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   std::vector<float> host(in.data.size());
   for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
-  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4});
+  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, accumulator);
   const auto got = from_device(d.table, d.layout.table_floats);
   const ref::Planes want = ref::sat_table(in);
-  expect_table(got, want, "f32");
+  expect_table(got, want, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
 }
 
-INSTANTIATE_TEST_SUITE_P(Sizes, Sat,
-                         ::testing::Values(Size{1, 1, 1}, Size{1, 40, 1}, Size{40, 1, 1}, Size{5, 3, 2},
-                                           Size{16, 16, 1}, Size{17, 33, 1}, Size{100, 37, 3},
-                                           Size{257, 300, 1}, Size{640, 1000, 1}));
+INSTANTIATE_TEST_SUITE_P(
+    Sizes, Sat,
+    ::testing::Combine(::testing::Values(Size{1, 1, 1}, Size{1, 40, 1}, Size{40, 1, 1}, Size{5, 3, 2},
+                                         Size{16, 16, 1}, Size{17, 33, 1}, Size{100, 37, 3},
+                                         Size{257, 300, 1}, Size{640, 1000, 1}),
+                       ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat)));
 
 // Every entry of a 4096x4096 table against a long double (64-bit mantissa) table of the same
 // floats. sat.cl sums in double (worst case (x + y + band_rows + bands) 2^-53 of S for
 // non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-48 |S|):
 // tolerance 1e-12 |S|; docs/lookups.md quotes the measured maximum.
-TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) {
+// The float-float fallback: about 2^-44 of S per addition, measured below 1e-13 (same bound).
+void expect_large_table_exact(SatAccumulator accumulator) {
   const int n = 4096;
   std::vector<float> host(size_t(n) * n);
   std::mt19937 rng(4096);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
-  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4});
+  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4}, Storage::F32, accumulator);
   const auto got = from_device(d.table, d.layout.table_floats);
   const size_t Wp = n + 1, P = Wp * Wp;
   std::vector<long double> row(Wp, 0.0L);  // S row y of the exact table
@@ -107,8 +114,14 @@ TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) {
       }
     }
   }
-  std::printf("[ SAT 4096x4096 ] max |entry error| / S = %.3g (at %d,%d)\n", worst, wx, wy);
+  std::printf("[ SAT 4096x4096 %s ] max |entry error| / S = %.3g (at %d,%d)\n",
+              accumulator == SatAccumulator::FloatFloat ? "float-float" : "auto", worst, wx, wy);
   EXPECT_LT(worst, 1e-12);
+}
+
+TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) { expect_large_table_exact(SatAccumulator::Auto); }
+TEST(SatLarge, FloatFloatEntriesAt4096MatchALongDoubleTable) {
+  expect_large_table_exact(SatAccumulator::FloatFloat);
 }
 
 // Box lookups (lookup.clh, sf_lookup_box) against the brute-force area-weighted mean at random

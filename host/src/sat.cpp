@@ -1,4 +1,5 @@
-// Summed-area tables (kernels/sat.cl): two launches, double accumulation stored as float-float,
+// Summed-area tables (kernels/sat.cl): two launches, double (or float-float) accumulation stored
+// as float-float,
 // the row prefix in transposed 8x8 blocks.
 #include <algorithm>
 #include <string>
@@ -24,12 +25,23 @@ SatLayout sat_layout(const ImageShape& shape) {
   return L;
 }
 
+bool device_has_fp64(const cl::Device& device) {
+  return device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+}
+
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
-                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait) {
+                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
+                       SatAccumulator accumulator) {
   const SatLayout L = sat_layout(shape);
-  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat.cl"},
+  bool fp64 = accumulator == SatAccumulator::Double;
+  if (accumulator == SatAccumulator::Auto) fp64 = device_has_fp64(rt.device());
+  if (fp64 && !device_has_fp64(rt.device()))
+    throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
+                     rt.info().device_name + "' does not support");
+  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
                              "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
-                                 " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)));
+                                 " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
+                                 " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"));
   PassEvents ev;
   cl::Kernel bands(p, "sf_sat_bands");
   bands.setArg(0, src);

@@ -44,12 +44,18 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
 struct SatLayout {
   int bands = 1, band_rows = 1;  // row bands of the two-launch build
   size_t table_floats = 0;       // 2 channels (W+1)(H+1)
-  size_t band_floats = 0;        // scratch: 4 channels bands W (band sums and rows, double)
+  size_t band_floats = 0;        // scratch: 4 channels bands W (band sums and rows, 8 bytes each)
 };
 SatLayout sat_layout(const ImageShape& shape);
+// The build's accumulator (kernels/sat_accum.clh): double where the device has cl_khr_fp64,
+// float-float otherwise; the same layout and bound to ~2^-44 either way.
+enum class SatAccumulator { Auto, Double, FloatFloat };
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape,
-                       const EventList* wait = nullptr);
+                       const EventList* wait = nullptr,
+                       SatAccumulator accumulator = SatAccumulator::Auto);
+// Whether the device supports double precision (cl_khr_fp64).
+bool device_has_fp64(const cl::Device& device);
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).

@@ -181,7 +181,7 @@ SF_INLINE void sf_hblur_padded(__global const sf_stored* row, const sf_strip* s,
   for (int j = 0; j < a - lo; ++j) pad[j] = first;
   int j = a;
   for (; j + SF_VEC <= b; j += SF_VEC)
-    *(sf_vec_u*)(pad + j - lo) = sf_decode(*(__global const sf_raw*)(row + j));
+    *(sf_vec_u*)(pad + (j - lo)) = sf_decode(*(__global const sf_raw*)(row + j));
   for (; j < b; ++j) pad[j - lo] = sf_load(row, j);
   for (j = b - lo; j < len; ++j) pad[j] = last;
   for (int v = 0; v < n; ++v)

@@ -59,15 +59,11 @@ inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 // vector per plane and work-item, the 2M + 1 streams of csm evicted each line before the next
 // work-item filled it, and csm M = 16 unorm8 (36 B per texel) took as long as float32 (132 B).
 // Written plane by plane, a line is complete before the next plane's. Up to 4 planes (5 streams)
-// the lines survive, and one vector per item is faster (the host launches one item per vector,
-// so items past the end return: esm f16 took 20% longer with 2 vectors per item).
+// the lines survive, and one vector per item is faster (esm f16 took 20% longer with 2 vectors
+// per item). The host (enqueue_transform) picks SF_XREP by this rule and launches one work-item
+// per SF_XVEC SF_XREP texels.
 #ifndef SF_XREP
-#if SF_CHANNELS > 4
-#define SF_XREP_LINE (64 / (SF_XVEC * (int)sizeof(sf_stored)))
-#define SF_XREP (SF_XREP_LINE > 1 ? SF_XREP_LINE : 1)
-#else
 #define SF_XREP 1
-#endif
 #endif
 
 // The default path: SF_XREP runs of SF_XVEC consecutive texels per work-item, one vector load of
@@ -79,10 +75,10 @@ inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 // PoCL vectorises the one-texel kernel below across work-items only when it is simple (one exp,
 // float stores); explicit vectors keep exp, the csm recurrence and the narrow stores in vector
 // code for every method.
-// Launch: ceil(texels / (SF_XVEC SF_XREP)) work-items or more (the host launches
-// ceil(texels / SF_XVEC); items past the end return). The one holding the end of a partial run
-// finishes it texel by texel with the scalar basis and sf_store (same values within an ulp of
-// exp, see the method headers; unorm codes within one at ties).
+// Launch: ceil(texels / (SF_XVEC SF_XREP)) work-items or more (items past the end return). The
+// one holding the end of a partial run finishes it texel by texel with the scalar basis and
+// sf_store (same values within an ulp of exp, see the method headers; unorm codes within one at
+// ties).
 __kernel void sf_transformv(__global const float* restrict depth, __global sf_stored* restrict basis,
                             const int texels, const int plane_stride, const sf_method_params P) {
   const size_t i0 = get_global_id(0) * (size_t)(SF_XVEC * SF_XREP);

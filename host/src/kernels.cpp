@@ -78,9 +78,13 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   const int vec = opt.schedule.transform_vector_width;
   if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
     throw InputError("transform vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  // Vectors per work-item of sf_transformv (SF_XREP, why in transform.cl): with more than 4
+  // planes, one whole 64-byte line of every plane per item.
+  const int rep = method.channels(opt) > 4 ? std::max(1, 64 / (vec * storage_bytes(opt.storage))) : 1;
   cl::Kernel k = vec == 1 ? method_kernel(rt, method, opt, "transform.cl", "sf_transform")
                           : method_kernel(rt, method, opt, "transform.cl", "sf_transformv",
-                                          " -DSF_XVEC=" + std::to_string(vec));
+                                          " -DSF_XVEC=" + std::to_string(vec) +
+                                              " -DSF_XREP=" + std::to_string(rep));
   k.setArg(0, depth);
   k.setArg(1, basis);
   k.setArg(2, texels);
@@ -93,7 +97,8 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   // fast as PoCL's choice for the other methods.
   ScheduleOptions sched = opt.schedule;
   if (vec > 1 && sched.work_group_size == 0) sched.work_group_size = 64;
-  const size_t items = (size_t(texels) + vec - 1) / vec;
+  const size_t per_item = size_t(vec) * (vec > 1 ? rep : 1);
+  const size_t items = (size_t(texels) + per_item - 1) / per_item;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(items, sched), local_1d(sched), wait,
                                   &e);
   return e;

@@ -70,21 +70,10 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
   enqueue_transform(runtime(), find_method("esm"), opt, depth, kMap, kMap, basis).wait();
-  LookupBuffers lk;
-  lk.kind = kind;
-  if (kind == Lookup::Mips) {
-    lk.chain = device_buffer(mip_layout(kMap, kMap, 1).chain_values * sizeof(float));
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, basis, lk.chain, shape).last.wait();
-  } else if (kind == Lookup::Sat) {
-    const SatLayout L = sat_layout(shape);
-    lk.sat = device_buffer(L.table_floats * sizeof(float));
-    cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
-    enqueue_sat(runtime(), Storage::F32, basis, lk.sat, bands, shape).last.wait();
-  }
   // Footprints 1 .. 64 texels (log-uniform): every LOD of a typical camera view.
   std::vector<float> f = random_floats(count, 8, 0.0f, 6.0f);
   for (auto& x : f) x = std::exp2(x);
-  lk.footprint = to_device(f);
+  const LookupBuffers lk = lookup_tables(kind, basis, shape, to_device(f));
   cl::Buffer u = to_device(random_floats(count, 5)), v = to_device(random_floats(count, 6));
   cl::Buffer d = to_device(random_floats(count, 7));
   cl::Buffer vis = device_buffer(count * sizeof(float));

@@ -44,62 +44,14 @@ inline __global sf_stored* sf_level_plane(__global sf_stored* level0, __global s
   return chain + off + (size_t)c * (*w) * (*h);
 }
 
-// Interior tile at (x0, y0) of level s: vector path, produces `m` levels.
-inline void sf_tile_interior(__global const sf_stored* src, int ws, int x0, int y0, int m,
-                             __global sf_stored* chain, int W, int H, int N, int s, int c) {
-  int w, h;
-  float16 l1[16];
-  {
-    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
-    for (int r = 0; r < 16; ++r) {
-      const size_t a = (size_t)(y0 + 2 * r) * ws + x0, b = a + ws;
-      const float16 a0 = SF_VLOAD(16, src, a), a1 = SF_VLOAD(16, src, a + 16);
-      const float16 b0 = SF_VLOAD(16, src, b), b1 = SF_VLOAD(16, src, b + 16);
-      const float16 o = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
-      l1[r] = o;
-      SF_VSTORE(16, o, dst, (size_t)(y0 / 2 + r) * w + x0 / 2);
-    }
-  }
-  if (m < 2) return;
-  float8 l2[8];
-  {
-    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 2, c, &w, &h);
-    for (int r = 0; r < 8; ++r) {
-      l2[r] = SF_RED_VEC(l1[2 * r], l1[2 * r + 1]);
-      SF_VSTORE(8, l2[r], dst, (size_t)(y0 / 4 + r) * w + x0 / 4);
-    }
-  }
-  if (m < 3) return;
-  float4 l3[4];
-  {
-    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 3, c, &w, &h);
-    for (int r = 0; r < 4; ++r) {
-      l3[r] = SF_RED_VEC(l2[2 * r], l2[2 * r + 1]);
-      SF_VSTORE(4, l3[r], dst, (size_t)(y0 / 8 + r) * w + x0 / 8);
-    }
-  }
-  if (m < 4) return;
-  float2 l4[2];
-  {
-    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 4, c, &w, &h);
-    for (int r = 0; r < 2; ++r) {
-      l4[r] = SF_RED_VEC(l3[2 * r], l3[2 * r + 1]);
-      SF_VSTORE(2, l4[r], dst, (size_t)(y0 / 16 + r) * w + x0 / 16);
-    }
-  }
-  if (m < 5) return;
-  {
-    __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 5, c, &w, &h);
-    sf_store(dst, (size_t)(y0 / 32) * w + x0 / 32, SF_RED(l4[0].x, l4[0].y, l4[1].x, l4[1].y));
-  }
-}
-
-// SF_WIDE interior tiles side by side at (x0, y0) of level s: the same levels as
-// sf_tile_interior, but every row of every level is read and written as one run of SF_WIDE
-// tiles (rows of 32 SF_WIDE texels, full cache lines from level 1 on) instead of 128-byte
-// pieces of 32 rows at a time.
-inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0, int m,
-                          __global sf_stored* chain, int W, int H, int N, int s, int c) {
+// n (1 or SF_WIDE) interior tiles side by side at (x0, y0) of level s: vector path, produces
+// `m` levels. Every row of every level is read and written as one run of n tiles (with n =
+// SF_WIDE rows of 32 SF_WIDE texels, full cache lines from level 1 on, instead of 128-byte
+// pieces of 32 rows at a time). Callers pass n as a constant: inlined, the loops over t unroll
+// and the arrays stay in registers.
+inline __attribute__((always_inline)) void sf_tiles_interior(
+    __global const sf_stored* src, int ws, int x0, int y0, const int n, int m,
+    __global sf_stored* chain, int W, int H, int N, int s, int c) {
   int w, h;
   float16 l1[SF_WIDE][16];
   {
@@ -107,7 +59,7 @@ inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0,
     for (int r = 0; r < 16; ++r) {
       const size_t a = (size_t)(y0 + 2 * r) * ws + x0, b = a + ws;
       const size_t o = (size_t)(y0 / 2 + r) * w + x0 / 2;
-      for (int t = 0; t < SF_WIDE; ++t) {
+      for (int t = 0; t < n; ++t) {
         const float16 a0 = SF_VLOAD(16, src, a + 32 * t), a1 = SF_VLOAD(16, src, a + 32 * t + 16);
         const float16 b0 = SF_VLOAD(16, src, b + 32 * t), b1 = SF_VLOAD(16, src, b + 32 * t + 16);
         const float16 v = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
@@ -121,7 +73,7 @@ inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0,
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 2, c, &w, &h);
     for (int r = 0; r < 8; ++r)
-      for (int t = 0; t < SF_WIDE; ++t) {
+      for (int t = 0; t < n; ++t) {
         l2[t][r] = SF_RED_VEC(l1[t][2 * r], l1[t][2 * r + 1]);
         SF_VSTORE(8, l2[t][r], dst, (size_t)(y0 / 4 + r) * w + x0 / 4 + 8 * t);
       }
@@ -131,7 +83,7 @@ inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0,
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 3, c, &w, &h);
     for (int r = 0; r < 4; ++r)
-      for (int t = 0; t < SF_WIDE; ++t) {
+      for (int t = 0; t < n; ++t) {
         l3[t][r] = SF_RED_VEC(l2[t][2 * r], l2[t][2 * r + 1]);
         SF_VSTORE(4, l3[t][r], dst, (size_t)(y0 / 8 + r) * w + x0 / 8 + 4 * t);
       }
@@ -141,7 +93,7 @@ inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0,
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 4, c, &w, &h);
     for (int r = 0; r < 2; ++r)
-      for (int t = 0; t < SF_WIDE; ++t) {
+      for (int t = 0; t < n; ++t) {
         l4[t][r] = SF_RED_VEC(l3[t][2 * r], l3[t][2 * r + 1]);
         SF_VSTORE(2, l4[t][r], dst, (size_t)(y0 / 16 + r) * w + x0 / 16 + 2 * t);
       }
@@ -149,7 +101,7 @@ inline void sf_tiles_wide(__global const sf_stored* src, int ws, int x0, int y0,
   if (m < 5) return;
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 5, c, &w, &h);
-    for (int t = 0; t < SF_WIDE; ++t)
+    for (int t = 0; t < n; ++t)
       sf_store(dst, (size_t)(y0 / 32) * w + x0 / 32 + t,
                SF_RED(l4[t][0].x, l4[t][0].y, l4[t][1].x, l4[t][1].y));
   }
@@ -201,12 +153,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_pyramid_tiles(
   if (xw >= ws || y0 >= hs) return;
   __global const sf_stored* plane = src + src_off + (size_t)c * ws * hs;
   if (xw + SF_TILE * SF_WIDE <= ws && y0 + SF_TILE <= hs) {
-    sf_tiles_wide(plane, ws, xw, y0, m, chain, W, H, N, s, c);
+    sf_tiles_interior(plane, ws, xw, y0, SF_WIDE, m, chain, W, H, N, s, c);
     return;
   }
   for (int x0 = xw; x0 < min(ws, xw + SF_TILE * SF_WIDE); x0 += SF_TILE) {
     if (x0 + SF_TILE <= ws && y0 + SF_TILE <= hs)
-      sf_tile_interior(plane, ws, x0, y0, m, chain, W, H, N, s, c);
+      sf_tiles_interior(plane, ws, x0, y0, 1, m, chain, W, H, N, s, c);
     else
       sf_tile_edge(plane, ws, hs, x0, y0, m, chain, W, H, N, s, c);
   }

@@ -20,13 +20,7 @@ using ::sf::MethodCase;  // shadowfilter/method_cases.hpp: shared with sf_bench
 
 // Every basis method with every storage it accepts (csm at M = 4; more orders in f32).
 inline std::vector<MethodCase> basis_cases() {
-  std::vector<MethodCase> out;
-  for (const auto& m : methods()) {
-    if (m.raw_depth) continue;
-    for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8})
-      if (m.storages.find(storage_name(s)) != std::string::npos)
-        out.push_back({m.name, s, m.name == "csm" ? 4 : 8});
-  }
+  std::vector<MethodCase> out = method_storage_cases({4});
   for (int M : {1, 2, 8, 16, 32}) out.push_back({"csm", Storage::F32, M});
   return out;
 }

@@ -21,6 +21,18 @@ std::string device_type_name(cl_device_type t) {
   return "other";
 }
 
+// The device's own properties (the platform fields are the caller's).
+void describe_device(const cl::Device& d, DeviceInfo& i) {
+  i.device_name = d.getInfo<CL_DEVICE_NAME>();
+  i.driver_version = d.getInfo<CL_DRIVER_VERSION>();
+  i.type = device_type_name(d.getInfo<CL_DEVICE_TYPE>());
+  i.global_mem_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+  i.max_alloc_bytes = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+  i.max_work_group_size = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+  i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+  i.fp64 = d.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+}
+
 struct FoundDevice {
   DeviceInfo info;
   cl::Device device;
@@ -42,13 +54,7 @@ std::vector<FoundDevice> enumerate() {
       i.platform_index = static_cast<int>(p);
       i.device_index = static_cast<int>(d);
       i.platform_name = platforms[p].getInfo<CL_PLATFORM_NAME>();
-      i.device_name = devices[d].getInfo<CL_DEVICE_NAME>();
-      i.driver_version = devices[d].getInfo<CL_DRIVER_VERSION>();
-      i.type = device_type_name(devices[d].getInfo<CL_DEVICE_TYPE>());
-      i.global_mem_bytes = devices[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-      i.max_alloc_bytes = devices[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-      i.max_work_group_size = devices[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-      i.compute_units = devices[d].getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      describe_device(devices[d], i);
       out.push_back({i, devices[d]});
     }
   }
@@ -175,15 +181,7 @@ Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
       break;
     }
   }
-  if (info_.device_name.empty()) {  // a device not reachable by enumeration (sub-device, ...)
-    info_.device_name = device_.getInfo<CL_DEVICE_NAME>();
-    info_.driver_version = device_.getInfo<CL_DRIVER_VERSION>();
-    info_.type = device_type_name(device_.getInfo<CL_DEVICE_TYPE>());
-    info_.global_mem_bytes = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-    info_.max_alloc_bytes = device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-    info_.max_work_group_size = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-    info_.compute_units = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-  }
+  if (info_.device_name.empty()) describe_device(device_, info_);  // not reachable by enumeration (sub-device, ...)
 }
 
 std::string Runtime::cache_dir() {

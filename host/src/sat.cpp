@@ -1,6 +1,5 @@
 // Summed-area tables (kernels/sat.cl): two launches, double (or float-float) accumulation stored
-// as float-float,
-// the row prefix in transposed 8x8 blocks.
+// as float-float, the row prefix in transposed 8x8 blocks.
 #include <algorithm>
 #include <string>
 
@@ -26,10 +25,6 @@ SatLayout sat_layout(const ImageShape& shape) {
   return L;
 }
 
-bool device_has_fp64(const cl::Device& device) {
-  return device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
-}
-
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
                        SatAccumulator accumulator) {
@@ -42,9 +37,8 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
     L.bands = 1;
     L.band_rows = shape.height;
   }
-  bool fp64 = accumulator == SatAccumulator::Double;
-  if (accumulator == SatAccumulator::Auto) fp64 = device_has_fp64(rt.device());
-  if (fp64 && !device_has_fp64(rt.device()))
+  const bool fp64 = accumulator == SatAccumulator::Auto ? rt.info().fp64 : accumulator == SatAccumulator::Double;
+  if (fp64 && !rt.info().fp64)
     throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
                      rt.info().device_name + "' does not support");
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},

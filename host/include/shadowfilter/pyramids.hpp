@@ -54,8 +54,6 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                        const cl::Buffer& band_scratch, const ImageShape& shape,
                        const EventList* wait = nullptr,
                        SatAccumulator accumulator = SatAccumulator::Auto);
-// Whether the device supports double precision (cl_khr_fp64).
-bool device_has_fp64(const cl::Device& device);
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).

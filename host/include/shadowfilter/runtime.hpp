@@ -22,6 +22,7 @@ struct DeviceInfo {
   cl_ulong max_alloc_bytes = 0;
   size_t max_work_group_size = 0;
   cl_uint compute_units = 0;
+  bool fp64 = false;  // cl_khr_fp64 (the SAT accumulates in double where it can)
 };
 
 // Every OpenCL device on every platform, in platform/device order.

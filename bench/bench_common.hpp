@@ -47,13 +47,12 @@ cl::Buffer to_device(const std::vector<float>& host);
 cl::Buffer device_buffer(size_t bytes);
 // The table a footprint lookup reads, built (and waited for) outside the timing from a float32
 // basis of `shape`: mips -> the mean chain, sat -> the float-float table, bilinear -> none.
-// bench_pyramid.cpp still builds its own (same code; to be switched over by its owner).
 LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape,
                             const cl::Buffer& footprint);
 
 // A mip pyramid (Reduce::Mean of `shape.channels` planes, or the Max / Min depth pyramids) of
 // random float32 values, timed from its first to its last launch; bytes: level 0 read + every
-// level written. For bench_coverage.cpp (z-min); bench_pyramid.cpp may call it for mean / z-max.
+// level written (bench_pyramid.cpp: mean, z-max; bench_coverage.cpp: z-min).
 void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, unsigned seed);
 
 // Repetitions per benchmark: 5, or SF_BENCH_REPETITIONS.

@@ -16,33 +16,13 @@ namespace {
 constexpr int kMap = 2048;
 
 void BM_MipChain(benchmark::State& state) {
-  const int n = int(state.range(0)), channels = int(state.range(1));
-  const ImageShape shape{n, n, channels, 4};
-  const MipLayout L = mip_layout(n, n, channels);
-  cl::Buffer src = to_device(random_floats(shape.plane_texels() * channels, 11));
-  cl::Buffer chain = device_buffer(std::max<size_t>(L.chain_values, 1) * sizeof(float));
-  const double s = time_runs(state, [&] {
-    PassEvents e = enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, src, chain, shape);
-    e.last.wait();
-    return event_seconds(e.first, e.last);
-  });
-  set_throughput(state, 4.0 * (double(shape.plane_texels()) * channels + double(L.chain_values)),
-                 double(shape.plane_texels()) * channels, s);
+  const int n = int(state.range(0));
+  time_chain(state, Reduce::Mean, ImageShape{n, n, int(state.range(1)), 4}, 11);
 }
 
 void BM_ZMaxChain(benchmark::State& state) {
   const int n = int(state.range(0));
-  const ImageShape shape{n, n, 1, 4};
-  const MipLayout L = mip_layout(n, n, 1);
-  cl::Buffer src = to_device(random_floats(shape.plane_texels(), 12));
-  cl::Buffer chain = device_buffer(L.chain_values * sizeof(float));
-  const double s = time_runs(state, [&] {
-    PassEvents e = enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, src, chain, shape);
-    e.last.wait();
-    return event_seconds(e.first, e.last);
-  });
-  set_throughput(state, 4.0 * (double(shape.plane_texels()) + double(L.chain_values)),
-                 double(shape.plane_texels()), s);
+  time_chain(state, Reduce::Max, ImageShape{n, n, 1, 4}, 12);
 }
 
 void BM_Sat(benchmark::State& state) {

@@ -45,12 +45,7 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "bilinear", "mips", "sat"}));
   c->add_option("--max-error", a.auto_args.max_error, "--auto: error bound")->capture_default_str();
-  c->add_option("--auto-rounds", a.auto_args.rounds,
-                "--auto: interleaved rounds in which the candidates under the bound run again")
-      ->capture_default_str();
-  c->add_option("--auto-tolerance", a.auto_args.tolerance,
-                "--auto: least tie band (the measured noise widens it); a tie goes to the lower estimate")
-      ->capture_default_str();
+  add_auto_choice_options(*c, a.auto_args);
   c->add_option("--metric", a.auto_args.metric, "--auto: metric against s_ref")->capture_default_str();
   c->add_option("--sref-bias", a.auto_args.sref_bias,
                 "Depth bias b of s_ref, H(z - d + b); sm and pcf run with it (default 0.01: the "

@@ -33,6 +33,9 @@ struct AutoArgs {
   double sref_bias = 0.01;  // depth bias of s_ref (eval::kDefaultSrefBias; 0 = the unbiased test)
 };
 void add_auto_options(CLI::App& cmd, AutoArgs& args);
+// --auto-rounds and --auto-tolerance (how the measured candidates are compared), for `filter`
+// (through add_auto_options) and `evaluate`.
+void add_auto_choice_options(CLI::App& cmd, AutoArgs& args);
 
 struct FilterArgs {
   std::string shadow_map, receivers, receiver_depth, output, device;

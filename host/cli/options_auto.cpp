@@ -10,6 +10,17 @@
 
 namespace sf::cli {
 
+void add_auto_choice_options(CLI::App& c, AutoArgs& a) {
+  c.add_option("--auto-rounds", a.rounds,
+               "--auto: interleaved rounds in which the candidates under the bound run again; each keeps its "
+               "fastest run")
+      ->capture_default_str();
+  c.add_option("--auto-tolerance", a.tolerance,
+               "--auto: least tie band: fastest runs within this fraction (or the measured noise, when larger) "
+               "of the fastest are a tie, which goes to the lower estimated cost")
+      ->capture_default_str();
+}
+
 void add_auto_options(CLI::App& c, AutoArgs& a) {
   c.add_flag("--auto", a.enabled,
              "Pick the fastest method configuration whose error against s_ref (the exact filtered "
@@ -22,14 +33,7 @@ void add_auto_options(CLI::App& c, AutoArgs& a) {
   c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")
       ->capture_default_str();
   c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")->capture_default_str();
-  c.add_option("--auto-rounds", a.rounds,
-               "--auto: interleaved rounds in which the candidates under the bound run again; each keeps its "
-               "fastest run")
-      ->capture_default_str();
-  c.add_option("--auto-tolerance", a.tolerance,
-               "--auto: least tie band: fastest runs within this fraction (or the measured noise, when larger) "
-               "of the fastest are a tie, which goes to the lower estimated cost")
-      ->capture_default_str();
+  add_auto_choice_options(c, a);
   c.add_option("--sref-bias", a.sref_bias,
                "--auto: depth bias b of s_ref, H(z - d + b) (default 0.01: lit tilted surfaces stay lit)")
       ->capture_default_str();

@@ -4,9 +4,9 @@
 // the measured bound).
 // Needs common.clh, storage.clh, vecio.clh and sat_accum.clh before it.
 //
-// Layout (float): channel c has two planes of (W+1) x (H+1), row pitch W+1: hi at 2c P, lo at
-// (2c+1) P with P = (W+1)(H+1). S[y][x] = sum of texels [0, x) x [0, y) (row 0 and column 0
-// are zero), so the area-weighted sum over any box is a bilinear interpolation of S at its
+// Layout (float): channel c has two planes of H+1 rows of pitch Wp = sf_sat_pitch(W) (common.clh),
+// hi at 2c P, lo at (2c+1) P with P = Wp (H+1); S[y][x] is at y Wp + SF_SAT_X0 + x in its plane.
+// S[y][x] = sum of texels [0, x) x [0, y) (row 0 and column 0 are zero), so the area-weighted sum over any box is a bilinear interpolation of S at its
 // corners (lookup.clh, sf_lookup_box). Every entry is the double sum split into hi = the
 // nearest float and lo = the nearest float to the (exact) remainder: |hi + lo - S| <= 2^-48 |S|
 // plus the double rounding of the sum, <= (x + y + band_rows) 2^-53 sum|texels| (worst case;
@@ -21,7 +21,8 @@
 //   becomes 8 sequential sf_acc8 additions with one row per vector lane (a running total per
 //   row carried from block to block), transposed back, and S[y+1] = S[y] + row prefix added
 //   down the block's columns from the unrounded S row above the block (an accumulator row per
-//   band in the scratch, still in cache).
+//   band in the scratch, still in cache). Two such blocks side by side make 16 entries per row,
+//   one whole 64-byte line of the table, streamed past the caches (sf_sat_stream16).
 // Traffic: the image is read twice (bands, rows) and the table written once. The previous
 // float-float accumulator is bound by the latency of its running sum (a chain of ~8 dependent
 // float additions per column step): a double addition is one.
@@ -81,48 +82,77 @@ inline void sf_sat_put8(__global float* p, int x, int n, float8 v) {
 #define SF_SAT_STRIP 256
 #endif
 
+// Column sums of rows y0 .. y1 - 1 (y1 > y0), columns xs .. xe - 1, into o[xs .. xe - 1], walking
+// the rows in order (contiguous reads), the sums in o (in L1).
+inline void sf_sat_colsums(__global const sf_stored* restrict plane, int W, int xs, int xe, int y0,
+                           int y1, __global sf_acc* restrict o) {
+  for (int x = xs; x < xe; x += 16)
+    sf_acc16_put(o, x, xe, sf_acc16_of(sf_sat_load_stored(plane + (size_t)y0 * W, x, W)));
+  for (int y = y0 + 1; y < y1; ++y) {
+    __global const sf_stored* row = plane + (size_t)y * W;
+    int x = xs;
+    for (; x + 16 <= xe; x += 16)
+      sf_acc16_vstore(o + x, sf_acc16_addf(sf_acc16_vload(o + x), SF_VLOAD(16, row, x)));
+    for (; x < xe; x += 16)
+      sf_acc16_put(o, x, xe, sf_acc16_addf(sf_acc16_load(o, x, xe), sf_sat_load_stored(row, x, W)));
+  }
+}
+
 // Band sums: scratch (sf_acc) holds, for channel c and band b, the column sums of the band's
-// rows at (c nb + b) W. One work-item per SF_SAT_STRIP columns x band x channel walks the
-// band's rows in order (contiguous reads), its column sums in the output row (in L1).
+// rows at (c nb + b) W. One work-item per SF_SAT_STRIP columns x band x channel.
 // NDRange (ceil(W / SF_SAT_STRIP), nb, N), local (1, 1, 1).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_bands(
     __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
     const int nb, __global sf_acc* restrict scratch) {
   const int xs = get_global_id(0) * SF_SAT_STRIP, b = get_global_id(1), c = get_global_id(2);
-  const int xe = min(W, xs + SF_SAT_STRIP);
-  __global const sf_stored* plane = src + (size_t)c * W * H;
-  const int y0 = b * band_rows, y1 = min(H, y0 + band_rows);
-  __global sf_acc* o = scratch + (size_t)(c * nb + b) * W;
-  for (int x = xs; x < xe; x += 16)
-    sf_acc16_put(o, x, xe, sf_acc16_of(sf_sat_load_stored(plane + (size_t)y0 * W, x, W)));
-  for (int y = y0 + 1; y < y1; ++y) {
-    __global const sf_stored* row = plane + (size_t)y * W;
-    if (xe - xs == SF_SAT_STRIP) {
-      for (int x = xs; x < xe; x += 16)
-        sf_acc16_vstore(o + x, sf_acc16_addf(sf_acc16_vload(o + x), SF_VLOAD(16, row, x)));
-    } else {
-      for (int x = xs; x < xe; x += 16)
-        sf_acc16_put(o, x, xe, sf_acc16_addf(sf_acc16_load(o, x, xe), sf_sat_load_stored(row, x, W)));
-    }
-  }
+  const int y0 = b * band_rows;
+  sf_sat_colsums(src + (size_t)c * W * H, W, xs, min(W, xs + SF_SAT_STRIP), y0, min(H, y0 + band_rows),
+                 scratch + (size_t)(c * nb + b) * W);
 }
 
-// NDRange (nb, N), local (1, 1): see the file comment. scratch: the band sums (N nb W entries)
-// then one row of W entries per band and channel (the band's last S row, unrounded).
-__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
-    __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
-    const int nb, __global sf_acc* restrict scratch, __global float* restrict sat) {
-  const int b = get_global_id(0), c = get_global_id(1);
-  const int y0 = b * band_rows, y1 = min(H, y0 + band_rows);
-  const int Wp = W + 1, N = get_global_size(1);
-  const size_t P = (size_t)Wp * (H + 1);
-  __global float* shi = sat + 2 * c * P;
-  __global float* slo = shi + P;
-  __global const sf_stored* plane = src + (size_t)c * W * H;
-  __global const sf_acc* cb = scratch + (size_t)c * nb * W;
-  __global sf_acc* vrow = scratch + (size_t)(N + c) * nb * W + (size_t)b * W;
+// A whole 64-byte line of a table row (p 64-byte aligned), written past the caches: the table
+// is not read back by the build, and plain stores would first read every line they fill.
+inline void sf_sat_stream16(__global float* p, float16 v) {
+#if defined(__clang__)
+  __builtin_nontemporal_store(v, (__global float16*)p);
+#else
+  *(__global float16*)p = v;
+#endif
+}
 
-  // S row y0: prefix along x of the column carries sum_{b' < b} bands(b').
+// 8 rows x 8 columns of the band from column x (rows ys.., the running row totals t): the row
+// prefixes h0..h7 (h_i = row ys + i's prefix at columns x..x+7), t advanced past column x + 7.
+#define SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7) \
+  {                                                                                   \
+    SF_TRANSPOSE8(float8, r0, r1, r2, r3, r4, r5, r6, r7)                             \
+    t = sf_acc8_addf(t, r0);                                                          \
+    h0 = t;                                                                           \
+    t = sf_acc8_addf(t, r1);                                                          \
+    h1 = t;                                                                           \
+    t = sf_acc8_addf(t, r2);                                                          \
+    h2 = t;                                                                           \
+    t = sf_acc8_addf(t, r3);                                                          \
+    h3 = t;                                                                           \
+    t = sf_acc8_addf(t, r4);                                                          \
+    h4 = t;                                                                           \
+    t = sf_acc8_addf(t, r5);                                                          \
+    h5 = t;                                                                           \
+    t = sf_acc8_addf(t, r6);                                                          \
+    h6 = t;                                                                           \
+    t = sf_acc8_addf(t, r7);                                                          \
+    h7 = t;                                                                           \
+    SF_ACC_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7)                                 \
+  }
+
+// One band of rows y0 .. y1 - 1 of one channel (plane: its stored image; shi, slo: its table
+// planes, SF_SAT_X0 applied) into S rows y0 .. y1 - 1 (and row H for the last band). S row y0 is
+// the prefix along x of the column carries: the sum of the ncarry rows of W entries at cb. vrow:
+// W entries of scratch for the running S row.
+inline void sf_sat_band(__global const sf_stored* restrict plane, int W, int H, int y0, int y1,
+                        bool last, __global const sf_acc* restrict cb, int ncarry,
+                        __global sf_acc* restrict vrow, __global float* restrict shi,
+                        __global float* restrict slo, bool lines) {
+  const size_t Wp = sf_sat_pitch(W);
   {
     sf_acc t = SF_ACC_ZERO;
     __global float* rh = shi + (size_t)y0 * Wp;
@@ -131,7 +161,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
     rl[0] = 0.0f;
     for (int x = 0; x < W; x += 8) {
       sf_acc8 cs = sf_acc8_zero();
-      for (int k = 0; k < b; ++k) cs = sf_acc8_add(cs, sf_acc8_load(cb + (size_t)k * W, x, W));
+      for (int k = 0; k < ncarry; ++k) cs = sf_acc8_add(cs, sf_acc8_load(cb + (size_t)k * W, x, W));
       sf_acc d[8];
       sf_acc8_to_array(cs, d);
       for (int i = 0; i < 8; ++i) {
@@ -148,7 +178,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
   }
   // Input rows ys .. ys + 7 -> S rows ys + 1 .. ys + 8. The band owns S rows y0 .. y1 - 1
   // (the last band row H too): row y1 is the next band's first row.
-  const int y_end = b == nb - 1 ? y1 : y1 - 1;
+  const int y_end = last ? y1 : y1 - 1;
   for (int ys = y0; ys < y_end; ys += 8) {
     const int nr = min(8, y_end - ys);
     for (int i = 0; i < nr; ++i) {
@@ -159,7 +189,44 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
     __global const sf_stored* in = plane + (size_t)ys * W;
     __global float* oh = shi + (size_t)(ys + 1) * Wp + 1;
     __global float* ol = slo + (size_t)(ys + 1) * Wp + 1;
-    for (int x = 0; x < W; x += 8) {
+    int x = 0;
+    // Whole blocks of 8 rows x 16 columns: each row's 16 entries of S (hi and lo) leave as one
+    // streamed line. S[y+1] = S[y] + row prefix, down the columns from the S row above (v).
+    if (lines && nr == 8) {
+      for (; x + 16 <= W; x += 16) {
+        float8 r0 = SF_VLOAD(8, in, x), r1 = SF_VLOAD(8, in + W, x);
+        float8 r2 = SF_VLOAD(8, in + 2 * W, x), r3 = SF_VLOAD(8, in + 3 * W, x);
+        float8 r4 = SF_VLOAD(8, in + 4 * W, x), r5 = SF_VLOAD(8, in + 5 * W, x);
+        float8 r6 = SF_VLOAD(8, in + 6 * W, x), r7 = SF_VLOAD(8, in + 7 * W, x);
+        sf_acc8 h0, h1, h2, h3, h4, h5, h6, h7;
+        SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7)
+        r0 = SF_VLOAD(8, in, x + 8);
+        r1 = SF_VLOAD(8, in + W, x + 8);
+        r2 = SF_VLOAD(8, in + 2 * W, x + 8);
+        r3 = SF_VLOAD(8, in + 3 * W, x + 8);
+        r4 = SF_VLOAD(8, in + 4 * W, x + 8);
+        r5 = SF_VLOAD(8, in + 5 * W, x + 8);
+        r6 = SF_VLOAD(8, in + 6 * W, x + 8);
+        r7 = SF_VLOAD(8, in + 7 * W, x + 8);
+        sf_acc8 g0, g1, g2, g3, g4, g5, g6, g7;
+        SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, g0, g1, g2, g3, g4, g5, g6, g7)
+        sf_acc8 va = sf_acc8_vload(vrow + x), vb = sf_acc8_vload(vrow + x + 8);
+        float8 ah, al, bh, bl;
+#define SF_OUT16(i)                                                \
+  va = sf_acc8_add(va, h##i);                                      \
+  vb = sf_acc8_add(vb, g##i);                                      \
+  sf_acc8_split(va, &ah, &al);                                     \
+  sf_acc8_split(vb, &bh, &bl);                                     \
+  sf_sat_stream16(oh + (size_t)(i) * Wp + x, (float16)(ah, bh));   \
+  sf_sat_stream16(ol + (size_t)(i) * Wp + x, (float16)(al, bl));
+        SF_OUT16(0) SF_OUT16(1) SF_OUT16(2) SF_OUT16(3) SF_OUT16(4) SF_OUT16(5) SF_OUT16(6) SF_OUT16(7)
+#undef SF_OUT16
+        sf_acc8_vstore(vrow + x, va);
+        sf_acc8_vstore(vrow + x + 8, vb);
+      }
+    }
+    // The rest in blocks of 8 x 8 (rows past nr and columns past W read as zeros), plain stores.
+    for (; x < W; x += 8) {
       const bool full = nr == 8 && x + 8 <= W;
       float8 r0, r1, r2, r3, r4, r5, r6, r7;
       if (full) {
@@ -182,34 +249,74 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
         r6 = nr > 6 ? sf_sat_load_stored8(in + 6 * W, x, W) : z;
         r7 = nr > 7 ? sf_sat_load_stored8(in + 7 * W, x, W) : z;
       }
-      SF_TRANSPOSE8(float8, r0, r1, r2, r3, r4, r5, r6, r7)  // r_j = column x + j, lane i = row ys + i
       sf_acc8 h0, h1, h2, h3, h4, h5, h6, h7;
-#define SF_STEP(j) t = sf_acc8_addf(t, r##j); h##j = t;
-      SF_STEP(0) SF_STEP(1) SF_STEP(2) SF_STEP(3) SF_STEP(4) SF_STEP(5) SF_STEP(6) SF_STEP(7)
-#undef SF_STEP
-      SF_ACC_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7)  // h_i = row ys + i's prefix, columns x..
+      SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7)
       // Rows past nr are zero (their prefixes too): v ends as S row ys + nr.
       sf_acc8 v = sf_acc8_load(vrow, x, W);
       float8 fh, fl;
-      if (full) {
-#define SF_OUT(i)                                                 \
-  v = sf_acc8_add(v, h##i);                                       \
-  sf_acc8_split(v, &fh, &fl);                                     \
-  *(__global sf_float8u*)(oh + (size_t)(i) * Wp + x) = fh;        \
-  *(__global sf_float8u*)(ol + (size_t)(i) * Wp + x) = fl;
-        SF_OUT(0) SF_OUT(1) SF_OUT(2) SF_OUT(3) SF_OUT(4) SF_OUT(5) SF_OUT(6) SF_OUT(7)
-#undef SF_OUT
-        sf_acc8_vstore(vrow + x, v);
-      } else {
-        const sf_acc8 ph[8] = {h0, h1, h2, h3, h4, h5, h6, h7};
-        for (int i = 0; i < nr; ++i) {
-          v = sf_acc8_add(v, ph[i]);
-          sf_acc8_split(v, &fh, &fl);
-          sf_sat_put8(oh + (size_t)i * Wp, x, W, fh);
-          sf_sat_put8(ol + (size_t)i * Wp, x, W, fl);
-        }
-        sf_acc8_put(vrow, x, W, v);
+      const sf_acc8 ph[8] = {h0, h1, h2, h3, h4, h5, h6, h7};
+      for (int i = 0; i < nr; ++i) {
+        v = sf_acc8_add(v, ph[i]);
+        sf_acc8_split(v, &fh, &fl);
+        sf_sat_put8(oh + (size_t)i * Wp, x, W, fh);
+        sf_sat_put8(ol + (size_t)i * Wp, x, W, fl);
       }
+      sf_acc8_put(vrow, x, W, v);
     }
   }
+}
+
+// Whole lines can be streamed when the table starts on one (it does in any buffer the host
+// allocates; a sub-buffer at an odd offset takes plain stores).
+inline bool sf_sat_lines(__global const float* sat) { return ((size_t)sat & 63) == 0; }
+
+// Second launch of the two-launch build. NDRange (nb, N), local (1, 1): see the file comment.
+// scratch: the band sums (N nb W entries) then one row of W entries per band and channel (the
+// band's running S row, unrounded).
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
+    __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
+    const int nb, __global sf_acc* restrict scratch, __global float* restrict sat) {
+  const int b = get_global_id(0), c = get_global_id(1), N = get_global_size(1);
+  const size_t P = sf_sat_pitch(W) * (H + 1);
+  __global float* shi = sat + 2 * c * P + SF_SAT_X0;
+  sf_sat_band(src + (size_t)c * W * H, W, H, b * band_rows, min(H, (b + 1) * band_rows), b == nb - 1,
+              scratch + (size_t)c * nb * W, b, scratch + (size_t)(N * nb + c * nb + b) * W, shi, shi + P,
+              sf_sat_lines(sat));
+}
+
+// The one-launch build (CPUs): band t = (channel t / nb, band t % nb) in the order the work-items
+// start, each reading its band twice, the second time from cache. NDRange (nb N), local (1).
+// A band sums its columns, waits for the band above to publish its carries (the column sums of
+// every row above it, through its own band), publishes its own, then builds its rows.
+// Waiting is safe because the tickets are handed out as work-items start: the band waited for
+// has started, and nothing it does waits on a later band.
+// scratch: nb N rows of W entries (band t's carries), nb N more (band t's running S row), then
+// the control ints ctl, zero before the launch (the host fills them): ctl[0] hands out the
+// tickets, ctl[1 + t] is band t's "carries published" flag.
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_chain(
+    __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
+    const int nb, __global sf_acc* restrict scratch, __global float* restrict sat) {
+  const int total = get_global_size(0);
+  volatile __global int* ctl = (volatile __global int*)(scratch + (size_t)2 * total * W);
+  const int t = atomic_inc(ctl);
+  const int c = t / nb, b = t % nb, y0 = b * band_rows, y1 = min(H, y0 + band_rows);
+  const bool last = b == nb - 1;
+  __global const sf_stored* plane = src + (size_t)c * W * H;
+  __global sf_acc* carries = scratch + (size_t)t * W;
+  if (!last) sf_sat_colsums(plane, W, 0, W, y0, y1, carries);
+  if (b > 0) {
+    while (atomic_add(ctl + t, 0) == 0) {
+    }
+    if (!last)
+      for (int x = 0; x < W; x += 8)
+        sf_acc8_put(carries, x, W, sf_acc8_add(sf_acc8_load(carries, x, W), sf_acc8_load(carries - W, x, W)));
+  }
+  if (!last) {
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    atomic_xchg(ctl + 1 + t, 1);
+  }
+  const size_t P = sf_sat_pitch(W) * (H + 1);
+  __global float* shi = sat + 2 * c * P + SF_SAT_X0;
+  sf_sat_band(plane, W, H, y0, y1, last, b > 0 ? carries - W : carries, b > 0 ? 1 : 0, scratch + (size_t)(total + t) * W,
+              shi, shi + P, sf_sat_lines(sat));
 }

@@ -17,26 +17,30 @@ struct DeviceSat {
   SatLayout layout;
 };
 
+// `builds` times into one table with one scratch (the later builds must not depend on what the
+// earlier ones left there).
 DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage storage = Storage::F32,
-                     SatAccumulator accumulator = SatAccumulator::Auto) {
+                     SatAccumulator accumulator = SatAccumulator::Auto,
+                     SatSchedule schedule = SatSchedule::Auto, int builds = 1) {
   DeviceSat s;
   s.layout = sat_layout(shape);
   s.table = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, s.layout.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, s.layout.band_floats * sizeof(float));
-  enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, accumulator).last.wait();
+  for (int i = 0; i < builds; ++i)
+    enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, accumulator, schedule).last.wait();
   return s;
 }
 
 // Every entry hi + lo of a device table (sat.cl layout) against the double table: double sums
 // split into hi + lo (2^-48 relative), tolerance 1e-11 |S| + 1e-12.
-void expect_table(const std::vector<float>& got, const ref::Planes& want, const std::string& label) {
+void expect_table(const std::vector<float>& got, const SatLayout& L, const ref::Planes& want,
+                  const std::string& label) {
   const int W = want.width - 1, H = want.height - 1;
-  const size_t P = size_t(W + 1) * (H + 1);
+  ASSERT_EQ(got.size(), L.table_floats);
   for (int c = 0; c < want.channels; ++c)
     for (int y = 0; y <= H; ++y)
       for (int x = 0; x <= W; ++x) {
-        const size_t i = size_t(y) * (W + 1) + x;
-        const double v = double(got[2 * c * P + i]) + double(got[(2 * c + 1) * P + i]);
+        const double v = double(got[L.at(c, false, x, y)]) + double(got[L.at(c, true, x, y)]);
         const double w = want.at(c, x, y);
         ASSERT_NEAR(v, w, 1e-11 * w + 1e-12) << label << " channel " << c << " at " << x << "," << y;
       }
@@ -46,24 +50,28 @@ struct Size {
   int w, h, channels;
 };
 // Both accumulators (sat_accum.clh): double where the device has it (PoCL does), and the
-// float-float fallback for devices without cl_khr_fp64.
-class Sat : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator>> {};
+// float-float fallback for devices without cl_khr_fp64; every schedule (each built twice on one
+// scratch).
+class Sat : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator, SatSchedule>> {};
 
 // Every entry hi + lo against the double table. Every partial sum (row totals, column sums, the
 // band carries) is double, stored as hi + lo (2^-48), or float-float (about 2^-44 relative per
 // addition): tolerance 1e-11 |S| + 1e-12 (a plain float32 prefix anywhere would be off by ~6e-8
 // of a row's sum).
 TEST_P(Sat, TableMatchesTheReference) {
-  const auto [s, accumulator] = GetParam();
+  const auto [s, accumulator, schedule] = GetParam();
   ref::Planes in(s.w, s.h, s.channels);
   std::mt19937 rng(s.w * 31 + s.h);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   std::vector<float> host(in.data.size());
   for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
-  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, accumulator);
+  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, accumulator, schedule, 2);
   const auto got = from_device(d.table, d.layout.table_floats);
   const ref::Planes want = ref::sat_table(in);
-  expect_table(got, want, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
+  expect_table(got, d.layout, want, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
+  if (s.h >= 32 && schedule == SatSchedule::Chained) {
+    EXPECT_GT(d.layout.chain_bands, 2) << "the chain's bands wait on each other";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -71,23 +79,24 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Combine(::testing::Values(Size{1, 1, 1}, Size{1, 40, 1}, Size{40, 1, 1}, Size{5, 3, 2},
                                          Size{16, 16, 1}, Size{17, 33, 1}, Size{100, 37, 3},
                                          Size{257, 300, 1}, Size{640, 1000, 1}),
-                       ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat)));
+                       ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat),
+                       ::testing::Values(SatSchedule::PerChannel, SatSchedule::Chained, SatSchedule::TwoLaunch)));
 
 // Every entry of a 4096x4096 table against a long double (64-bit mantissa) table of the same
 // floats. sat.cl sums in double (worst case (x + y + band_rows + bands) 2^-53 of S for
 // non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-48 |S|):
 // tolerance 1e-12 |S|; docs/lookups.md quotes the measured maximum.
 // The float-float fallback: about 2^-44 of S per addition, measured below 1e-13 (same bound).
-void expect_large_table_exact(SatAccumulator accumulator) {
+void expect_large_table_exact(SatAccumulator accumulator, SatSchedule schedule = SatSchedule::Auto) {
   const int n = 4096;
   std::vector<float> host(size_t(n) * n);
   std::mt19937 rng(4096);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
-  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4}, Storage::F32, accumulator);
+  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4}, Storage::F32, accumulator, schedule);
   const auto got = from_device(d.table, d.layout.table_floats);
-  const size_t Wp = n + 1, P = Wp * Wp;
+  const size_t Wp = n + 1;
   std::vector<long double> row(Wp, 0.0L);  // S row y of the exact table
   double worst = 0;
   int wx = 0, wy = 0;
@@ -100,8 +109,7 @@ void expect_large_table_exact(SatAccumulator accumulator) {
       }
     }
     for (int x = 1; x <= n; ++x) {
-      const size_t i = size_t(y) * Wp + x;
-      const long double v = (long double)got[i] + (long double)got[P + i];
+      const long double v = (long double)got[d.layout.at(0, false, x, y)] + (long double)got[d.layout.at(0, true, x, y)];
       if (y == 0) {
         ASSERT_EQ(v, 0.0L);
         continue;
@@ -115,13 +123,19 @@ void expect_large_table_exact(SatAccumulator accumulator) {
     }
   }
   std::printf("[ SAT 4096x4096 %s ] max |entry error| / S = %.3g (at %d,%d)\n",
-              accumulator == SatAccumulator::FloatFloat ? "float-float" : "auto", worst, wx, wy);
+              accumulator == SatAccumulator::FloatFloat ? "float-float"
+              : schedule == SatSchedule::TwoLaunch      ? "double, two launches"
+                                                        : "double",
+              worst, wx, wy);
   EXPECT_LT(worst, 1e-12);
 }
 
 TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) { expect_large_table_exact(SatAccumulator::Auto); }
 TEST(SatLarge, FloatFloatEntriesAt4096MatchALongDoubleTable) {
   expect_large_table_exact(SatAccumulator::FloatFloat);
+}
+TEST(SatLarge, TwoLaunchEntriesAt4096MatchALongDoubleTable) {
+  expect_large_table_exact(SatAccumulator::Auto, SatSchedule::TwoLaunch);
 }
 
 // Box lookups (lookup.clh, sf_lookup_box) against the brute-force area-weighted mean at random
@@ -191,7 +205,7 @@ TEST_P(SatStorage, TableMatchesTheReference) {
   for (size_t i = 0; i < img.values.size(); ++i) in.data[i] = img.values[i];
   const auto got = from_device(d.table, d.layout.table_floats);
   const ref::Planes want = ref::sat_table(in);
-  expect_table(got, want, storage_name(storage));
+  expect_table(got, d.layout, want, storage_name(storage));
 }
 
 INSTANTIATE_TEST_SUITE_P(

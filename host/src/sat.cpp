@@ -1,5 +1,6 @@
-// Summed-area tables (kernels/sat.cl): two launches, double (or float-float) accumulation stored
-// as float-float, the row prefix in transposed 8x8 blocks.
+// Summed-area tables (kernels/sat.cl): double (or float-float) accumulation stored as float-float,
+// the row prefix in transposed 8x8 blocks; one launch on CPUs (bands chained in start order),
+// two elsewhere (band sums, then rows).
 #include <algorithm>
 #include <string>
 
@@ -9,34 +10,54 @@
 namespace sf {
 namespace {
 constexpr int kStrip = 256;  // columns per work-item of sf_sat_bands (SF_SAT_STRIP)
+// A chained band's stored rows, read twice, the second time from L2/L3: at 2048^2 bands of
+// 256 KiB to 2 MiB were within noise of each other, at 4096^2 1-2 MiB were best.
+constexpr size_t kChainBandBytes = 1 << 20;
+
+// Bands of `rows` rows (at most the image's) and how many cover the image.
+void set_bands(int height, int rows, int& bands, int& band_rows) {
+  band_rows = std::clamp(rows, 1, std::max(1, height));
+  bands = (height + band_rows - 1) / band_rows;
+}
 }  // namespace
 
 SatLayout sat_layout(const ImageShape& shape) {
   SatLayout L;
-  // Bands of rows: one work-item each in the second launch (enqueue_sat takes one band per
-  // channel when the channels alone fill the device). 16 bands keep two CPU cores busy
-  // while the carries a band reads (the column sums of the bands above it, one double per
-  // column each) stay a few percent of the image.
-  L.bands = std::clamp(shape.height / 32, 1, 16);
-  L.band_rows = (shape.height + L.bands - 1) / L.bands;
-  L.bands = (shape.height + L.band_rows - 1) / L.band_rows;
-  L.table_floats = 2 * size_t(shape.channels) * (size_t(shape.width) + 1) * (size_t(shape.height) + 1);
-  L.band_floats = 4 * size_t(shape.channels) * L.bands * size_t(shape.width);  // 2 rows of doubles
+  const size_t W = size_t(shape.width), N = size_t(shape.channels);
+  // Two launches: one work-item per band in the second. 16 bands keep two CPU cores busy while
+  // the carries a band reads (the column sums of the bands above it, one double per column
+  // each) stay a few percent of the image.
+  const int two_bands = std::clamp(shape.height / 32, 1, 16);
+  set_bands(shape.height, (shape.height + two_bands - 1) / two_bands, L.bands, L.band_rows);
+  // One launch: bands small enough that their second read comes from cache, in multiples of 8
+  // rows, and at least 8 of them per channel where the image has the rows.
+  const size_t cache_rows = std::max<size_t>(8, kChainBandBytes / (W * shape.value_bytes) / 8 * 8);
+  const int eighth = (shape.height + 63) / 64 * 8;  // ceil(H / 8) rounded up to 8
+  set_bands(shape.height, int(std::min<size_t>(cache_rows, size_t(eighth))), L.chain_bands, L.chain_band_rows);
+  L.pitch = (W + SatLayout::x0 + 16) & ~size_t(15);  // sf_sat_pitch
+  L.plane_floats = L.pitch * (size_t(shape.height) + 1);
+  L.table_floats = 2 * N * L.plane_floats;
+  // Scratch entries are 8 bytes: 2 rows of W per band (sums, running S row), then the chain's
+  // control ints.
+  const size_t two = 4 * N * size_t(L.bands) * W;
+  L.chain_ctl_offset = 4 * N * size_t(L.chain_bands) * W;
+  L.chain_ctl_ints = 1 + N * size_t(L.chain_bands);
+  const size_t chain = L.chain_ctl_offset + L.chain_ctl_ints;
+  L.band_floats = std::max(two, chain);
   return L;
+}
+
+SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
+  // 2048^2 on 2 cores: 4 channels per channel 6.2 ms against 9.5 chained; 1 channel chained
+  // 1.7 ms against 2.0-2.4 in two launches (docs/lookups.md).
+  if (shape.channels >= int(std::max<cl_uint>(1, rt.info().compute_units))) return SatSchedule::PerChannel;
+  return rt.info().type == "CPU" ? SatSchedule::Chained : SatSchedule::TwoLaunch;
 }
 
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
-                       SatAccumulator accumulator) {
+                       SatAccumulator accumulator, SatSchedule schedule) {
   SatLayout L = sat_layout(shape);
-  // With at least one channel per compute unit the channels alone keep the device busy: one band
-  // per channel reads the image once (no band sums), where bands read it twice. 2048^2 x 4
-  // channels on 2 cores: 9.0 ms against 12.2-13.2 with 16 bands; 1 channel stays banded (3.8 ms
-  // in one band against 2.6).
-  if (shape.channels >= int(std::max<cl_uint>(1, rt.info().compute_units))) {
-    L.bands = 1;
-    L.band_rows = shape.height;
-  }
   const bool fp64 = accumulator == SatAccumulator::Auto ? rt.info().fp64 : accumulator == SatAccumulator::Double;
   if (fp64 && !rt.info().fp64)
     throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
@@ -46,6 +67,28 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                                  " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
                                  " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"));
   PassEvents ev;
+  if (schedule == SatSchedule::Auto) schedule = sat_schedule(rt, shape);
+  if (schedule == SatSchedule::Chained) {
+    cl::Kernel k(p, "sf_sat_chain");
+    k.setArg(0, src);
+    k.setArg(1, shape.width);
+    k.setArg(2, shape.height);
+    k.setArg(3, L.chain_band_rows);
+    k.setArg(4, L.chain_bands);
+    k.setArg(5, band_scratch);
+    k.setArg(6, table);
+    // The ticket counter and the flags start at zero.
+    rt.queue().enqueueFillBuffer(band_scratch, cl_int(0), L.chain_ctl_offset * sizeof(float),
+                                 L.chain_ctl_ints * sizeof(cl_int), wait, &ev.first);
+    EventList after{ev.first};
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(L.chain_bands) * shape.channels),
+                                    cl::NDRange(1), &after, &ev.last);
+    return ev;
+  }
+  if (schedule == SatSchedule::PerChannel) {
+    L.bands = 1;
+    L.band_rows = shape.height;
+  }
   cl::Kernel bands(p, "sf_sat_bands");
   bands.setArg(0, src);
   bands.setArg(1, shape.width);
@@ -53,10 +96,10 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   bands.setArg(3, L.band_rows);
   bands.setArg(4, L.bands);
   bands.setArg(5, band_scratch);
-  // One band has no carries: its band sums would be read by nobody.
+  // Nobody reads the last band's sums (one band has none to read).
   if (L.bands > 1)
     rt.queue().enqueueNDRangeKernel(bands, cl::NullRange,
-                                    cl::NDRange((shape.width + kStrip - 1) / kStrip, L.bands, shape.channels),
+                                    cl::NDRange((shape.width + kStrip - 1) / kStrip, L.bands - 1, shape.channels),
                                     cl::NDRange(1, 1, 1), wait, &ev.first);
   cl::Kernel rows(p, "sf_sat_rows");
   rows.setArg(0, src);

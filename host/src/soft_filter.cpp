@@ -211,7 +211,8 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) {
     const int entries = (W_ + 1) * (H_ + 1);
     pk.setArg(0, sat_);
     pk.setArg(1, packed_);
-    pk.setArg(2, entries);
+    pk.setArg(2, W_);
+    pk.setArg(3, H_);
     EventList after_sat{sat_done_.last};
     rt_->queue().enqueueNDRangeKernel(pk, cl::NullRange, cl::NDRange(size_t(entries)), cl::NullRange, &after_sat,
                                       &pack_done_);

@@ -106,16 +106,17 @@ inline void sf_cssm_lookup(__global const float* restrict basis, __global const 
 #endif
 }
 
-// sat.cl's table (plane c: hi at 2 c P, lo at (2 c + 1) P, P = (W + 1)(H + 1)) interleaved per
-// entry: packed[2 (e C + c) + {0, 1}] = (hi, lo).
+// sat.cl's table (plane c: hi at 2 c P, lo at (2 c + 1) P, common.clh's pitch) interleaved per
+// entry e = y (W + 1) + x: packed[2 (e C + c) + {0, 1}] = (hi, lo) of S[y][x].
 __kernel void sf_cssm_sat_pack(__global const float* restrict sat, __global float* restrict packed,
-                               const int entries) {
+                               const int W, const int H) {
   const int e = get_global_id(0);
-  if (e >= entries) return;
-  const size_t P = (size_t)entries;
+  if (e >= (W + 1) * (H + 1)) return;
+  const size_t Wp = sf_sat_pitch(W), P = Wp * (H + 1);
+  const size_t s = (size_t)(e / (W + 1)) * Wp + SF_SAT_X0 + e % (W + 1);
   for (int c = 0; c < SF_CHANNELS; ++c) {
-    packed[2 * ((size_t)e * SF_CHANNELS + c)] = sat[2 * c * P + e];
-    packed[2 * ((size_t)e * SF_CHANNELS + c) + 1] = sat[(2 * c + 1) * P + e];
+    packed[2 * ((size_t)e * SF_CHANNELS + c)] = sat[2 * c * P + s];
+    packed[2 * ((size_t)e * SF_CHANNELS + c) + 1] = sat[(2 * c + 1) * P + s];
   }
 }
 

@@ -40,20 +40,41 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
                            const EventList* wait = nullptr);
 
 // --- summed-area tables -------------------------------------------------------
-// Float-float table (hi + lo planes per channel) of (W+1) x (H+1) with zero first row and column.
+// Float-float table (hi + lo planes per channel) of (W+1) x (H+1) entries with zero first row
+// and column; rows padded so that entries x >= 1 start on 64-byte lines (kernels/common.clh).
 struct SatLayout {
+  static constexpr int x0 = 15;  // SF_SAT_X0: where entry x = 0 lies in a row
   int bands = 1, band_rows = 1;  // row bands of the two-launch build
-  size_t table_floats = 0;       // 2 channels (W+1)(H+1)
-  size_t band_floats = 0;        // scratch: 4 channels bands W (band sums and rows, 8 bytes each)
+  int chain_bands = 1, chain_band_rows = 1;  // row bands of the one-launch build, per channel
+  size_t chain_ctl_offset = 0;   // floats into the scratch: the one-launch build's control ints
+  size_t chain_ctl_ints = 0;
+  size_t pitch = 0;              // floats per table row: sf_sat_pitch(W), a multiple of 16 >= W + 16
+  size_t plane_floats = 0;       // pitch (H+1)
+  size_t table_floats = 0;       // 2 channels plane_floats
+  size_t band_floats = 0;        // scratch for either build: 2 rows of W 8-byte entries per band
+  // Index of S[y][x] of channel c in the table: hi plane, or lo with `lo`.
+  size_t at(int c, bool lo, int x, int y) const {
+    return (2 * size_t(c) + (lo ? 1 : 0)) * plane_floats + size_t(y) * pitch + x0 + size_t(x);
+  }
 };
 SatLayout sat_layout(const ImageShape& shape);
 // The build's accumulator (kernels/sat_accum.clh): double where the device has cl_khr_fp64,
 // float-float otherwise; the same layout and bound to ~2^-44 either way.
 enum class SatAccumulator { Auto, Double, FloatFloat };
+// How the table is built (kernels/sat.cl); all give the same table.
+//   PerChannel: one work-item per channel, one launch; the image read once.
+//   Chained: bands of rows in one launch, each band waiting for the carries of the band above;
+//     the image read once from memory (each band twice, the second time from cache).
+//   TwoLaunch: the column sums of every band, then the bands' rows; the image read twice.
+// Auto: PerChannel when the channels alone fill the compute units, else Chained on CPUs and
+// TwoLaunch elsewhere (sat_schedule).
+enum class SatSchedule { Auto, PerChannel, Chained, TwoLaunch };
+SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape);
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape,
                        const EventList* wait = nullptr,
-                       SatAccumulator accumulator = SatAccumulator::Auto);
+                       SatAccumulator accumulator = SatAccumulator::Auto,
+                       SatSchedule schedule = SatSchedule::Auto);
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).

@@ -6,11 +6,12 @@
 //
 // Layout (float): channel c has two planes of H+1 rows of pitch Wp = sf_sat_pitch(W) (common.clh),
 // hi at 2c P, lo at (2c+1) P with P = Wp (H+1); S[y][x] is at y Wp + SF_SAT_X0 + x in its plane.
-// S[y][x] = sum of texels [0, x) x [0, y) (row 0 and column 0 are zero), so the area-weighted sum over any box is a bilinear interpolation of S at its
-// corners (lookup.clh, sf_lookup_box). Every entry is the double sum split into hi = the
-// nearest float and lo = the nearest float to the (exact) remainder: |hi + lo - S| <= 2^-48 |S|
-// plus the double rounding of the sum, <= (x + y + band_rows) 2^-53 sum|texels| (worst case;
-// the float-float accumulator: about 2^-44 |S|).
+// S[y][x] = sum of texels [0, x) x [0, y) (row 0 and column 0 are zero), so the area-weighted
+// sum over any box is a bilinear interpolation of S at its corners (lookup.clh, sf_lookup_box).
+// Every entry is the double sum split into hi = the sum truncated to 24 significant bits (a
+// float) and lo = the nearest float to the (exact) remainder: |hi + lo - S| <= 2^-47 |S| plus the
+// double rounding of the sum, <= (x + y + band_rows) 2^-53 sum|texels| (worst case; the
+// float-float accumulator: about 2^-44 |S|).
 //
 // Two launches:
 // - sf_sat_bands: column sums of each band of rows (accumulator), one work-item per
@@ -50,13 +51,24 @@ inline void sf_sat_put8(__global float* p, int x, int n, float8 v) {
   for (int i = 0; i < 8 && x + i < n; ++i) p[x + i] = t[i];
 }
 
-// In-register 8x8 transpose (unpack, 4-lane shuffle, 128-bit lane permute: 24 shuffles).
+// In-register 8x8 transpose (unpack, 4-lane shuffle, 128-bit lane permute: 24 shuffles). Clang
+// gets them as explicit shuffles: from element-wise vector literals PoCL's LLVM built the same
+// transposes from inserts and broadcasts (the block loop 496 -> 293 instructions, 20% faster).
+#if defined(__clang__)
+#define SF_UNPACKLO(T, a, b) __builtin_shufflevector(a, b, 0, 8, 1, 9, 4, 12, 5, 13)
+#define SF_UNPACKHI(T, a, b) __builtin_shufflevector(a, b, 2, 10, 3, 11, 6, 14, 7, 15)
+#define SF_SHUFLO(T, a, b) __builtin_shufflevector(a, b, 0, 1, 8, 9, 4, 5, 12, 13)
+#define SF_SHUFHI(T, a, b) __builtin_shufflevector(a, b, 2, 3, 10, 11, 6, 7, 14, 15)
+#define SF_PERMLO(T, a, b) __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11)
+#define SF_PERMHI(T, a, b) __builtin_shufflevector(a, b, 4, 5, 6, 7, 12, 13, 14, 15)
+#else
 #define SF_UNPACKLO(T, a, b) (T)((a).s0, (b).s0, (a).s1, (b).s1, (a).s4, (b).s4, (a).s5, (b).s5)
 #define SF_UNPACKHI(T, a, b) (T)((a).s2, (b).s2, (a).s3, (b).s3, (a).s6, (b).s6, (a).s7, (b).s7)
 #define SF_SHUFLO(T, a, b) (T)((a).s0, (a).s1, (b).s0, (b).s1, (a).s4, (a).s5, (b).s4, (b).s5)
 #define SF_SHUFHI(T, a, b) (T)((a).s2, (a).s3, (b).s2, (b).s3, (a).s6, (a).s7, (b).s6, (b).s7)
 #define SF_PERMLO(T, a, b) (T)((a).lo, (b).lo)
 #define SF_PERMHI(T, a, b) (T)((a).hi, (b).hi)
+#endif
 // T: float8 or double8 (the accumulator's transpose, sat_accum.clh).
 #define SF_TRANSPOSE8(T, r0, r1, r2, r3, r4, r5, r6, r7)                               \
   {                                                                                     \

@@ -13,20 +13,26 @@
 // double rounding of the sum, <= (x + y + band_rows) 2^-53 sum|texels| (worst case; the
 // float-float accumulator: about 2^-44 |S|).
 //
-// Two launches:
-// - sf_sat_bands: column sums of each band of rows (accumulator), one work-item per
-//   SF_SAT_STRIP columns x band x channel walking the band's rows in order.
-// - sf_sat_rows: one work-item per band x channel. Its first S row comes from the bands above
-//   (column carries, prefix along the row). The band's rows then go in blocks of 8 rows x 8
-//   columns, left to right: the block is transposed in registers so that the row prefix
-//   becomes 8 sequential sf_acc8 additions with one row per vector lane (a running total per
-//   row carried from block to block), transposed back, and S[y+1] = S[y] + row prefix added
-//   down the block's columns from the unrounded S row above the block (an accumulator row per
-//   band in the scratch, still in cache). Two such blocks side by side make 16 entries per row,
-//   one whole 64-byte line of the table, streamed past the caches (sf_sat_stream16).
-// Traffic: the image is read twice (bands, rows) and the table written once. The previous
-// float-float accumulator is bound by the latency of its running sum (a chain of ~8 dependent
-// float additions per column step): a double addition is one.
+// A band of rows (sf_sat_band) starts from its column carries, the column sums of every row above
+// it: its first S row is their prefix along the row. Its rows then go in blocks of 8 rows x 8
+// columns, left to right: the block is transposed in registers so that the row prefix becomes 8
+// sequential sf_acc8 additions with one row per vector lane (a running total per row carried
+// from block to block), transposed back, and S[y+1] = S[y] + row prefix added down the block's
+// columns from the unrounded S row above the block (an accumulator row per band in the scratch,
+// still in cache). Two such blocks side by side make 16 entries per row, one whole 64-byte line
+// of the table, streamed past the caches (sf_sat_stream16).
+// Three schedules (enqueue_sat, SatSchedule):
+// - sf_sat_rows alone, one band per channel: no carries; the image read once.
+// - sf_sat_chain (CPUs), one launch: each band sums its own columns, waits for the band above to
+//   publish its carries, publishes its own and builds its rows, reading its rows the second time
+//   from cache. Work-groups signal each other through atomics, which OpenCL 1.2 does not order
+//   across work-groups in general (Oclgrind's race detector reports the carries): sound on CPU
+//   devices (one coherent address space; the seq_cst atomics order the plain accesses around
+//   them, and a started work-group runs to its end), not assumed elsewhere.
+// - sf_sat_bands then sf_sat_rows: every band's column sums, then the bands' rows; the image is
+//   read twice.
+// The float-float accumulator is bound by the latency of its running sum (a chain of ~8
+// dependent float additions per column step): a double addition is one.
 
 // 16 texels of a stored plane row from x (zeros from W on).
 inline float16 sf_sat_load_stored(__global const sf_stored* row, int x, int W) {

@@ -106,7 +106,24 @@ inline void sf_sat_colsums(__global const sf_stored* restrict plane, int W, int 
                            int y1, __global sf_acc* restrict o) {
   for (int x = xs; x < xe; x += 16)
     sf_acc16_put(o, x, xe, sf_acc16_of(sf_sat_load_stored(plane + (size_t)y0 * W, x, W)));
-  for (int y = y0 + 1; y < y1; ++y) {
+  int y = y0 + 1;
+  // 4 rows per pass over the sums (a quarter of the sums' loads and stores).
+  if (xe - xs >= 16)
+    for (; y + 4 <= y1; y += 4) {
+      __global const sf_stored* row = plane + (size_t)y * W;
+      for (int x = xs; x + 16 <= xe; x += 16) {
+        sf_acc16 a = sf_acc16_addf(sf_acc16_vload(o + x), SF_VLOAD(16, row, x));
+        a = sf_acc16_addf(a, SF_VLOAD(16, row + W, x));
+        a = sf_acc16_addf(a, SF_VLOAD(16, row + 2 * W, x));
+        sf_acc16_vstore(o + x, sf_acc16_addf(a, SF_VLOAD(16, row + 3 * W, x)));
+      }
+      for (int x = xs + (xe - xs) / 16 * 16; x < xe; x += 16) {
+        sf_acc16 a = sf_acc16_load(o, x, xe);
+        for (int i = 0; i < 4; ++i) a = sf_acc16_addf(a, sf_sat_load_stored(row + i * W, x, W));
+        sf_acc16_put(o, x, xe, a);
+      }
+    }
+  for (; y < y1; ++y) {
     __global const sf_stored* row = plane + (size_t)y * W;
     int x = xs;
     for (; x + 16 <= xe; x += 16)

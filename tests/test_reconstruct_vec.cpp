@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -155,7 +157,9 @@ TEST(ReconstructWidth, WideMethodsRunWithMips) {
 // vector log2); callers may pass them as two buffers (per-lane buffer choice, PoCL's log2).
 // Both layouts give the same visibility (the two log2 differ by ulps: tolerance 2e-5 + 1e-7 c
 // for ESM, 1e-5 for the moments), at every storage and for maps one texel wide or tall (the
-// pair loads then read the padding value after the chain).
+// pair loads then read the padding value after the chain). The joined layout's level-offset
+// table built per call, passed in (LookupBuffers::level_offsets) and the pipeline's own (built
+// once with its chain) give bit-identical visibility.
 TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
   const Receivers rx = make_rx(1003, 9);
   auto u = to_device(rx.u), v = to_device(rx.v), d = to_device(rx.d), f = to_device(rx.f);
@@ -190,6 +194,20 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       LookupBuffers one = separate;
       cl_buffer_region region{off, (chain_values + 1) * vb};
       one.chain = joined.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+      LookupBuffers prebuilt = one;
+      prebuilt.level_offsets = mip_level_offsets(runtime(), storage, joined, one.chain, shape);
+      ASSERT_TRUE(prebuilt.level_offsets());
+      EXPECT_FALSE(mip_level_offsets(runtime(), storage, level0, separate.chain, shape)());
+      if (w * h > 1) {  // a table of another chain's size is refused
+        LookupBuffers wrong = one;
+        wrong.level_offsets = cl::Buffer(runtime().context(), CL_MEM_READ_ONLY, sizeof(cl_int));
+        EXPECT_THROW(enqueue_reconstruct_points(runtime(), find_method(method), opt, joined, w, h, u, v, d, u,
+                                                rx.u.size(), nullptr, &wrong),
+                     InputError);
+      }
+      DeviceReceivers drx;
+      drx.count = rx.u.size();
+      drx.u = u, drx.v = v, drx.d = d, drx.f = f;
       q.finish();
       const double tol = opt.method == "esm" ? 2e-5 + 1e-7 * opt.esm.c : 1e-5;
       for (int width : {1, 16}) {
@@ -199,6 +217,20 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
         enqueue_reconstruct_points(runtime(), m, opt, level0, w, h, u, v, d, a, rx.u.size(), nullptr, &separate);
         enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, b, rx.u.size(), nullptr, &one);
         const auto va = from_device(a, rx.u.size()), vj = from_device(b, rx.u.size());
+        auto same_bits = [&](const std::vector<float>& got, const char* path) {
+          for (size_t i = 0; i < got.size(); ++i) {
+            uint32_t x, y;
+            std::memcpy(&x, &got[i], 4), std::memcpy(&y, &vj[i], 4);
+            ASSERT_EQ(x, y) << path << " " << method << " " << storage_name(storage) << " " << w << "x" << h
+                            << " width " << width << " receiver " << i << ": " << got[i] << " vs " << vj[i];
+          }
+        };
+        enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, a, rx.u.size(), nullptr, &prebuilt);
+        same_bits(from_device(a, rx.u.size()), "prebuilt table");
+        if (width == pipe.options().schedule.reconstruct_vector_width) {
+          pipe.reconstruct(drx, a).wait();
+          same_bits(from_device(a, rx.u.size()), "pipeline");
+        }
         for (size_t i = 0; i < va.size(); ++i) {
           ASSERT_TRUE(std::isfinite(vj[i])) << method << " " << storage_name(storage) << " " << w << "x" << h;
           ASSERT_NEAR(vj[i], va[i], tol) << method << " " << storage_name(storage) << " " << w << "x" << h

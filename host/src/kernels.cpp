@@ -227,11 +227,11 @@ namespace {
 // The element offset of `chain` in `basis` when chain is a sub-buffer of basis (the pipeline's
 // joined mip layout: level 0 at 0, the chain after it, then one padding value that the pair
 // loads of the last texel read) and every index fits an int; else -1.
-int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, const FilterOptions& opt,
+int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, size_t bytes,
                         size_t chain_values) {
   if (!chain() || !basis()) return -1;
   if (chain.getInfo<CL_MEM_ASSOCIATED_MEMOBJECT>()() != basis()) return -1;
-  const size_t bytes = storage_bytes(opt.storage), offset = chain.getInfo<CL_MEM_OFFSET>();
+  const size_t offset = chain.getInfo<CL_MEM_OFFSET>();
   const size_t size = chain.getInfo<CL_MEM_SIZE>();
   if (offset % bytes != 0 || size < (chain_values + 1) * bytes ||
       (offset + size) / bytes > size_t(std::numeric_limits<int>::max()))
@@ -239,7 +239,23 @@ int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, const 
   return static_cast<int>(offset / bytes);
 }
 
+// Level k's element offset in the joined buffer, k = 0 .. top (the kernel's level_offsets).
+cl::Buffer level_offset_table(Runtime& rt, const MipLayout& mips, int chain_offset) {
+  std::vector<cl_int> offsets{0};
+  for (int l = 1; l <= mips.top(); ++l)
+    offsets.push_back(chain_offset + static_cast<cl_int>(mips.levels[l].offset));
+  return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                    offsets.size() * sizeof(cl_int), offsets.data());
+}
+
 }  // namespace
+
+cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis,
+                             const cl::Buffer& chain, const ImageShape& shape) {
+  const MipLayout mips = mip_layout(shape.width, shape.height, shape.channels);
+  const int chain_offset = joined_chain_offset(basis, chain, storage_bytes(storage), mips.chain_values);
+  return chain_offset >= 0 ? level_offset_table(rt, mips, chain_offset) : cl::Buffer();
+}
 
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                      const cl::Buffer& basis, int width, int height,
@@ -259,8 +275,10 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   // every width gives the same values (tests/test_reconstruct_vec.cpp).
   while (vec > 1 && method.channels(opt) * vec > 64) vec = vec == 4 ? 1 : vec / 2;
   const MipLayout mips = kind == Lookup::Mips ? mip_layout(width, height, method.channels(opt)) : MipLayout{};
-  const int chain_offset =
-      kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain, opt, mips.chain_values) : -1;
+  const int chain_offset = kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain,
+                                                                     storage_bytes(opt.storage),
+                                                                     mips.chain_values)
+                                                : -1;
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
                                " -DSF_RX_VEC=" + std::to_string(vec) +
                                    (kind == Lookup::Bilinear
@@ -270,13 +288,15 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                    (chain_offset >= 0 || (kind == Lookup::Bilinear && width >= 2)
                                         ? " -DSF_RX_PAIRS"
                                         : ""));
-  cl::Buffer level_offsets;  // held until the launch: setArg does not keep it alive
-  if (chain_offset >= 0) {  // level k's element offset in basis, k = 0 .. top
-    std::vector<cl_int> offsets{0};
-    for (int l = 1; l <= mips.top(); ++l)
-      offsets.push_back(chain_offset + static_cast<cl_int>(mips.levels[l].offset));
-    level_offsets = cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                               offsets.size() * sizeof(cl_int), offsets.data());
+  // The caller's table (the pipeline builds it once with its mip chain), else one built here.
+  cl::Buffer level_offsets = chain_offset >= 0 ? lookup->level_offsets : cl::Buffer();
+  if (chain_offset >= 0) {
+    const size_t table_bytes = size_t(mips.top() + 1) * sizeof(cl_int);
+    if (!level_offsets())
+      level_offsets = level_offset_table(rt, mips, chain_offset);
+    else if (level_offsets.getInfo<CL_MEM_SIZE>() != table_bytes)
+      throw InputError("mips level_offsets holds " + std::to_string(level_offsets.getInfo<CL_MEM_SIZE>()) +
+                       " bytes, the chain needs " + std::to_string(table_bytes));
     k.setArg(13, level_offsets);
   } else {
     k.setArg(13, sizeof(cl_mem), nullptr);

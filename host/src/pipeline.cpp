@@ -72,6 +72,7 @@ void Pipeline::allocate_lookups() {
     lookup_bytes_ -= shape_.bytes();  // level 0 is the basis, counted in device_bytes()
     basis_ = sub_buffer(mips_, 0, shape_.bytes());
     chain_ = sub_buffer(mips_, level0, chain);
+    level_offsets_ = mip_level_offsets(*rt_, options_.storage, mips_, chain_, shape_);
   }
   if (!method_->raw_depth && options_.lookup.kind == Lookup::Sat) {
     const SatLayout L = sat_layout(shape_);
@@ -126,6 +127,7 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
   // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).
   const cl::Buffer& rx_basis = mips_() ? mips_ : basis_;
   lookup.chain = chain_;
+  lookup.level_offsets = level_offsets_;
   lookup.sat = sat_;
   lookup.footprint = rx.f;
   if (rx.grid) {  // footprint 1 at texel centres: every lookup reads the texel itself

@@ -55,6 +55,10 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& visibility, size_t count,
                                      const EventList* wait = nullptr,
                                      const LookupBuffers* lookup = nullptr);
+// LookupBuffers::level_offsets for a joined mip layout (chain a sub-buffer of basis, the
+// pipeline's); empty when the layout is not joined. Built once, it spares a table per call.
+cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis,
+                             const cl::Buffer& chain, const ImageShape& shape);
 
 // Visibility of one receiver per shadow-map texel (depth image d of the map's size).
 cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,

@@ -61,6 +61,7 @@ class Pipeline {
   void allocate_lookups();
   size_t lookup_bytes_ = 0;
   cl::Buffer mips_;  // mips: level 0 (basis_) and the chain (chain_) in one buffer
+  cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_, zmax_chain_, depth_, flags_;
   size_t flags_count_ = 0;
   PassEvents pyramid_done_, sat_done_, zmax_done_;

@@ -83,6 +83,7 @@ struct LookupBuffers {
   cl::Buffer chain;      // mips: the mip chain of the filtered basis
   cl::Buffer sat;        // sat: the summed-area table of the filtered basis
   cl::Buffer footprint;  // per receiver f in level-0 texels; empty = 1 everywhere
+  cl::Buffer level_offsets;  // joined mips: mip_level_offsets (kernels.hpp); empty = built per call
 };
 // The shape.channels filtered values of `count` receivers (method-agnostic): out holds
 // shape.channels planes of count floats. Used by tests and by callers with their own methods.

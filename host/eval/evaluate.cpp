@@ -548,14 +548,42 @@ std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest
   return out;
 }
 
+TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, const std::vector<double>& cost,
+                            double time_tolerance) {
+  if (rounds.empty() || cost.empty()) throw InputError("choose_by_times: no rounds or no finalists");
+  const size_t n = cost.size();
+  std::vector<std::vector<double>> ratio(n);  // ratio[k]: finalist k's time over the round's fastest
+  for (const auto& t : rounds) {
+    if (t.size() != n) throw InputError("choose_by_times: a round has " + std::to_string(t.size()) +
+                                        " times for " + std::to_string(n) + " finalists");
+    const double best = *std::min_element(t.begin(), t.end());
+    for (size_t k = 0; k < n; ++k) ratio[k].push_back(t[k] / best);
+  }
+  TimedChoice c;
+  std::vector<double> noise;
+  for (size_t k = 0; k < n; ++k) {
+    c.score.push_back(median(ratio[k]));
+    noise.push_back(c.score[k] / *std::min_element(ratio[k].begin(), ratio[k].end()) - 1.0);
+  }
+  c.noise = n > 1 ? median(noise) : 0.0;
+  c.tolerance = std::max(time_tolerance, c.noise);
+  c.order.resize(n);
+  for (size_t k = 0; k < n; ++k) c.order[k] = k;
+  std::stable_sort(c.order.begin(), c.order.end(), [&](size_t a, size_t b) { return c.score[a] < c.score[b]; });
+  const double best = c.score[c.order.front()];
+  c.pick = c.order.front();
+  for (size_t k : c.order)
+    if (c.score[k] <= best * (1.0 + c.tolerance) && cost[k] < cost[c.pick]) c.pick = k;
+  return c;
+}
+
 // The choice among the candidates under the bound (`hits`, indices in res.tried). One run's time
 // on a loaded machine is off by tens of percent, and a short quiet moment can make one
 // candidate's fastest run half the others', so the finalists run again in interleaved rounds and
-// are compared within each round: a candidate's score is the median over the rounds of its time
-// (fastest of the round's runs) over the round's fastest time (1 = fastest in every round). The
-// tie band is the noise of those ratios (median over the finalists of median / min - 1), at least
-// time_tolerance; within it the lowest estimate wins, which makes the choice repeatable.
-// Finalists: the hits whose first pass is within 3x of the fastest, at most 8.
+// are compared within each round (choose_by_times: the median over the rounds of a finalist's
+// time over the round's fastest, ties within the measured noise to the lowest estimate), which
+// makes the choice repeatable. Finalists: the hits whose first pass is within 3x of the fastest,
+// at most 8.
 static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                             const std::vector<size_t>& hits, AutoResult& res) {
   constexpr size_t kMaxFinalists = 8;
@@ -563,12 +591,7 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
   std::stable_sort(fin.begin(), fin.end(), [&](size_t a, size_t b) { return res.tried[a].min_ms < res.tried[b].min_ms; });
   const double first_best = res.tried[fin.front()].min_ms;
   while (fin.size() > kMaxFinalists || res.tried[fin.back()].min_ms > 3.0 * first_best) fin.pop_back();
-  // ratio[k]: candidate k's time over the fastest of the same pass (the first pass when no rounds).
-  std::vector<std::vector<double>> ratio(fin.size());
-  auto add_pass = [&](const std::vector<double>& t) {
-    const double best = *std::min_element(t.begin(), t.end());
-    for (size_t k = 0; k < fin.size(); ++k) ratio[k].push_back(t[k] / best);
-  };
+  std::vector<std::vector<double>> rounds;  // the fastest run of each finalist per round
   const TimingSettings t{1, std::max(1, req.timing.runs)};
   for (int round = 0; round < req.final_rounds && fin.size() > 1; ++round) {
     std::vector<double> pass(fin.size());
@@ -579,37 +602,28 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
       row.min_ms = std::min(row.min_ms, pass[k]);
       row.runs += t.runs;
     }
-    add_pass(pass);
+    rounds.push_back(pass);
   }
-  if (ratio.front().empty()) {
-    std::vector<double> first;
-    for (size_t i : fin) first.push_back(res.tried[i].min_ms);
-    add_pass(first);
+  if (rounds.empty()) {  // no rounds: the first pass decides
+    rounds.emplace_back();
+    for (size_t i : fin) rounds.back().push_back(res.tried[i].min_ms);
   }
-  std::vector<double> score(fin.size()), noise;
-  for (size_t k = 0; k < fin.size(); ++k) {
-    score[k] = median(ratio[k]);
-    noise.push_back(score[k] / *std::min_element(ratio[k].begin(), ratio[k].end()) - 1.0);
-  }
-  res.noise = fin.size() > 1 ? median(noise) : 0.0;
-  res.tolerance = std::max(req.time_tolerance, res.noise);
-  std::vector<size_t> order(fin.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return score[a] < score[b]; });
-  const double best = score[order.front()];
-  size_t pick = order.front();
-  for (size_t k : order)
-    if (score[k] <= best * (1.0 + res.tolerance) && res.tried_cost[fin[k]] < res.tried_cost[fin[pick]]) pick = k;
-  for (size_t k : order) {
+  std::vector<double> cost;
+  for (size_t i : fin) cost.push_back(res.tried_cost[i]);
+  const TimedChoice c = choose_by_times(rounds, cost, req.time_tolerance);
+  res.noise = c.noise;
+  res.tolerance = c.tolerance;
+  for (size_t k : c.order) {
     const Row& row = res.tried[fin[k]];
-    res.finalists.push_back({row.label, row.min_ms, score[k], res.tried_cost[fin[k]]});
+    res.finalists.push_back({row.label, row.min_ms, c.score[k], cost[k]});
   }
-  if (pick != order.front())
-    res.tie = res.tried[fin[order.front()]].label + " scored " + fmt(100.0 * (score[pick] / best - 1.0), 2) +
+  const size_t pick = c.pick, fastest = c.order.front();
+  if (pick != fastest)
+    res.tie = res.tried[fin[fastest]].label + " scored " + fmt(100.0 * (c.score[pick] / c.score[fastest] - 1.0), 2) +
               "% faster, within the " + fmt(100.0 * res.tolerance, 2) + "% band, and has a higher estimate";
   res.chosen = res.tried[fin[pick]].options;
   res.chosen_row = res.tried[fin[pick]];
-  res.chosen_score = score[pick];
+  res.chosen_score = c.score[pick];
 }
 
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,

@@ -199,6 +199,21 @@ struct AutoResult {
 // methods reject (e.g. esm c = 80 in f16).
 std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest& req, const FilterOptions& target,
                                            std::vector<Skipped>* refused);
+// The decision among choose_auto's finalists from their measured times alone: rounds[r][k] is
+// finalist k's time in round r (the first pass when there were no rounds), cost[k] its estimate.
+// score[k] = median over the rounds of its time / the round's fastest; the tie band is
+// max(time_tolerance, noise), noise = median over the finalists of score / least ratio - 1;
+// the lowest estimate within the band of the best score wins (earlier in `order` on equal cost).
+struct TimedChoice {
+  std::vector<double> score;
+  std::vector<size_t> order;  // finalists by score, best first (stable)
+  double noise = 0;           // 0 for one finalist
+  double tolerance = 0;
+  size_t pick = 0;            // the chosen finalist
+};
+// Throws InputError without rounds or finalists, or when a round's size is not cost.size().
+TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, const std::vector<double>& cost,
+                            double time_tolerance);
 // `progress` (may be empty) is called after each candidate with (done, total).
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                        const std::function<void(size_t, size_t)>& progress = {});

@@ -157,26 +157,14 @@ inline void sf_sat_stream16(__global float* p, float16 v) {
 
 // 8 rows x 8 columns of the band from column x (rows ys.., the running row totals t): the row
 // prefixes h0..h7 (h_i = row ys + i's prefix at columns x..x+7), t advanced past column x + 7.
-#define SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7) \
-  {                                                                                   \
-    SF_TRANSPOSE8(float8, r0, r1, r2, r3, r4, r5, r6, r7)                             \
-    t = sf_acc8_addf(t, r0);                                                          \
-    h0 = t;                                                                           \
-    t = sf_acc8_addf(t, r1);                                                          \
-    h1 = t;                                                                           \
-    t = sf_acc8_addf(t, r2);                                                          \
-    h2 = t;                                                                           \
-    t = sf_acc8_addf(t, r3);                                                          \
-    h3 = t;                                                                           \
-    t = sf_acc8_addf(t, r4);                                                          \
-    h4 = t;                                                                           \
-    t = sf_acc8_addf(t, r5);                                                          \
-    h5 = t;                                                                           \
-    t = sf_acc8_addf(t, r6);                                                          \
-    h6 = t;                                                                           \
-    t = sf_acc8_addf(t, r7);                                                          \
-    h7 = t;                                                                           \
-    SF_ACC_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7)                                 \
+#define SF_SAT_T(r, h) \
+  t = sf_acc8_addf(t, r);  \
+  h = t;
+#define SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7)              \
+  {                                                                                                \
+    SF_TRANSPOSE8(float8, r0, r1, r2, r3, r4, r5, r6, r7)                                          \
+    SF_SAT_T(r0, h0) SF_SAT_T(r1, h1) SF_SAT_T(r2, h2) SF_SAT_T(r3, h3) SF_SAT_T(r4, h4)           \
+    SF_SAT_T(r5, h5) SF_SAT_T(r6, h6) SF_SAT_T(r7, h7) SF_ACC_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7) \
   }
 
 // One band of rows y0 .. y1 - 1 of one channel (plane: its stored image; shi, slo: its table
@@ -352,6 +340,6 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_chain(
   }
   const size_t P = sf_sat_pitch(W) * (H + 1);
   __global float* shi = sat + 2 * c * P + SF_SAT_X0;
-  sf_sat_band(plane, W, H, y0, y1, last, b > 0 ? carries - W : carries, b > 0 ? 1 : 0, scratch + (size_t)(total + t) * W,
-              shi, shi + P, sf_sat_lines(sat));
+  sf_sat_band(plane, W, H, y0, y1, last, b > 0 ? carries - W : carries, b > 0 ? 1 : 0,
+              scratch + (size_t)(total + t) * W, shi, shi + P, sf_sat_lines(sat));
 }

@@ -66,52 +66,43 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                              "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
                                  " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
                                  " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"));
-  PassEvents ev;
-  if (schedule == SatSchedule::Auto) schedule = sat_schedule(rt, shape);
-  if (schedule == SatSchedule::Chained) {
-    cl::Kernel k(p, "sf_sat_chain");
+  // Every SAT kernel takes (src, W, H, band_rows, bands, scratch[, table]).
+  auto kernel = [&](const char* name, int band_rows, int bands, bool with_table) {
+    cl::Kernel k(p, name);
     k.setArg(0, src);
     k.setArg(1, shape.width);
     k.setArg(2, shape.height);
-    k.setArg(3, L.chain_band_rows);
-    k.setArg(4, L.chain_bands);
+    k.setArg(3, band_rows);
+    k.setArg(4, bands);
     k.setArg(5, band_scratch);
-    k.setArg(6, table);
+    if (with_table) k.setArg(6, table);
+    return k;
+  };
+  PassEvents ev;
+  if (schedule == SatSchedule::Auto) schedule = sat_schedule(rt, shape);
+  if (schedule == SatSchedule::Chained) {
     // The ticket counter and the flags start at zero.
     rt.queue().enqueueFillBuffer(band_scratch, cl_int(0), L.chain_ctl_offset * sizeof(float),
                                  L.chain_ctl_ints * sizeof(cl_int), wait, &ev.first);
     EventList after{ev.first};
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(L.chain_bands) * shape.channels),
-                                    cl::NDRange(1), &after, &ev.last);
+    rt.queue().enqueueNDRangeKernel(kernel("sf_sat_chain", L.chain_band_rows, L.chain_bands, true), cl::NullRange,
+                                    cl::NDRange(size_t(L.chain_bands) * shape.channels), cl::NDRange(1), &after,
+                                    &ev.last);
     return ev;
   }
   if (schedule == SatSchedule::PerChannel) {
     L.bands = 1;
     L.band_rows = shape.height;
   }
-  cl::Kernel bands(p, "sf_sat_bands");
-  bands.setArg(0, src);
-  bands.setArg(1, shape.width);
-  bands.setArg(2, shape.height);
-  bands.setArg(3, L.band_rows);
-  bands.setArg(4, L.bands);
-  bands.setArg(5, band_scratch);
   // Nobody reads the last band's sums (one band has none to read).
   if (L.bands > 1)
-    rt.queue().enqueueNDRangeKernel(bands, cl::NullRange,
+    rt.queue().enqueueNDRangeKernel(kernel("sf_sat_bands", L.band_rows, L.bands, false), cl::NullRange,
                                     cl::NDRange((shape.width + kStrip - 1) / kStrip, L.bands - 1, shape.channels),
                                     cl::NDRange(1, 1, 1), wait, &ev.first);
-  cl::Kernel rows(p, "sf_sat_rows");
-  rows.setArg(0, src);
-  rows.setArg(1, shape.width);
-  rows.setArg(2, shape.height);
-  rows.setArg(3, L.band_rows);
-  rows.setArg(4, L.bands);
-  rows.setArg(5, band_scratch);
-  rows.setArg(6, table);
   EventList after{ev.first};
-  rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(L.bands, shape.channels),
-                                  cl::NDRange(1, 1), L.bands > 1 ? &after : wait, &ev.last);
+  rt.queue().enqueueNDRangeKernel(kernel("sf_sat_rows", L.band_rows, L.bands, true), cl::NullRange,
+                                  cl::NDRange(L.bands, shape.channels), cl::NDRange(1, 1),
+                                  L.bands > 1 ? &after : wait, &ev.last);
   if (L.bands == 1) ev.first = ev.last;
   return ev;
 }

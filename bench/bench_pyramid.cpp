@@ -41,7 +41,10 @@ void BM_Sat(benchmark::State& state) {
                  double(shape.plane_texels()) * channels, s);
 }
 
-// ESM reconstruction with each lookup (the tables built once, outside the timing).
+// ESM reconstruction with each lookup (the tables built once, outside the timing). rx 0: random
+// receivers, footprints 1 .. 64 texels (every LOD; each lookup misses the caches: the box reads
+// 16 lines of the 2 x 16 MB table, the trilinear lookup level 0 or 1 a third of the time);
+// rx 1: bench_pipeline's coherent camera sweep (footprints 0.6 .. 5 texels).
 void BM_ReconstructLookup(benchmark::State& state) {
   const Lookup kind = static_cast<Lookup>(state.range(0));
   const size_t count = 1920 * 1080;
@@ -50,12 +53,17 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
   enqueue_transform(runtime(), find_method("esm"), opt, depth, kMap, kMap, basis).wait();
-  // Footprints 1 .. 64 texels (log-uniform): every LOD of a typical camera view.
-  std::vector<float> f = random_floats(count, 8, 0.0f, 6.0f);
-  for (auto& x : f) x = std::exp2(x);
+  std::vector<float> hu, hv, hd, f;
+  if (state.range(1) == 1) {
+    coherent_receivers(kMap, hu, hv, hd, f);
+  } else {
+    // Footprints 1 .. 64 texels (log-uniform): every LOD of a typical camera view.
+    f = random_floats(count, 8, 0.0f, 6.0f);
+    for (auto& x : f) x = std::exp2(x);
+    hu = random_floats(count, 5), hv = random_floats(count, 6), hd = random_floats(count, 7);
+  }
   const LookupBuffers lk = lookup_tables(kind, basis, shape, to_device(f));
-  cl::Buffer u = to_device(random_floats(count, 5)), v = to_device(random_floats(count, 6));
-  cl::Buffer d = to_device(random_floats(count, 7));
+  cl::Buffer u = to_device(hu), v = to_device(hv), d = to_device(hd);
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
     cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, kMap, kMap,
@@ -87,10 +95,8 @@ void register_pyramid() {
       ->Args({4096, 1})
       ->Args({4096, 4});
   configure(benchmark::RegisterBenchmark("esm_reconstruct/lookup_1920x1080_on_2048", BM_ReconstructLookup))
-      ->ArgName("lookup")  // 0 bilinear, 1 mips (trilinear), 2 sat (box)
-      ->Arg(0)
-      ->Arg(1)
-      ->Arg(2);
+      ->ArgNames({"lookup", "rx"})  // lookup 0 bilinear, 1 mips (trilinear), 2 sat (box)
+      ->ArgsProduct({{0, 1, 2}, {0, 1}});
 }
 
 }  // namespace sf::bench

@@ -141,9 +141,10 @@ TEST(SatLarge, TwoLaunchEntriesAt4096MatchALongDoubleTable) {
 // Box lookups (lookup.clh, sf_lookup_box) against the brute-force area-weighted mean at random
 // centres and footprints, including boxes past the edges (clamp-to-edge). Values in [0,1) with a
 // smooth gradient (a worst case for plain float prefix sums: every prefix grows like x*y).
-// Documented bound (docs/lookups.md): |error| <= 2.5e-7 * max|value|. Measured 9.4e-8 at 2048
-// and 9.5e-8 at 4096: the table entries (2^-48 relative) leave the final float32 rounding of the
-// mean (half an ulp, 3e-8 at 0.5) and of the area as the largest terms; plain float32 prefix
+// Documented bound (docs/lookups.md): |error| <= 2.5e-7 * max|value|. Measured with the double
+// corner arithmetic (devices with cl_khr_fp64) 8.4e-8 at 2048 and 6.4e-8 at 4096 (float-float:
+// 9.4e-8, 9.5e-8): the table entries (2^-48 relative) leave the float32 rounding of the mean
+// (half an ulp, 3e-8 at 0.5) and of the area as the largest terms; plain float32 prefix
 // sums miss this bound by four orders of magnitude at 4096 (their entries reach 8e6).
 struct BoxCase {
   int size;

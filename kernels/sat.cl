@@ -23,12 +23,12 @@
 // of the table, streamed past the caches (sf_sat_stream16).
 // Three schedules (enqueue_sat, SatSchedule):
 // - sf_sat_rows alone, one band per channel: no carries; the image read once.
-// - sf_sat_chain (CPUs), one launch: each band sums its own columns, waits for the band above to
-//   publish its carries, publishes its own and builds its rows, reading its rows the second time
-//   from cache. Work-groups signal each other through atomics, which OpenCL 1.2 does not order
-//   across work-groups in general (Oclgrind's race detector reports the carries): sound on CPU
-//   devices (one coherent address space; the seq_cst atomics order the plain accesses around
-//   them, and a started work-group runs to its end), not assumed elsewhere.
+// - sf_sat_chain (CPUs), one launch: each band sums its own columns, takes its carries from the
+//   bands above as they publish them (a look-back that never waits), publishes its own and builds
+//   its rows, reading its rows the second time from cache. Work-groups pass the carries through
+//   memory published with atomics, which OpenCL 1.2 does not order across work-groups in general
+//   (Oclgrind's race detector reports the carries): sound on CPU devices (one coherent address
+//   space; the seq_cst atomics order the plain accesses around them), not assumed elsewhere.
 // - sf_sat_bands then sf_sat_rows: every band's column sums, then the bands' rows; the image is
 //   read twice.
 // The float-float accumulator is bound by the latency of its running sum (a chain of ~8
@@ -96,6 +96,14 @@ inline void sf_sat_put8(__global float* p, int x, int n, float8 v) {
     r7 = SF_PERMHI(T, s3, s7);                                                          \
   }
 
+// sf_sat_chain: reads of a band's status (~1 ms) before the band below sums its rows itself.
+// SF_SAT_SUM_ALL 1: every band sums all the rows above it (tests: the path of a preempted band).
+#ifndef SF_SAT_POLLS
+#define SF_SAT_POLLS (1 << 20)
+#endif
+#ifndef SF_SAT_SUM_ALL
+#define SF_SAT_SUM_ALL 0
+#endif
 #ifndef SF_SAT_STRIP
 #define SF_SAT_STRIP 256
 #endif
@@ -307,39 +315,71 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_rows(
               sf_sat_lines(sat));
 }
 
+// dst = a (n == 0) or dst + a (n > 0), W entries.
+inline void sf_sat_accumulate(__global sf_acc* restrict dst, __global const sf_acc* restrict a, int W,
+                              int n) {
+  for (int x = 0; x < W; x += 8)
+    sf_acc8_put(dst, x, W,
+                n == 0 ? sf_acc8_load(a, x, W) : sf_acc8_add(sf_acc8_load(dst, x, W), sf_acc8_load(a, x, W)));
+}
+
 // The one-launch build (CPUs): band t = (channel t / nb, band t % nb) in the order the work-items
-// start, each reading its band twice, the second time from cache. NDRange (nb N), local (1).
-// A band sums its columns, waits for the band above to publish its carries (the column sums of
-// every row above it, through its own band), publishes its own, then builds its rows.
-// Waiting is safe because the tickets are handed out as work-items start: the band waited for
-// has started, and nothing it does waits on a later band.
-// scratch: nb N rows of W entries (band t's carries), nb N more (band t's running S row), then
-// the control ints ctl, zero before the launch (the host fills them): ctl[0] hands out the
-// tickets, ctl[1 + t] is band t's "carries published" flag.
+// start (tickets), each reading its band twice, the second time from cache. NDRange (nb N),
+// local (1). Nothing ever waits (a decoupled look-back, as in single-pass prefix scans): a band
+// publishes the column sums of its rows (status 1), then walks up the bands above adding their
+// published sums until one has published its inclusive carries (status 2: the column sums of
+// every row down to its last); a band above that has published nothing yet (its work-item was
+// preempted, say) is summed here from its rows. The band then publishes its own inclusive
+// carries and builds its rows from the exclusive ones.
+// scratch: 4 nb N rows of W entries (per band: its sums, its inclusive carries, its exclusive
+// carries, its running S row), then the control ints, zero before the launch (the host fills
+// them): ctl[0] hands out the tickets, ctl[1 + t] is band t's status (0, 1, 2).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_chain(
     __global const sf_stored* restrict src, const int W, const int H, const int band_rows,
     const int nb, __global sf_acc* restrict scratch, __global float* restrict sat) {
   const int total = get_global_size(0);
-  volatile __global int* ctl = (volatile __global int*)(scratch + (size_t)2 * total * W);
+  volatile __global int* ctl = (volatile __global int*)(scratch + (size_t)4 * total * W);
+  volatile __global int* status = ctl + 1;
   const int t = atomic_inc(ctl);
   const int c = t / nb, b = t % nb, y0 = b * band_rows, y1 = min(H, y0 + band_rows);
   const bool last = b == nb - 1;
+#define SF_SAT_ROW(k, band) (scratch + ((size_t)(k) * total + (band)) * W)
   __global const sf_stored* plane = src + (size_t)c * W * H;
-  __global sf_acc* carries = scratch + (size_t)t * W;
-  if (!last) sf_sat_colsums(plane, W, 0, W, y0, y1, carries);
-  if (b > 0) {
-    while (atomic_add(ctl + t, 0) == 0) {
-    }
-    if (!last)
-      for (int x = 0; x < W; x += 8)
-        sf_acc8_put(carries, x, W, sf_acc8_add(sf_acc8_load(carries, x, W), sf_acc8_load(carries - W, x, W)));
-  }
+  __global sf_acc* sums = SF_SAT_ROW(0, t);
+  __global sf_acc* incl = SF_SAT_ROW(1, t);
+  __global sf_acc* excl = SF_SAT_ROW(2, t);
+  __global sf_acc* vrow = SF_SAT_ROW(3, t);
   if (!last) {
+    sf_sat_colsums(plane, W, 0, W, y0, y1, b == 0 ? incl : sums);
     mem_fence(CLK_GLOBAL_MEM_FENCE);
-    atomic_xchg(ctl + 1 + t, 1);
+    atomic_xchg(status + t, b == 0 ? 2 : 1);
   }
+  int n = 0;  // rows added into excl
+  for (int j = b - 1; j >= 0; --j) {
+    const int tj = t - (b - j);
+    // The band above usually started with this one and publishes within a band's column sums:
+    // wait a little (plain reads) before summing its rows here.
+    for (int poll = 0; poll < SF_SAT_POLLS && status[tj] == 0; ++poll) {
+    }
+    const int st = SF_SAT_SUM_ALL ? 0 : atomic_add(status + tj, 0);
+    __global const sf_acc* add = vrow;
+    if (st == 2)
+      add = SF_SAT_ROW(1, tj);
+    else if (st == 1)
+      add = SF_SAT_ROW(0, tj);
+    else
+      sf_sat_colsums(plane, W, 0, W, j * band_rows, (j + 1) * band_rows, vrow);
+    sf_sat_accumulate(excl, add, W, n++);
+    if (st == 2) break;
+  }
+  if (!last && b > 0) {
+    sf_sat_accumulate(incl, excl, W, 0);
+    sf_sat_accumulate(incl, sums, W, 1);
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    atomic_xchg(status + t, 2);
+  }
+#undef SF_SAT_ROW
   const size_t P = sf_sat_pitch(W) * (H + 1);
   __global float* shi = sat + 2 * c * P + SF_SAT_X0;
-  sf_sat_band(plane, W, H, y0, y1, last, b > 0 ? carries - W : carries, b > 0 ? 1 : 0,
-              scratch + (size_t)(total + t) * W, shi, shi + P, sf_sat_lines(sat));
+  sf_sat_band(plane, W, H, y0, y1, last, excl, b > 0 ? 1 : 0, vrow, shi, shi + P, sf_sat_lines(sat));
 }

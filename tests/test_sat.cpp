@@ -20,14 +20,13 @@ struct DeviceSat {
 // `builds` times into one table with one scratch (the later builds must not depend on what the
 // earlier ones left there).
 DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage storage = Storage::F32,
-                     SatAccumulator accumulator = SatAccumulator::Auto,
-                     SatSchedule schedule = SatSchedule::Auto, int builds = 1) {
+                     const SatBuild& build = {}, int builds = 1) {
   DeviceSat s;
   s.layout = sat_layout(shape);
   s.table = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, s.layout.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, s.layout.band_floats * sizeof(float));
   for (int i = 0; i < builds; ++i)
-    enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, accumulator, schedule).last.wait();
+    enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, build).last.wait();
   return s;
 }
 
@@ -65,7 +64,10 @@ TEST_P(Sat, TableMatchesTheReference) {
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   std::vector<float> host(in.data.size());
   for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
-  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, accumulator, schedule, 2);
+  SatBuild build;
+  build.accumulator = accumulator;
+  build.schedule = schedule;
+  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, build, 2);
   const auto got = from_device(d.table, d.layout.table_floats);
   const ref::Planes want = ref::sat_table(in);
   expect_table(got, d.layout, want, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
@@ -82,6 +84,34 @@ INSTANTIATE_TEST_SUITE_P(
                        ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat),
                        ::testing::Values(SatSchedule::PerChannel, SatSchedule::Chained, SatSchedule::TwoLaunch)));
 
+// The chained build's look-back when the bands above have not published: every band sums all
+// the rows above it (the path a band takes when the one above it was preempted), and with no
+// polling at all (whatever each band finds published). Both accumulators, several channels.
+class SatChain : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator, bool>> {};
+
+TEST_P(SatChain, LookBackSumsWhatIsNotPublished) {
+  const auto [s, accumulator, sum_all] = GetParam();
+  ref::Planes in(s.w, s.h, s.channels);
+  std::mt19937 rng(s.w * 7 + s.h);
+  std::uniform_real_distribution<float> dist(0.0f, 1.0f);
+  std::vector<float> host(in.data.size());
+  for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
+  SatBuild build;
+  build.accumulator = accumulator;
+  build.schedule = SatSchedule::Chained;
+  build.chain_polls = 0;
+  build.chain_sum_all = sum_all;
+  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, build, 2);
+  EXPECT_GE(d.layout.chain_bands, 4);
+  expect_table(from_device(d.table, d.layout.table_floats), d.layout, ref::sat_table(in),
+               sum_all ? "every band sums the rows above" : "no polling");
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, SatChain,
+                         ::testing::Combine(::testing::Values(Size{257, 300, 1}, Size{100, 37, 3}, Size{640, 1000, 1}),
+                                            ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat),
+                                            ::testing::Bool()));
+
 // Every entry of a 4096x4096 table against a long double (64-bit mantissa) table of the same
 // floats. sat.cl sums in double (worst case (x + y + band_rows + bands) 2^-53 of S for
 // non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-48 |S|):
@@ -94,7 +124,10 @@ void expect_large_table_exact(SatAccumulator accumulator, SatSchedule schedule =
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
-  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4}, Storage::F32, accumulator, schedule);
+  SatBuild build;
+  build.accumulator = accumulator;
+  build.schedule = schedule;
+  const DeviceSat d = device_sat(to_device(host), {n, n, 1, 4}, Storage::F32, build);
   const auto got = from_device(d.table, d.layout.table_floats);
   const size_t Wp = n + 1;
   std::vector<long double> row(Wp, 0.0L);  // S row y of the exact table

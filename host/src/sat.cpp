@@ -37,10 +37,11 @@ SatLayout sat_layout(const ImageShape& shape) {
   L.pitch = (W + SatLayout::x0 + 16) & ~size_t(15);  // sf_sat_pitch
   L.plane_floats = L.pitch * (size_t(shape.height) + 1);
   L.table_floats = 2 * N * L.plane_floats;
-  // Scratch entries are 8 bytes: 2 rows of W per band (sums, running S row), then the chain's
-  // control ints.
+  // Scratch entries are 8 bytes (2 floats): rows of W per band, 2 in two launches (sums, running
+  // S row), 4 in the chain (sums, inclusive and exclusive carries, running S row), then the
+  // chain's control ints.
   const size_t two = 4 * N * size_t(L.bands) * W;
-  L.chain_ctl_offset = 4 * N * size_t(L.chain_bands) * W;
+  L.chain_ctl_offset = 8 * N * size_t(L.chain_bands) * W;
   L.chain_ctl_ints = 1 + N * size_t(L.chain_bands);
   const size_t chain = L.chain_ctl_offset + L.chain_ctl_ints;
   L.band_floats = std::max(two, chain);
@@ -56,8 +57,10 @@ SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
 
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
-                       SatAccumulator accumulator, SatSchedule schedule) {
+                       const SatBuild& build) {
   SatLayout L = sat_layout(shape);
+  const SatAccumulator accumulator = build.accumulator;
+  SatSchedule schedule = build.schedule;
   const bool fp64 = accumulator == SatAccumulator::Auto ? rt.info().fp64 : accumulator == SatAccumulator::Double;
   if (fp64 && !rt.info().fp64)
     throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
@@ -65,7 +68,9 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
                              "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
                                  " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
-                                 " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"));
+                                 " -DSF_SAT_FP64=" + (fp64 ? "1" : "0") +
+                                 (build.chain_polls >= 0 ? " -DSF_SAT_POLLS=" + std::to_string(build.chain_polls) : "") +
+                                 (build.chain_sum_all ? " -DSF_SAT_SUM_ALL=1" : ""));
   // Every SAT kernel takes (src, W, H, band_rows, bands, scratch[, table]).
   auto kernel = [&](const char* name, int band_rows, int bands, bool with_table) {
     cl::Kernel k(p, name);
@@ -81,7 +86,7 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   PassEvents ev;
   if (schedule == SatSchedule::Auto) schedule = sat_schedule(rt, shape);
   if (schedule == SatSchedule::Chained) {
-    // The ticket counter and the flags start at zero.
+    // The ticket counter and the statuses start at zero.
     rt.queue().enqueueFillBuffer(band_scratch, cl_int(0), L.chain_ctl_offset * sizeof(float),
                                  L.chain_ctl_ints * sizeof(cl_int), wait, &ev.first);
     EventList after{ev.first};

@@ -51,7 +51,7 @@ struct SatLayout {
   size_t pitch = 0;              // floats per table row: sf_sat_pitch(W), a multiple of 16 >= W + 16
   size_t plane_floats = 0;       // pitch (H+1)
   size_t table_floats = 0;       // 2 channels plane_floats
-  size_t band_floats = 0;        // scratch for either build: 2 rows of W 8-byte entries per band
+  size_t band_floats = 0;        // scratch for any schedule: up to 4 rows of W 8-byte entries per band
   // Index of S[y][x] of channel c in the table: hi plane, or lo with `lo`.
   size_t at(int c, bool lo, int x, int y) const {
     return (2 * size_t(c) + (lo ? 1 : 0)) * plane_floats + size_t(y) * pitch + x0 + size_t(x);
@@ -63,18 +63,25 @@ SatLayout sat_layout(const ImageShape& shape);
 enum class SatAccumulator { Auto, Double, FloatFloat };
 // How the table is built (kernels/sat.cl); all give the same table.
 //   PerChannel: one work-item per channel, one launch; the image read once.
-//   Chained: bands of rows in one launch, each band waiting for the carries of the band above;
-//     the image read once from memory (each band twice, the second time from cache).
+//   Chained: bands of rows in one launch, each band taking the carries of the bands above as
+//     they publish them; the image read once from memory (each band twice, the second from cache).
 //   TwoLaunch: the column sums of every band, then the bands' rows; the image read twice.
 // Auto: PerChannel when the channels alone fill the compute units, else Chained on CPUs and
 // TwoLaunch elsewhere (sat_schedule).
 enum class SatSchedule { Auto, PerChannel, Chained, TwoLaunch };
 SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape);
+// How enqueue_sat builds the table; the defaults choose by device.
+struct SatBuild {
+  SatAccumulator accumulator = SatAccumulator::Auto;
+  SatSchedule schedule = SatSchedule::Auto;
+  // Chained: polls of a band's status before the band below sums that band's rows itself
+  // (< 0: the kernel's ~1 ms); chain_sum_all: every band sums all the rows above it (tests).
+  int chain_polls = -1;
+  bool chain_sum_all = false;
+};
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape,
-                       const EventList* wait = nullptr,
-                       SatAccumulator accumulator = SatAccumulator::Auto,
-                       SatSchedule schedule = SatSchedule::Auto);
+                       const EventList* wait = nullptr, const SatBuild& build = {});
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).

@@ -56,6 +56,13 @@ inline __attribute__((always_inline)) void sf_tiles_interior(
   float16 l1[SF_WIDE][16];
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
+#if SF_STORAGE == 0 && defined(__clang__)
+    // Level s + 1 in whole 64-byte lines past the caches where its rows lie on lines: the chain
+    // build reads it again only when it is the launch's last level (m == 1), and the largest
+    // level's stores would otherwise read every line first (4 channels at 2048^2: 16 MiB).
+    const bool stream =
+        m >= 2 && (((size_t)(dst + (size_t)(y0 / 2) * w + x0 / 2) | ((size_t)w * sizeof(float))) & 63) == 0;
+#endif
     for (int r = 0; r < 16; ++r) {
       const size_t a = (size_t)(y0 + 2 * r) * ws + x0, b = a + ws;
       const size_t o = (size_t)(y0 / 2 + r) * w + x0 / 2;
@@ -64,7 +71,12 @@ inline __attribute__((always_inline)) void sf_tiles_interior(
         const float16 b0 = SF_VLOAD(16, src, b + 32 * t), b1 = SF_VLOAD(16, src, b + 32 * t + 16);
         const float16 v = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
         l1[t][r] = v;
-        SF_VSTORE(16, v, dst, o + 16 * t);
+#if SF_STORAGE == 0 && defined(__clang__)
+        if (stream)
+          __builtin_nontemporal_store(v, (__global float16*)(dst + o + 16 * t));
+        else
+#endif
+          SF_VSTORE(16, v, dst, o + 16 * t);
       }
     }
   }

@@ -185,8 +185,7 @@ struct BoxCase {
 };
 class SatBox : public ::testing::TestWithParam<BoxCase> {};
 
-TEST_P(SatBox, BoxMeansMatchBruteForceWithinTheBound) {
-  const auto [n, boxes] = GetParam();
+void expect_box_means_within_bound(int n, int boxes, const char* label) {
   std::vector<float> host(size_t(n) * n);
   std::mt19937 rng(n);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
@@ -221,10 +220,27 @@ TEST_P(SatBox, BoxMeansMatchBruteForceWithinTheBound) {
     worst = std::max(worst, std::abs(got[i] - want));
     ASSERT_NEAR(got[i], want, 2.5e-7 * vmax) << "box " << i << " u=" << u[i] << " v=" << v[i] << " f=" << f[i];
   }
-  std::printf("[ SAT %dx%d ] max |box error| = %.3g x max|value| over %d boxes\n", n, n, worst / vmax, boxes);
+  std::printf("[ SAT %dx%d%s ] max |box error| = %.3g x max|value| over %d boxes\n", n, n, label, worst / vmax,
+              boxes);
+}
+
+TEST_P(SatBox, BoxMeansMatchBruteForceWithinTheBound) {
+  const auto [n, boxes] = GetParam();
+  expect_box_means_within_bound(n, boxes, "");
 }
 
 INSTANTIATE_TEST_SUITE_P(Large, SatBox, ::testing::Values(BoxCase{2048, 3000}, BoxCase{4096, 3000}));
+
+// A device without cl_khr_fp64 end to end: the table's float-float accumulator and the box
+// lookup's float-float corners (Runtime::set_without_fp64), within the same bound.
+TEST(SatWithoutFp64, BoxMeansMatchBruteForceWithinTheBound) {
+  struct WithoutFp64 {
+    WithoutFp64() { runtime().set_without_fp64(true); }
+    ~WithoutFp64() { runtime().set_without_fp64(false); }
+  } guard;
+  ASSERT_FALSE(runtime().info().fp64);
+  expect_box_means_within_bound(2048, 3000, ", no fp64");
+}
 
 // The table over every basis storage (the table itself is float-float): the stored texels as
 // sf_load reads them, summed exactly to float-float accuracy. Sizes cross the 8x8 blocks, the

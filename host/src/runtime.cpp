@@ -182,7 +182,10 @@ Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
     }
   }
   if (info_.device_name.empty()) describe_device(device_, info_);  // not reachable by enumeration (sub-device, ...)
+  device_fp64_ = info_.fp64;
 }
+
+void Runtime::set_without_fp64(bool without) { info_.fp64 = device_fp64_ && !without; }
 
 std::string Runtime::cache_dir() {
   if (const char* d = std::getenv("SHADOWFILTER_CACHE_DIR")) return d;
@@ -202,7 +205,8 @@ const std::string& kernel_source(const std::string& file) {
   return it->second;
 }
 
-cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& options) {
+cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) {
+  const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "");
   std::string source;
   for (const auto& f : files) {
     source += "// ---- " + f + "\n";

@@ -45,6 +45,11 @@ class Runtime {
   const DeviceInfo& info() const { return info_; }
   bool profiling() const { return profiling_; }
 
+  // Treat the device as one without doubles (tests of the float-float paths every device without
+  // cl_khr_fp64 takes): info().fp64 reads false and programs built from here on get
+  // -DSF_NO_FP64. false restores what the device reports.
+  void set_without_fp64(bool without);
+
   // Builds (or fetches from the in-memory and disk caches) a program made of the named embedded
   // kernel files concatenated in order (e.g. {"common.clh", "methods/esm.clh", "transform.cl"}),
   // compiled with `options` (-D knobs). Throws DeviceError with the build log on failure.
@@ -59,6 +64,7 @@ class Runtime {
   cl::Device device_;
   cl::CommandQueue queue_;
   DeviceInfo info_;
+  bool device_fp64_ = false;  // what the device reports (info_.fp64 may be switched off)
   bool profiling_ = false;
   std::mutex mutex_;
   std::map<std::string, cl::Program> programs_;  // key: cache key

@@ -31,7 +31,7 @@ DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage sto
 }
 
 // Every entry hi + lo of a device table (sat.cl layout) against the double table: double sums
-// split into hi + lo (2^-48 relative), tolerance 1e-11 |S| + 1e-12.
+// split into hi + lo (2^-47 relative), tolerance 1e-11 |S| + 1e-12.
 void expect_table(const std::vector<float>& got, const SatLayout& L, const ref::Planes& want,
                   const std::string& label) {
   const int W = want.width - 1, H = want.height - 1;
@@ -53,26 +53,31 @@ struct Size {
 // scratch).
 class Sat : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator, SatSchedule>> {};
 
-// Every entry hi + lo against the double table. Every partial sum (row totals, column sums, the
-// band carries) is double, stored as hi + lo (2^-48), or float-float (about 2^-44 relative per
+// A table of random texels in [0, 1) built (twice on one scratch) as `build` says, every entry
+// hi + lo against the double table. Every partial sum (row totals, column sums, the band
+// carries) is double, stored as hi + lo (2^-47), or float-float (about 2^-44 relative per
 // addition): tolerance 1e-11 |S| + 1e-12 (a plain float32 prefix anywhere would be off by ~6e-8
-// of a row's sum).
-TEST_P(Sat, TableMatchesTheReference) {
-  const auto [s, accumulator, schedule] = GetParam();
+// of a row's sum). Returns the layout.
+SatLayout expect_random_table(const Size& s, const SatBuild& build, const std::string& label) {
   ref::Planes in(s.w, s.h, s.channels);
   std::mt19937 rng(s.w * 31 + s.h);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   std::vector<float> host(in.data.size());
   for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
+  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, build, 2);
+  expect_table(from_device(d.table, d.layout.table_floats), d.layout, ref::sat_table(in), label);
+  return d.layout;
+}
+
+TEST_P(Sat, TableMatchesTheReference) {
+  const auto [s, accumulator, schedule] = GetParam();
   SatBuild build;
   build.accumulator = accumulator;
   build.schedule = schedule;
-  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, build, 2);
-  const auto got = from_device(d.table, d.layout.table_floats);
-  const ref::Planes want = ref::sat_table(in);
-  expect_table(got, d.layout, want, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
+  const SatLayout L =
+      expect_random_table(s, build, accumulator == SatAccumulator::FloatFloat ? "f32 float-float" : "f32");
   if (s.h >= 32 && schedule == SatSchedule::Chained) {
-    EXPECT_GT(d.layout.chain_bands, 2) << "the chain's bands wait on each other";
+    EXPECT_GT(L.chain_bands, 2) << "the chain's bands take carries from each other";
   }
 }
 
@@ -91,20 +96,12 @@ class SatChain : public ::testing::TestWithParam<std::tuple<Size, SatAccumulator
 
 TEST_P(SatChain, LookBackSumsWhatIsNotPublished) {
   const auto [s, accumulator, sum_all] = GetParam();
-  ref::Planes in(s.w, s.h, s.channels);
-  std::mt19937 rng(s.w * 7 + s.h);
-  std::uniform_real_distribution<float> dist(0.0f, 1.0f);
-  std::vector<float> host(in.data.size());
-  for (size_t i = 0; i < host.size(); ++i) in.data[i] = host[i] = dist(rng);
   SatBuild build;
   build.accumulator = accumulator;
   build.schedule = SatSchedule::Chained;
   build.chain_polls = 0;
   build.chain_sum_all = sum_all;
-  const DeviceSat d = device_sat(to_device(host), {s.w, s.h, s.channels, 4}, Storage::F32, build, 2);
-  EXPECT_GE(d.layout.chain_bands, 4);
-  expect_table(from_device(d.table, d.layout.table_floats), d.layout, ref::sat_table(in),
-               sum_all ? "every band sums the rows above" : "no polling");
+  EXPECT_GE(expect_random_table(s, build, sum_all ? "every band sums the rows above" : "no polling").chain_bands, 4);
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, SatChain,
@@ -114,7 +111,7 @@ INSTANTIATE_TEST_SUITE_P(Sizes, SatChain,
 
 // Every entry of a 4096x4096 table against a long double (64-bit mantissa) table of the same
 // floats. sat.cl sums in double (worst case (x + y + band_rows + bands) 2^-53 of S for
-// non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-48 |S|):
+// non-negative texels, < 2^-39.8 S here) and splits each sum into hi + lo (2^-47 |S|):
 // tolerance 1e-12 |S|; docs/lookups.md quotes the measured maximum.
 // The float-float fallback: about 2^-44 of S per addition, measured below 1e-13 (same bound).
 void expect_large_table_exact(SatAccumulator accumulator, SatSchedule schedule = SatSchedule::Auto) {
@@ -176,7 +173,7 @@ TEST(SatLarge, TwoLaunchEntriesAt4096MatchALongDoubleTable) {
 // smooth gradient (a worst case for plain float prefix sums: every prefix grows like x*y).
 // Documented bound (docs/lookups.md): |error| <= 2.5e-7 * max|value|. Measured with the double
 // corner arithmetic (devices with cl_khr_fp64) 8.4e-8 at 2048 and 6.4e-8 at 4096 (float-float:
-// 9.4e-8, 9.5e-8): the table entries (2^-48 relative) leave the float32 rounding of the mean
+// 9.4e-8, 9.5e-8): the table entries (2^-47 relative) leave the float32 rounding of the mean
 // (half an ulp, 3e-8 at 0.5) and of the area as the largest terms; plain float32 prefix
 // sums miss this bound by four orders of magnitude at 4096 (their entries reach 8e6).
 struct BoxCase {

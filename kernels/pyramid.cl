@@ -56,7 +56,7 @@ inline __attribute__((always_inline)) void sf_tiles_interior(
   float16 l1[SF_WIDE][16];
   {
     __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
-#if SF_STORAGE == 0 && defined(__clang__)
+#if SF_STORAGE == 0
     // Level s + 1 in whole 64-byte lines past the caches where its rows lie on lines: the chain
     // build reads it again only when it is the launch's last level (m == 1), and the largest
     // level's stores would otherwise read every line first (4 channels at 2048^2: 16 MiB).
@@ -71,9 +71,9 @@ inline __attribute__((always_inline)) void sf_tiles_interior(
         const float16 b0 = SF_VLOAD(16, src, b + 32 * t), b1 = SF_VLOAD(16, src, b + 32 * t + 16);
         const float16 v = (float16)(SF_RED_VEC(a0, b0), SF_RED_VEC(a1, b1));
         l1[t][r] = v;
-#if SF_STORAGE == 0 && defined(__clang__)
+#if SF_STORAGE == 0
         if (stream)
-          __builtin_nontemporal_store(v, (__global float16*)(dst + o + 16 * t));
+          sf_stream16(dst + o + 16 * t, v);
         else
 #endif
           SF_VSTORE(16, v, dst, o + 16 * t);

@@ -20,7 +20,7 @@
 // from block to block), transposed back, and S[y+1] = S[y] + row prefix added down the block's
 // columns from the unrounded S row above the block (an accumulator row per band in the scratch,
 // still in cache). Two such blocks side by side make 16 entries per row, one whole 64-byte line
-// of the table, streamed past the caches (sf_sat_stream16).
+// of the table, streamed past the caches (sf_stream16, vecio.clh).
 // Three schedules (enqueue_sat, SatSchedule):
 // - sf_sat_rows alone, one band per channel: no carries; the image read once.
 // - sf_sat_chain (CPUs), one launch: each band sums its own columns, takes its carries from the
@@ -153,16 +153,6 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_bands(
                  scratch + (size_t)(c * nb + b) * W);
 }
 
-// A whole 64-byte line of a table row (p 64-byte aligned), written past the caches: the table
-// is not read back by the build, and plain stores would first read every line they fill.
-inline void sf_sat_stream16(__global float* p, float16 v) {
-#if defined(__clang__)
-  __builtin_nontemporal_store(v, (__global float16*)p);
-#else
-  *(__global float16*)p = v;
-#endif
-}
-
 // 8 rows x 8 columns of the band from column x (rows ys.., the running row totals t): the row
 // prefixes h0..h7 (h_i = row ys + i's prefix at columns x..x+7), t advanced past column x + 7.
 #define SF_SAT_T(r, h) \
@@ -174,6 +164,17 @@ inline void sf_sat_stream16(__global float* p, float16 v) {
     SF_SAT_T(r0, h0) SF_SAT_T(r1, h1) SF_SAT_T(r2, h2) SF_SAT_T(r3, h3) SF_SAT_T(r4, h4)           \
     SF_SAT_T(r5, h5) SF_SAT_T(r6, h6) SF_SAT_T(r7, h7) SF_ACC_TRANSPOSE8(h0, h1, h2, h3, h4, h5, h6, h7) \
   }
+
+// r0..r7 = 8 texels from column xx of the 8 stored rows from `in` (row pitch W).
+#define SF_SAT_LOAD8(xx)                                                   \
+  r0 = SF_VLOAD(8, in, xx);                                                \
+  r1 = SF_VLOAD(8, in + W, xx);                                            \
+  r2 = SF_VLOAD(8, in + 2 * W, xx);                                        \
+  r3 = SF_VLOAD(8, in + 3 * W, xx);                                        \
+  r4 = SF_VLOAD(8, in + 4 * W, xx);                                        \
+  r5 = SF_VLOAD(8, in + 5 * W, xx);                                        \
+  r6 = SF_VLOAD(8, in + 6 * W, xx);                                        \
+  r7 = SF_VLOAD(8, in + 7 * W, xx);
 
 // One band of rows y0 .. y1 - 1 of one channel (plane: its stored image; shi, slo: its table
 // planes, SF_SAT_X0 applied) into S rows y0 .. y1 - 1 (and row H for the last band). S row y0 is
@@ -225,20 +226,11 @@ inline void sf_sat_band(__global const sf_stored* restrict plane, int W, int H, 
     // streamed line. S[y+1] = S[y] + row prefix, down the columns from the S row above (v).
     if (lines && nr == 8) {
       for (; x + 16 <= W; x += 16) {
-        float8 r0 = SF_VLOAD(8, in, x), r1 = SF_VLOAD(8, in + W, x);
-        float8 r2 = SF_VLOAD(8, in + 2 * W, x), r3 = SF_VLOAD(8, in + 3 * W, x);
-        float8 r4 = SF_VLOAD(8, in + 4 * W, x), r5 = SF_VLOAD(8, in + 5 * W, x);
-        float8 r6 = SF_VLOAD(8, in + 6 * W, x), r7 = SF_VLOAD(8, in + 7 * W, x);
+        float8 r0, r1, r2, r3, r4, r5, r6, r7;
+        SF_SAT_LOAD8(x)
         sf_acc8 h0, h1, h2, h3, h4, h5, h6, h7;
         SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, h0, h1, h2, h3, h4, h5, h6, h7)
-        r0 = SF_VLOAD(8, in, x + 8);
-        r1 = SF_VLOAD(8, in + W, x + 8);
-        r2 = SF_VLOAD(8, in + 2 * W, x + 8);
-        r3 = SF_VLOAD(8, in + 3 * W, x + 8);
-        r4 = SF_VLOAD(8, in + 4 * W, x + 8);
-        r5 = SF_VLOAD(8, in + 5 * W, x + 8);
-        r6 = SF_VLOAD(8, in + 6 * W, x + 8);
-        r7 = SF_VLOAD(8, in + 7 * W, x + 8);
+        SF_SAT_LOAD8(x + 8)
         sf_acc8 g0, g1, g2, g3, g4, g5, g6, g7;
         SF_SAT_BLOCK8(r0, r1, r2, r3, r4, r5, r6, r7, g0, g1, g2, g3, g4, g5, g6, g7)
         sf_acc8 va = sf_acc8_vload(vrow + x), vb = sf_acc8_vload(vrow + x + 8);
@@ -248,8 +240,8 @@ inline void sf_sat_band(__global const sf_stored* restrict plane, int W, int H, 
   vb = sf_acc8_add(vb, g##i);                                      \
   sf_acc8_split(va, &ah, &al);                                     \
   sf_acc8_split(vb, &bh, &bl);                                     \
-  sf_sat_stream16(oh + (size_t)(i) * Wp + x, (float16)(ah, bh));   \
-  sf_sat_stream16(ol + (size_t)(i) * Wp + x, (float16)(al, bl));
+  sf_stream16(oh + (size_t)(i) * Wp + x, (float16)(ah, bh));   \
+  sf_stream16(ol + (size_t)(i) * Wp + x, (float16)(al, bl));
         SF_OUT16(0) SF_OUT16(1) SF_OUT16(2) SF_OUT16(3) SF_OUT16(4) SF_OUT16(5) SF_OUT16(6) SF_OUT16(7)
 #undef SF_OUT16
         sf_acc8_vstore(vrow + x, va);
@@ -261,14 +253,7 @@ inline void sf_sat_band(__global const sf_stored* restrict plane, int W, int H, 
       const bool full = nr == 8 && x + 8 <= W;
       float8 r0, r1, r2, r3, r4, r5, r6, r7;
       if (full) {
-        r0 = SF_VLOAD(8, in, x);
-        r1 = SF_VLOAD(8, in + W, x);
-        r2 = SF_VLOAD(8, in + 2 * W, x);
-        r3 = SF_VLOAD(8, in + 3 * W, x);
-        r4 = SF_VLOAD(8, in + 4 * W, x);
-        r5 = SF_VLOAD(8, in + 5 * W, x);
-        r6 = SF_VLOAD(8, in + 6 * W, x);
-        r7 = SF_VLOAD(8, in + 7 * W, x);
+        SF_SAT_LOAD8(x)
       } else {
         const float8 z = 0.0f;
         r0 = sf_sat_load_stored8(in, x, W);
@@ -325,12 +310,12 @@ inline void sf_sat_accumulate(__global sf_acc* restrict dst, __global const sf_a
 
 // The one-launch build (CPUs): band t = (channel t / nb, band t % nb) in the order the work-items
 // start (tickets), each reading its band twice, the second time from cache. NDRange (nb N),
-// local (1). Nothing ever waits (a decoupled look-back, as in single-pass prefix scans): a band
-// publishes the column sums of its rows (status 1), then walks up the bands above adding their
-// published sums until one has published its inclusive carries (status 2: the column sums of
-// every row down to its last); a band above that has published nothing yet (its work-item was
-// preempted, say) is summed here from its rows. The band then publishes its own inclusive
-// carries and builds its rows from the exclusive ones.
+// local (1). Nothing waits for long (a decoupled look-back, as in single-pass prefix scans): a
+// band publishes the column sums of its rows (status 1), then walks up the bands above adding
+// their published sums until one has published its inclusive carries (status 2: the column sums
+// of every row down to its last); a band above that has published nothing after SF_SAT_POLLS
+// reads (its work-item was preempted, say) is summed here from its rows. The band then publishes
+// its own inclusive carries and builds its rows from the exclusive ones.
 // scratch: 4 nb N rows of W entries (per band: its sums, its inclusive carries, its exclusive
 // carries, its running S row), then the control ints, zero before the launch (the host fills
 // them): ctl[0] hands out the tickets, ctl[1 + t] is band t's status (0, 1, 2).

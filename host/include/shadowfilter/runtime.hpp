@@ -1,7 +1,7 @@
 #pragma once
 // OpenCL runtime: device choice, program building with an on-disk binary cache.
 // A Runtime either creates its own context/queue (CLI, tests) or wraps a caller's.
-#include <CL/opencl.hpp>
+#include "shadowfilter/opencl.hpp"
 
 #include <map>
 #include <memory>

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "option_names.hpp"
 #include "options_soft.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
     if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
     if (soft->parsed()) return sf::cli::run_soft(soft_args);
   } catch (const sf::InputError& e) {
-    std::cerr << "shadowfilter: error: " << e.what() << "\n";
+    std::cerr << "shadowfilter: error: " << sf::cli::cli_message(e.what()) << "\n";
     return 2;
   } catch (const sf::DeviceError& e) {
     std::cerr << "shadowfilter: device error: " << e.what() << "\n";

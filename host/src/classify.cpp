@@ -2,6 +2,8 @@
 #include <cmath>
 #include <string>
 
+#include "cl_errors.hpp"
+#include "method_build.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -17,13 +19,11 @@ struct ClassifyParams {  // sf_classify_params
 };
 
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {
-  if (opt.method != "esm") throw InputError("--esm-classify needs --method esm, got " + opt.method);
+  if (opt.method != "esm") throw InputError("FilterOptions::esm_classify.mode needs FilterOptions::method esm, got " + opt.method);
   const MethodDesc& m = find_method("esm");
   m.validate(opt);
-  std::string defines = "-cl-std=CL1.2 -DSF_METHOD_esm -DSF_STORAGE=" +
-                        std::to_string(static_cast<int>(opt.storage)) +
-                        " -DSF_LOOKUP=" + std::to_string(static_cast<int>(opt.lookup.kind));
-  if (m.defines) defines += m.defines(opt);
+  const std::string defines = "-cl-std=CL1.2 " + detail::method_build_options(m, opt) +
+                              " -DSF_LOOKUP=" + std::to_string(static_cast<int>(opt.lookup.kind));
   cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", "esm_classify.cl"},
                              defines);
   return cl::Kernel(p, name);
@@ -72,7 +72,7 @@ double esm_threshold_eps(const FilterOptions& opt) {
 cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                       const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                       const cl::Buffer& visibility, const cl::Buffer& flags,
-                                      size_t count, const EventList* wait) {
+                                      size_t count, const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
   set_common(k, in);
@@ -91,11 +91,13 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, con
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
                                   cl::NullRange, wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_esm_classify_points", e);
 }
 
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                     const cl::Buffer& d, const cl::Buffer& visibility,
-                                    const cl::Buffer& flags, const EventList* wait) {
+                                    const cl::Buffer& flags, const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_grid");
   set_common(k, in);
@@ -110,6 +112,8 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange,
                                   wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_esm_classify_grid", e);
 }
 
 }  // namespace sf

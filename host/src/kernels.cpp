@@ -7,10 +7,20 @@
 #include <limits>
 #include <string>
 
+#include "cl_errors.hpp"
+#include "method_build.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf {
+
+std::string detail::method_build_options(const MethodDesc& m, const FilterOptions& opt) {
+  std::string id = m.name;
+  std::replace(id.begin(), id.end(), '-', '_');
+  return "-DSF_METHOD_" + id + " -DSF_STORAGE=" + std::to_string(static_cast<int>(opt.storage)) +
+         m.defines(opt);
+}
+
 namespace {
 
 size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
@@ -22,12 +32,8 @@ cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
   return cl::NDRange(s.work_group_size > 0 ? round_up(n, s.work_group_size) : n);
 }
 
-// -DSF_METHOD_<name> ('-' becomes '_'), the storage format and the method's own knobs.
 std::string method_options(const MethodDesc& m, const FilterOptions& opt) {
-  std::string id = m.name;
-  std::replace(id.begin(), id.end(), '-', '_');
-  return "-cl-std=CL1.2 -DSF_METHOD_" + id + " -DSF_STORAGE=" +
-         std::to_string(static_cast<int>(opt.storage)) + m.defines(opt);
+  return "-cl-std=CL1.2 " + detail::method_build_options(m, opt);
 }
 
 cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt,
@@ -49,7 +55,7 @@ float default_blur_sigma(int radius) { return (2.0f * radius + 1.0f) / 6.0f; }
 
 std::vector<float> gaussian_weights(int radius, float sigma) {
   if (radius < 0 || radius > kMaxBlurRadius)
-    throw InputError("--blur-radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
+    throw InputError("FilterOptions::blur.radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
                      std::to_string(radius));
   if (sigma <= 0.0f) sigma = default_blur_sigma(radius);
   std::vector<double> w(radius + 1);
@@ -65,7 +71,7 @@ std::vector<float> gaussian_weights(int radius, float sigma) {
 
 cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                             const cl::Buffer& depth, int width, int height, const cl::Buffer& basis,
-                            const EventList* wait) {
+                            const EventList* wait) try {
   const int texels = width * height;
   if (method.raw_depth) {  // sm, pcf: the "basis" is the depth map itself
     method.validate(opt);
@@ -102,6 +108,8 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(items, sched), local_1d(sched), wait,
                                   &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_transform", e);
 }
 
 namespace {
@@ -183,7 +191,7 @@ cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer&
 
 BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
                         const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                        const ImageShape& shape, const EventList* wait, Storage storage) {
+                        const ImageShape& shape, const EventList* wait, Storage storage) try {
   BlurEvents ev;
   if (blur.radius == 0) {
     if (src() != dst()) {
@@ -220,6 +228,8 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
   ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
   return ev;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_blur", e);
 }
 
 namespace {
@@ -251,17 +261,19 @@ cl::Buffer level_offset_table(Runtime& rt, const MipLayout& mips, int chain_offs
 }  // namespace
 
 cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis,
-                             const cl::Buffer& chain, const ImageShape& shape) {
+                             const cl::Buffer& chain, const ImageShape& shape) try {
   const MipLayout mips = mip_layout(shape.width, shape.height, shape.channels);
   const int chain_offset = joined_chain_offset(basis, chain, storage_bytes(storage), mips.chain_values);
   return chain_offset >= 0 ? level_offset_table(rt, mips, chain_offset) : cl::Buffer();
+} catch (const cl::Error& e) {
+  detail::throw_device_error("mip_level_offsets", e);
 }
 
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                      const cl::Buffer& basis, int width, int height,
                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                      const cl::Buffer& visibility, size_t count,
-                                     const EventList* wait, const LookupBuffers* lookup) {
+                                     const EventList* wait, const LookupBuffers* lookup) try {
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait,
                               lookup ? &lookup->footprint : nullptr);
@@ -324,12 +336,14 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d((count + vec - 1) / vec, opt.schedule),
                                   local_1d(opt.schedule), wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_reconstruct_points", e);
 }
 
 cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                    const cl::Buffer& basis, int width, int height,
                                    const cl::Buffer& d, const cl::Buffer& visibility,
-                                   const EventList* wait) {
+                                   const EventList* wait) try {
   if (method.raw_depth) return enqueue_pcf_grid(rt, opt, basis, width, height, d, visibility, wait);
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_grid");
   k.setArg(0, basis);
@@ -343,6 +357,8 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
                                   &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_reconstruct_grid", e);
 }
 
 }  // namespace sf

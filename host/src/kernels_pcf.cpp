@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "cl_errors.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
 
@@ -46,7 +47,7 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
                              int width, int height, const cl::Buffer& u, const cl::Buffer& v,
                              const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
-                             const EventList* wait, const cl::Buffer* footprint) {
+                             const EventList* wait, const cl::Buffer* footprint) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
   const Lookup lookup = opt.method == "pcf" ? opt.lookup.kind : Lookup::Bilinear;
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
@@ -72,11 +73,13 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), cl::NullRange, wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_pcf_points", e);
 }
 
 cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
                            int height, const cl::Buffer& d, const cl::Buffer& visibility,
-                           const EventList* wait) {
+                           const EventList* wait) try {
   PcfSetup s = pcf_setup(rt, opt, "sf_pcf_grid");
   cl::Kernel& k = s.kernel;
   k.setArg(0, depth);
@@ -91,6 +94,8 @@ cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buff
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
                                   &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_pcf_grid", e);
 }
 
 }  // namespace sf

@@ -74,7 +74,7 @@ void check_storage(const std::string& method, const std::string& allowed, const 
   std::istringstream in(allowed);
   for (std::string s; in >> s;)
     if (s == storage_name(o.storage)) return;
-  throw InputError(std::string("--storage ") + storage_name(o.storage) + " does not work with " +
+  throw InputError(std::string("FilterOptions::storage ") + storage_name(o.storage) + " does not work with " +
                    method + " (it accepts " + allowed + "): " + why);
 }
 
@@ -89,7 +89,7 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary)
   m.parameters = "--bias B (default 0)";
   m.storages = "f32";
   m.validate = [name, st = m.storages](const FilterOptions& o) {
-    require_finite(depth_bias(o), "--bias");
+    require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
     check_storage(name, st, o, "it tests the float32 depth map itself and has no basis images");
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(depth_bias(o)); };
@@ -108,12 +108,12 @@ MethodDesc esm_method() {
   m.validate = [st = m.storages](const FilterOptions& o) {
     check_storage("esm", st, o, "exp(c z) is unbounded, so unorm cannot hold it");
     if (!std::isfinite(o.esm.c) || o.esm.c <= 0.0f)
-      throw InputError("--esm-c must be a positive number, got " + std::to_string(o.esm.c));
+      throw InputError("FilterOptions::esm.c must be a positive number, got " + std::to_string(o.esm.c));
     const bool half = o.storage == Storage::F16;
     const float limit = half ? kEsmMaxCFloat16 : kEsmMaxCFloat32;
     if (o.esm.c > limit) {
       std::ostringstream s;
-      s << "--esm-c " << o.esm.c << " exceeds the " << (half ? "float16" : "float32") << " limit of "
+      s << "FilterOptions::esm.c " << o.esm.c << " exceeds the " << (half ? "float16" : "float32") << " limit of "
         << limit << (half ? " (exp(c/2) must stay below 65504, the largest half)"
                           : " (exp(c/2) must stay a normal float)");
       throw InputError(s.str());
@@ -125,11 +125,11 @@ MethodDesc esm_method() {
 }
 
 void validate_vsm_common(const FilterOptions& o) {
-  require_finite(o.vsm.min_variance, "--vsm-min-variance");
+  require_finite(o.vsm.min_variance, "FilterOptions::vsm.min_variance");
   if (o.vsm.min_variance == 0.0f)
-    throw InputError("--vsm-min-variance must be positive (negative = the default)");
+    throw InputError("FilterOptions::vsm.min_variance must be positive (negative = the default)");
   if (!(o.vsm.lbr >= 0.0f && o.vsm.lbr < 1.0f))
-    throw InputError("--lbr must be in [0, 1), got " + num(o.vsm.lbr));
+    throw InputError("FilterOptions::vsm.lbr must be in [0, 1), got " + num(o.vsm.lbr));
 }
 
 MethodDesc vsm_method() {
@@ -170,7 +170,7 @@ MethodDesc evsm_method(int channels) {
     validate_vsm_common(o);
     if (!(o.evsm.pos > 0.0f) || !std::isfinite(o.evsm.pos) || !(o.evsm.neg > 0.0f) ||
         !std::isfinite(o.evsm.neg))
-      throw InputError("--evsm-pos and --evsm-neg must be positive numbers");
+      throw InputError("FilterOptions::evsm.pos and FilterOptions::evsm.neg must be positive numbers");
   };
   m.pack_params = [](const FilterOptions& o) {
     const float limit = evsm_limit(o.storage);
@@ -204,9 +204,9 @@ MethodDesc msm_method(bool hausdorff) {
     check_storage(name, st, o,
                   "16 bits need the optimised quantisation, which unorm16 resolves 32x finer than "
                   "f16 on [0,1]; 8 bits are far too coarse for 4 moments");
-    require_finite(o.msm.moment_bias, "--msm-bias");
-    require_finite(depth_bias(o), "--bias");
-    if (o.msm.moment_bias > 1.0f) throw InputError("--msm-bias must be at most 1");
+    require_finite(o.msm.moment_bias, "FilterOptions::msm.moment_bias");
+    require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
+    if (o.msm.moment_bias > 1.0f) throw InputError("FilterOptions::msm.moment_bias must be at most 1");
   };
   m.pack_params = [](const FilterOptions& o) {
     struct {
@@ -273,13 +273,13 @@ MethodDesc csm_method() {
   m.validate = [st = m.storages](const FilterOptions& o) {
     check_storage("csm", st, o, "");
     if (o.csm.order < 1 || o.csm.order > kCsmMaxOrder)
-      throw InputError("--csm-order must be in 1.." + std::to_string(kCsmMaxOrder) + ", got " +
+      throw InputError("FilterOptions::csm.order must be in 1.." + std::to_string(kCsmMaxOrder) + ", got " +
                        std::to_string(o.csm.order));
-    require_finite(o.csm.alpha, "--csm-alpha");
-    require_finite(o.csm.offset, "--csm-offset");
-    require_finite(o.csm.scale, "--csm-scale");
-    if (o.csm.alpha < 0) throw InputError("--csm-alpha must be >= 0");
-    if (o.csm.offset > 1.0f) throw InputError("--csm-offset must be at most 1 (negative = default)");
+    require_finite(o.csm.alpha, "FilterOptions::csm.alpha");
+    require_finite(o.csm.offset, "FilterOptions::csm.offset");
+    require_finite(o.csm.scale, "FilterOptions::csm.scale");
+    if (o.csm.alpha < 0) throw InputError("FilterOptions::csm.alpha must be >= 0");
+    if (o.csm.offset > 1.0f) throw InputError("FilterOptions::csm.offset must be at most 1 (negative = default)");
   };
   m.pack_params = [](const FilterOptions& o) {
     const CsmParameters c = csm_parameters(o);

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <utility>
 
+#include "cl_errors.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf {
@@ -30,60 +31,111 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
   }
 }
 
-Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
-    : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
+size_t BufferPlan::total() const {
+  size_t t = 0;
+  for (const auto& b : buffers) t += b.bytes;
+  return t;
+}
+
+size_t BufferPlan::largest() const {
+  size_t m = 0;
+  for (const auto& b : buffers) m = std::max(m, b.bytes);
+  return m;
+}
+
+size_t BufferPlan::bytes(const std::string& name) const {
+  for (const auto& b : buffers)
+    if (b.name == name) return b.bytes;
+  return 0;
+}
+
+namespace {
+
+// Where the chain starts in the joined mips buffer: after level 0, at the device's sub-buffer
+// alignment (CL_DEVICE_MEM_BASE_ADDR_ALIGN).
+size_t joined_level0_bytes(const Runtime& rt, const ImageShape& shape) {
+  const size_t align = std::max<size_t>(rt.device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
+  return (shape.bytes() + align - 1) / align * align;
+}
+
+}  // namespace
+
+// Only what the options need: a mean pyramid for mips, a SAT for sat, a z-max pyramid of the
+// depth for zmax classification (raw-depth methods weight their tests directly: none), and the
+// blur's scratch only where a basis is blurred.
+BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int width, int height) try {
   if (width <= 0 || height <= 0)
     throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" +
                      std::to_string(height));
-  method_->validate(options_);
-  gaussian_weights(options_.blur.radius, options_.blur.sigma);  // validates the radius
-  shape_ = {width, height, method_->channels(options_),
-            method_->raw_depth ? 4 : storage_bytes(options_.storage)};
-  if (shape_.plane_texels() * shape_.channels > size_t(1) << 31)
+  const MethodDesc& method = find_method(options.method);
+  method.validate(options);
+  gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
+  if (options.esm_classify.mode != EsmClassify::None && options.method != "esm")
+    throw InputError("FilterOptions::esm_classify.mode needs FilterOptions::method esm, got " +
+                     options.method);
+  BufferPlan plan;
+  plan.shape = {width, height, method.channels(options),
+                method.raw_depth ? 4 : storage_bytes(options.storage)};
+  const ImageShape& shape = plan.shape;
+  if (shape.plane_texels() * shape.channels > size_t(1) << 31)
     throw InputError("shadow map " + std::to_string(width) + "x" + std::to_string(height) +
                      " is too large (more than 2^31 basis values)");
-  check_fits_device(*rt_, shape_.bytes(), 2 * shape_.bytes(), "the basis images");
-  if (options_.blur.radius > 0 && !method_->raw_depth) scratch_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
-  allocate_lookups();
-  if (!basis_()) basis_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, shape_.bytes());
-}
-
-// Only what the options need: a mean pyramid for mips, a SAT for sat, a z-max pyramid of the
-// depth for zmax classification (raw-depth methods weight their tests directly: none).
-void Pipeline::allocate_lookups() {
-  const auto& cls = options_.esm_classify;
-  if (cls.mode != EsmClassify::None && options_.method != "esm")
-    throw InputError("--esm-classify needs --method esm, got " + options_.method);
-  auto alloc = [this](size_t bytes) {
-    bytes = std::max<size_t>(bytes, 4);
-    lookup_bytes_ += bytes;
-    check_fits_device(*rt_, bytes, 2 * shape_.bytes() + lookup_bytes_, "the lookup tables");
-    return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
+  auto add = [&plan](const char* name, size_t bytes) {
+    plan.buffers.push_back({name, std::max<size_t>(bytes, 4)});
   };
-  if (!method_->raw_depth && options_.lookup.kind == Lookup::Mips) {
-    // One buffer for level 0 (basis_) and the chain (chain_), two sub-buffers of mips_: the
-    // reconstruction addresses every level from one base (kernels.cpp, SF_MIPS_JOINED). The
-    // chain starts at the device's sub-buffer alignment; one padding value after it.
-    const size_t align = std::max<size_t>(rt_->device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
-    const size_t level0 = (shape_.bytes() + align - 1) / align * align;
-    const size_t chain =
-        (mip_layout(shape_.width, shape_.height, shape_.channels).chain_values + 1) * shape_.value_bytes;
-    mips_ = alloc(level0 + chain);
-    lookup_bytes_ -= shape_.bytes();  // level 0 is the basis, counted in device_bytes()
-    basis_ = sub_buffer(mips_, 0, shape_.bytes());
-    chain_ = sub_buffer(mips_, level0, chain);
-    level_offsets_ = mip_level_offsets(*rt_, options_.storage, mips_, chain_, shape_);
+  const Lookup lookup = method.raw_depth ? Lookup::Bilinear : options.lookup.kind;
+  if (lookup == Lookup::Mips) {
+    // Level 0 (the basis) and the chain in one buffer, one padding value after the chain.
+    const MipLayout mips = mip_layout(width, height, shape.channels);
+    add("basis+mips", joined_level0_bytes(rt, shape) + (mips.chain_values + 1) * shape.value_bytes);
+    add("mip level offsets", mips.levels.size() * sizeof(cl_int));
+  } else {
+    add("basis", shape.bytes());
   }
-  if (!method_->raw_depth && options_.lookup.kind == Lookup::Sat) {
-    const SatLayout L = sat_layout(shape_);
-    sat_ = alloc(L.table_floats * sizeof(float));
-    sat_bands_ = alloc(L.band_floats * sizeof(float));
+  if (options.blur.radius > 0 && !method.raw_depth) add("blur scratch", shape.bytes());
+  if (lookup == Lookup::Sat) {
+    const SatLayout L = sat_layout(shape);
+    add("sat", L.table_floats * sizeof(float));
+    add("sat bands", L.band_floats * sizeof(float));
   }
-  if (cls.mode == EsmClassify::ZMax)
-    zmax_chain_ = alloc(mip_layout(shape_.width, shape_.height, 1).chain_values * sizeof(float));
+  if (options.esm_classify.mode == EsmClassify::ZMax)
+    add("zmax chain", mip_layout(width, height, 1).chain_values * sizeof(float));
+  if (options.esm_classify.mode != EsmClassify::None) plan.bytes_per_receiver = 1;  // the flags
+  return plan;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Pipeline::plan", e);
 }
 
-cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
+Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
+    try : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
+  plan_ = plan(*rt_, options_, width, height);
+  shape_ = plan_.shape;
+  check_fits_device(*rt_, plan_.largest(), plan_.total(), "the pipeline's buffers");
+  auto alloc = [this](const char* name) {
+    return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, plan_.bytes(name));
+  };
+  if (plan_.bytes("basis+mips")) {
+    // The reconstruction addresses every level from one base (kernels.cpp, SF_MIPS_JOINED):
+    // basis_ and chain_ are sub-buffers of mips_.
+    mips_ = alloc("basis+mips");
+    const size_t level0 = joined_level0_bytes(*rt_, shape_);
+    basis_ = sub_buffer(mips_, 0, shape_.bytes());
+    chain_ = sub_buffer(mips_, level0, plan_.bytes("basis+mips") - level0);
+    level_offsets_ = mip_level_offsets(*rt_, options_.storage, mips_, chain_, shape_);
+  } else {
+    basis_ = alloc("basis");
+  }
+  if (plan_.bytes("blur scratch")) scratch_ = alloc("blur scratch");
+  if (plan_.bytes("sat")) {
+    sat_ = alloc("sat");
+    sat_bands_ = alloc("sat bands");
+  }
+  if (plan_.bytes("zmax chain")) zmax_chain_ = alloc("zmax chain");
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Pipeline::Pipeline", e);
+}
+
+cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
   transform_done_ = enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height,
@@ -118,10 +170,12 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) {
   cl::Event all;
   rt_->queue().enqueueMarkerWithWaitList(&done, &all);
   return all;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Pipeline::prefilter", e);
 }
 
 cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility,
-                                const EventList* wait) {
+                                const EventList* wait) try {
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
   // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).
@@ -156,9 +210,20 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
                            : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility,
                                                          flags_, rx.count, &after);
   return classify_done_;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Pipeline::reconstruct", e);
 }
 
-StageTimes Pipeline::times() const {
+LookupBuffers Pipeline::lookup_tables() const {
+  LookupBuffers t;
+  t.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
+  t.chain = chain_;
+  t.sat = sat_;
+  t.level_offsets = level_offsets_;
+  return t;
+}
+
+StageTimes Pipeline::times() const try {
   StageTimes t;
   if (transform_done_()) t.transform = event_seconds(transform_done_);
   if (blur_done_.rows()) t.blur = event_seconds(blur_done_.rows, blur_done_.cols);
@@ -168,6 +233,8 @@ StageTimes Pipeline::times() const {
   if (zmax_done_.first()) t.zmax = event_seconds(zmax_done_.first, zmax_done_.last);
   if (classify_done_()) t.classify = event_seconds(classify_done_);
   return t;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Pipeline::times", e);
 }
 
 namespace {
@@ -183,7 +250,7 @@ cl::Buffer upload(Runtime& rt, const std::vector<float>& host, EventList& events
 }  // namespace
 
 FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options,
-                    const HostImage& depth, const Receivers& receivers) {
+                    const HostImage& depth, const Receivers& receivers) try {
   Runtime& rt = *runtime;
   if (depth.channels != 1) throw InputError("depth map must have one channel");
   Pipeline pipe(runtime, options, depth.width, depth.height);
@@ -227,7 +294,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
                                &after_rec, &download);
   if (options.esm_classify.mode != EsmClassify::None) {
     std::vector<unsigned char> flags(count);
-    if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data());
+    if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data(), &after_rec);
     result.classified = true;
     result.flags = HostImage(receivers.width, receivers.height, 1);
     for (size_t i = 0; i < count; ++i) {
@@ -241,6 +308,8 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   result.device_bytes = pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes +
                         count * sizeof(float);
   return result;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("filter", e);
 }
 
 }  // namespace sf

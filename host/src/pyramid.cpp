@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <string>
 
+#include "cl_errors.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -35,7 +36,7 @@ MipLayout mip_layout(int width, int height, int channels) {
 }
 
 PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
-                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait) {
+                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait) try {
   const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
   PassEvents ev;
   if (L.top() == 0) {  // 1x1: nothing to build
@@ -90,6 +91,8 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     launched(e);
   }
   return ev;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_pyramid", e);
 }
 
 namespace {
@@ -106,7 +109,7 @@ void set_buffer_or_null(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
 cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lk,
                                 const cl::Buffer& level0, const ImageShape& shape,
                                 const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
-                                size_t count, const EventList* wait) {
+                                size_t count, const EventList* wait) try {
   cl::Program p = rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
                              "-cl-std=CL1.2" + storage_define(storage) +
                                  " -DSF_CHANNELS=" + std::to_string(shape.channels) +
@@ -126,6 +129,8 @@ cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffer
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
                                   cl::NullRange, wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_lookup_points", e);
 }
 
 }  // namespace sf

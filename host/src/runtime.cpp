@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "cl_errors.hpp"
 #include "embedded_kernels.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -150,13 +151,15 @@ std::string one_line(std::string s) {
 
 }  // namespace
 
-std::vector<DeviceInfo> list_devices() {
+std::vector<DeviceInfo> list_devices() try {
   std::vector<DeviceInfo> out;
   for (auto& f : enumerate()) out.push_back(f.info);
   return out;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("list_devices", e);
 }
 
-std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) {
+std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) try {
   std::string selector = selector_arg;
   if (selector.empty()) {
     if (const char* env = std::getenv("SHADOWFILTER_DEVICE")) selector = env;
@@ -169,10 +172,12 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) {
   cl::Context ctx(f->device);
   cl::CommandQueue q(ctx, f->device, CL_QUEUE_PROFILING_ENABLE);
   return std::make_shared<Runtime>(ctx, q);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Runtime::create", e);
 }
 
 Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
-    : context_(std::move(context)), queue_(std::move(queue)) {
+    try : context_(std::move(context)), queue_(std::move(queue)) {
   device_ = queue_.getInfo<CL_QUEUE_DEVICE>();
   profiling_ = (queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
   for (const auto& f : enumerate()) {
@@ -183,6 +188,8 @@ Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
   }
   if (info_.device_name.empty()) describe_device(device_, info_);  // not reachable by enumeration (sub-device, ...)
   device_fp64_ = info_.fp64;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Runtime::Runtime", e);
 }
 
 void Runtime::set_without_fp64(bool without) { info_.fp64 = device_fp64_ && !without; }
@@ -205,7 +212,7 @@ const std::string& kernel_source(const std::string& file) {
   return it->second;
 }
 
-cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) {
+cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) try {
   const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "");
   std::string source;
   for (const auto& f : files) {
@@ -253,11 +260,30 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
   }
   programs_[key] = p;
   return p;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("Runtime::program", e);
+}
+
+cl::Buffer sub_buffer(const Runtime& rt, const cl::Buffer& parent, size_t origin, size_t size,
+                      cl_mem_flags flags) try {
+  const size_t parent_size = parent.getInfo<CL_MEM_SIZE>();
+  if (size == 0 || origin > parent_size || size > parent_size - origin)
+    throw InputError("sub_buffer: bytes [" + std::to_string(origin) + ", " + std::to_string(origin + size) +
+                     ") do not lie in a buffer of " + std::to_string(parent_size) + " bytes");
+  const size_t align = rt.device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8;
+  if (align > 0 && origin % align != 0)
+    throw InputError("sub_buffer: origin " + std::to_string(origin) + " is not a multiple of " +
+                     std::to_string(align) + " bytes, the device's CL_DEVICE_MEM_BASE_ADDR_ALIGN");
+  cl_buffer_region region{origin, size};
+  cl::Buffer p = parent;  // createSubBuffer is not const in opencl.hpp
+  return p.createSubBuffer(flags, CL_BUFFER_CREATE_TYPE_REGION, &region);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("sub_buffer", e);
 }
 
 double event_seconds(const cl::Event& e) { return event_seconds(e, e); }
 
-double event_seconds(const cl::Event& first, const cl::Event& last) {
+double event_seconds(const cl::Event& first, const cl::Event& last) try {
   try {
     cl_ulong a = first.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     cl_ulong b = last.getProfilingInfo<CL_PROFILING_COMMAND_END>();
@@ -265,6 +291,8 @@ double event_seconds(const cl::Event& first, const cl::Event& last) {
   } catch (const cl::Error&) {
     return 0.0;
   }
+} catch (const cl::Error& e) {
+  detail::throw_device_error("event_seconds", e);
 }
 
 }  // namespace sf

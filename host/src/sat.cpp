@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 
+#include "cl_errors.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -57,7 +58,7 @@ SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
 
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
-                       const SatBuild& build) {
+                       const SatBuild& build) try {
   SatLayout L = sat_layout(shape);
   const SatAccumulator accumulator = build.accumulator;
   SatSchedule schedule = build.schedule;
@@ -110,6 +111,8 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                                   L.bands > 1 ? &after : wait, &ev.last);
   if (L.bands == 1) ev.first = ev.last;
   return ev;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_sat", e);
 }
 
 }  // namespace sf

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cl_errors.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 #include "shadowfilter/soft.hpp"
@@ -123,45 +124,45 @@ float cssm_z_offset(const SoftOptions& o) {
 
 void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
-  if (!(L.size >= 0.0) || !std::isfinite(L.size)) throw InputError("--light-size must be a finite number >= 0");
+  if (!(L.size >= 0.0) || !std::isfinite(L.size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
   if (!(L.far_plane > L.near_plane)) throw InputError("the light's far plane must lie beyond its near plane");
   if (L.perspective) {
-    if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs --light-near > 0");
+    if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs SoftOptions::light.near_plane > 0");
     if (!(L.fov_degrees > 0.0 && L.fov_degrees < 180.0))
-      throw InputError("a perspective light needs --light-fov between 0 and 180 degrees");
+      throw InputError("a perspective light needs SoftOptions::light.fov_degrees between 0 and 180 degrees");
   } else if (!(L.extent > 0.0) || !std::isfinite(L.extent)) {
-    throw InputError("an orthographic light needs --light-extent > 0 (the map's width in light units)");
+    throw InputError("an orthographic light needs SoftOptions::light.extent > 0 (the map's width in light units)");
   }
   if (!(L.weight >= 0.0) || !std::isfinite(L.weight)) throw InputError("light weights must be >= 0");
-  if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("--soft-bias must be in [0, 1)");
-  if (!(o.max_width >= 1.0f && o.max_width <= 4096.0f)) throw InputError("--soft-max-width must be in [1, 4096]");
-  if (o.cssm_order < 1 || o.cssm_order > 32) throw InputError("--cssm-order must be 1..32");
+  if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("SoftOptions::bias must be in [0, 1)");
+  if (!(o.max_width >= 1.0f && o.max_width <= 4096.0f)) throw InputError("SoftOptions::max_width must be in [1, 4096]");
+  if (o.cssm_order < 1 || o.cssm_order > 32) throw InputError("SoftOptions::cssm_order must be 1..32");
   if (o.cssm_lookup != Lookup::Mips && o.cssm_lookup != Lookup::Sat)
-    throw InputError("cssm needs --lookup mips or sat");
-  if (!std::isfinite(o.cssm_offset) || o.cssm_offset >= 1.0f) throw InputError("--cssm-offset must be < 1");
+    throw InputError("cssm needs SoftOptions::cssm_lookup mips or sat");
+  if (!std::isfinite(o.cssm_offset) || o.cssm_offset >= 1.0f) throw InputError("SoftOptions::cssm_offset must be < 1");
   if (!std::isfinite(o.cssm_scale) || o.cssm_scale == 0.0f || o.cssm_scale > 64.0f)
-    throw InputError("--cssm-scale must be in (0, 64] (< 0: default)");
+    throw InputError("SoftOptions::cssm_scale must be in (0, 64] (< 0: default)");
   if (!(o.cssm_sharpen_a >= 0.0f) || !std::isfinite(o.cssm_sharpen_a) || !std::isfinite(o.cssm_sharpen_b))
-    throw InputError("--cssm-sharpen A,B: A must be >= 0 (0: off), B finite (< 0: default 10 M)");
-  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f)) throw InputError("--cssm-min-den must be in (0, 1)");
-  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f) throw InputError("--cssm-z-offset must be < 1");
+    throw InputError("SoftOptions::cssm_sharpen_a must be >= 0 (0: off) and SoftOptions::cssm_sharpen_b finite (< 0: default 10 M)");
+  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f)) throw InputError("SoftOptions::cssm_min_den must be in (0, 1)");
+  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f) throw InputError("SoftOptions::cssm_z_offset must be < 1");
   if (!std::isfinite(o.cssm_width_scale) || o.cssm_width_scale == 0.0f || o.cssm_width_scale > 64.0f)
-    throw InputError("--cssm-width-scale must be in (0, 64] (< 0: the scale)");
+    throw InputError("SoftOptions::cssm_width_scale must be in (0, 64] (< 0: the scale)");
   if (!(cssm_series(o.cssm_order, cssm_params(o).offset) > 0.05))
-    throw InputError("--cssm-offset too small to normalise by (the series of a lit texel must exceed 0.05)");
+    throw InputError("SoftOptions::cssm_offset too small to normalise by (the series of a lit texel must exceed 0.05)");
   if (const CssmParams c = cssm_params(o); c.sharpen_a > 0.0f) {
     // Sharpening raises v to the power 1 + A at contact: a lit receiver must reconstruct to 1.
     const double lit = 0.5 + c.scale * ((o.cssm_normalise ? 1.0 : c.lit) - 0.5);
     if (lit < 0.999)
       throw InputError("cssm: a lit receiver reconstructs to " + std::to_string(lit).substr(0, 5) +
-                       " < 1 with this --cssm-offset / --cssm-scale, which --cssm-sharpen would darken; "
-                       "raise the offset or the scale, or give --cssm-sharpen 0,0");
+                       " < 1 with this SoftOptions::cssm_offset / SoftOptions::cssm_scale, which SoftOptions::cssm_sharpen_a would darken; "
+                       "raise the offset or the scale, or give SoftOptions::cssm_sharpen_a = 0");
   }
-  if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("--ssmm-n must be 1..64");
+  if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("SoftOptions::ssmm_n must be 1..64");
 }
 
 SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height)
-    : rt_(std::move(rt)), opt_(std::move(opt)), W_(width), H_(height) {
+    try : rt_(std::move(rt)), opt_(std::move(opt)), W_(width), H_(height) {
   validate(opt_);
   if (W_ <= 0 || H_ <= 0) throw InputError("empty shadow map");
   auto alloc = [this](size_t bytes) {
@@ -183,9 +184,11 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   } else if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
     chain_ = alloc(mip_layout(W_, H_, 1).chain_values * sizeof(float));
   }
+} catch (const cl::Error& e) {
+  detail::throw_device_error("SoftFilter::SoftFilter", e);
 }
 
-cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) {
+cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) try {
   depth_ = depth;
   have_pyr_ = have_sat_ = have_transform_ = false;
   if (opt_.method == SoftMethod::Cssm) {
@@ -226,11 +229,13 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) {
   cl::Event e;
   rt_->queue().enqueueMarkerWithWaitList(wait, &e);
   return e;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("SoftFilter::prepare", e);
 }
 
 cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                           const cl::Buffer& f, const cl::Buffer& visibility, size_t count,
-                          const EventList* wait, const cl::Buffer* zavg) {
+                          const EventList* wait, const cl::Buffer* zavg) try {
   const ClSoftLight L = cl_light(opt_);
   cl::Kernel k;
   int a = 0;
@@ -285,15 +290,19 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
                                     cl::NullRange, wait, &run_done_);
   return run_done_;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("SoftFilter::run", e);
 }
 
-SoftTimes SoftFilter::times() const {
+SoftTimes SoftFilter::times() const try {
   SoftTimes t;
   if (have_transform_) t.transform = event_seconds(transform_done_);
   if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
   if (have_sat_) t.sat = event_seconds(sat_done_.first, pack_done_() ? pack_done_ : sat_done_.last);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
   return t;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("SoftFilter::times", e);
 }
 
 namespace {
@@ -334,7 +343,7 @@ cl::Buffer upload(Runtime& rt, const std::vector<float>& h) {
 }  // namespace
 
 SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& opt,
-                              const std::vector<SoftLightInput>& lights) {
+                              const std::vector<SoftLightInput>& lights) try {
   if (lights.empty()) throw InputError("no lights");
   SoftResult r;
   const Receivers& rx0 = lights.front().receivers;
@@ -355,9 +364,9 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
     cl::Event prep = sfl.prepare(depth);
     EventList after{prep};
-    sfl.run(u, v, d, f, out, n, &after);
+    const EventList ran{sfl.run(u, v, d, f, out, n, &after)};  // out-of-order queues: wait on it
     std::vector<float> vis(n);
-    if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data());
+    if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
     const SoftTimes t = sfl.times();
     r.times.transform += t.transform;
     r.times.pyramid += t.pyramid;
@@ -376,11 +385,15 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
   if (!(wsum > 0.0)) throw InputError("the light weights sum to 0");
   for (size_t i = 0; i < acc.size(); ++i) r.visibility.data[i] = float(acc[i] / wsum);
   return r;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("soft_filter_lights", e);
 }
 
 SoftResult soft_filter(std::shared_ptr<Runtime> rt, const SoftOptions& opt, const HostImage& depth,
-                       const Receivers& receivers) {
+                       const Receivers& receivers) try {
   return soft_filter_lights(rt, opt, {SoftLightInput{opt.light, depth, receivers}});
+} catch (const cl::Error& e) {
+  detail::throw_device_error("soft_filter", e);
 }
 
 }  // namespace sf

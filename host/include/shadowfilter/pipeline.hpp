@@ -1,8 +1,35 @@
 #pragma once
-// The filtering pipeline on device buffers: depth -> basis -> blur -> reconstruct.
-// It owns only its intermediate basis images; depth, receivers and the visibility output are
-// the caller's buffers, and every step returns an event so callers can chain their own work.
+// The filtering pipeline on device buffers: depth -> basis -> blur -> lookup tables -> reconstruct.
+//
+// Ownership. A Pipeline owns its intermediate buffers only (the basis images and whatever the
+// lookup needs; Pipeline::plan lists them before anything is allocated). The depth map, the
+// receivers and the visibility output are the caller's buffers: the pipeline reads or writes
+// them only inside the commands it enqueues and keeps no reference past the next prefilter().
+// It keeps the Runtime (context, queue, program cache) alive through its shared_ptr.
+//
+// Queues and events. Every command goes to runtime->queue() after the caller's `wait` events and
+// each call returns the event of its last command, so a caller chains its own kernels without a
+// host round trip. Every dependency inside a call is an explicit event, so out-of-order queues
+// (CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE) work: the caller orders its own commands against the
+// returned events. Two calls on one Pipeline must still be ordered by the caller: reconstruct()
+// waits on the event prefilter() returned (pass it in `wait`), and the next prefilter() must wait
+// on the last reconstruct(), as it overwrites the basis that one reads.
+//
+// Threads. A Pipeline is not thread-safe: one thread at a time. Different Pipelines may run on
+// different threads, also on one Runtime (its program cache is locked; OpenCL queues are
+// thread-safe, and every call makes its own cl::Kernel objects).
+//
+// Sub-buffers. Any cl::Buffer argument may be a sub-buffer (clCreateSubBuffer): depth, receiver
+// and visibility data then start at the sub-buffer's origin. OpenCL requires the origin to be a
+// multiple of CL_DEVICE_MEM_BASE_ADDR_ALIGN (sub_buffer() in runtime.hpp checks it and says so);
+// which is at least 128 bytes on every full-profile device, and covers every access the
+// kernels make (the widest is 64 bytes).
+//
+// Errors. InputError for options or sizes the device cannot take, DeviceError for OpenCL
+// failures (errors.hpp); no cl::Error leaves the library.
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "shadowfilter/host_image.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -23,10 +50,29 @@ struct DeviceReceivers {
   cl::Buffer f;  // footprints in level-0 texels (points mode); empty = 1 for every receiver
 };
 
+// The device buffers a Pipeline allocates for one set of options and map size.
+struct BufferPlan {
+  struct Buffer {
+    std::string name;  // "basis", "basis+mips", "mip level offsets", "blur scratch", "sat",
+                       // "sat bands", "zmax chain"
+    size_t bytes = 0;
+  };
+  ImageShape shape;              // the basis images: width x height x channels of value_bytes
+  std::vector<Buffer> buffers;   // allocated by the constructor, in this order
+  size_t bytes_per_receiver = 0;  // allocated by reconstruct() per receiver (ESM flags: 1)
+  size_t total() const;
+  size_t largest() const;
+  size_t bytes(const std::string& name) const;  // 0 when the plan has no such buffer
+};
+
 class Pipeline {
  public:
-  // Allocates the basis images for a width x height shadow map. Throws InputError when the
-  // options are invalid or the images do not fit the device.
+  // What the constructor would allocate, without allocating: validates the options like the
+  // constructor (InputError) but does not check that they fit the device.
+  static BufferPlan plan(const Runtime& runtime, const FilterOptions& options, int width, int height);
+
+  // Allocates plan(runtime, options, width, height) for a width x height shadow map. Throws
+  // InputError when the options are invalid or the buffers do not fit the device.
   Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height);
 
   // Transform + blur of a depth map (width*height floats, linear [0,1]).
@@ -39,9 +85,15 @@ class Pipeline {
   // of the one that holds the mip chain too).
   const cl::Buffer& basis() const { return basis_; }
   ImageShape basis_shape() const { return shape_; }
+  // The tables the lookup of these options reads besides basis() (kind, mip chain, SAT, level
+  // offsets; empty buffers where not needed), valid after the prefilter's event: what a
+  // caller's own kernel passes to sf_lookup (embed.hpp).
+  LookupBuffers lookup_tables() const;
   const MethodDesc& method() const { return *method_; }
   const FilterOptions& options() const { return options_; }
-  size_t device_bytes() const { return 2 * shape_.bytes() + lookup_bytes_; }
+  // Bytes of the buffers this pipeline allocated (plan().total(); the ESM flags not included).
+  size_t device_bytes() const { return plan_.total(); }
+  const BufferPlan& buffer_plan() const { return plan_; }
   // ESM classification: one uchar per receiver of the last reconstruct (1 = flagged), or an
   // empty buffer when the options classify nothing.
   const cl::Buffer& flags() const { return flags_; }
@@ -58,8 +110,7 @@ class Pipeline {
   BlurEvents blur_done_;
   cl::Event reconstruct_done_;
   // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
-  void allocate_lookups();
-  size_t lookup_bytes_ = 0;
+  BufferPlan plan_;
   cl::Buffer mips_;  // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_, zmax_chain_, depth_, flags_;

@@ -73,6 +73,13 @@ class Runtime {
 // The source of one embedded kernel file (throws std::out_of_range for unknown names).
 const std::string& kernel_source(const std::string& file);
 
+// A sub-buffer of `parent` holding bytes [origin, origin + size): how a caller passes data that
+// starts inside a larger buffer of its own to any function of the library. Throws InputError
+// when the region does not lie in the parent or origin is not a multiple of the device's
+// CL_DEVICE_MEM_BASE_ADDR_ALIGN (OpenCL's rule for sub-buffers).
+cl::Buffer sub_buffer(const Runtime& rt, const cl::Buffer& parent, size_t origin, size_t size,
+                      cl_mem_flags flags = CL_MEM_READ_WRITE);
+
 // Seconds between an event's start and end (profiling queues), 0 otherwise.
 double event_seconds(const cl::Event& e);
 double event_seconds(const cl::Event& first, const cl::Event& last);

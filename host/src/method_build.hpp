@@ -1,0 +1,13 @@
+#pragma once
+// The build options of a method's programs, shared by the kernel wrappers and kernel_prelude().
+#include <string>
+
+#include "shadowfilter/methods.hpp"
+
+namespace sf::detail {
+
+// -DSF_METHOD_<name> ('-' becomes '_'), -DSF_STORAGE=<n> and the method's own knobs
+// (MethodDesc::defines). No -cl-std.
+std::string method_build_options(const MethodDesc& m, const FilterOptions& opt);
+
+}  // namespace sf::detail

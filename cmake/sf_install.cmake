@@ -30,6 +30,7 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/shadowfilterConfig.cmake
               ${CMAKE_CURRENT_BINARY_DIR}/shadowfilterConfigVersion.cmake
         DESTINATION ${SF_CMAKE_DIR})
 
+file(RELATIVE_PATH SF_PC_TO_PREFIX "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
 configure_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/shadowfilter.pc.in
                ${CMAKE_CURRENT_BINARY_DIR}/shadowfilter.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/shadowfilter.pc

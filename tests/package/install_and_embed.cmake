@@ -45,5 +45,5 @@ sf_run_step("pkg-config" ${PKG_CONFIG} --cflags --libs shadowfilter)
 string(STRIP "${SF_STEP_OUTPUT}" flags)
 separate_arguments(flags UNIX_COMMAND "${flags}")
 sf_run_step("compile a consumer from shadowfilter.pc"
-  c++ -std=c++17 ${SOURCE}/tests/package/consumer.cpp ${flags} -o ${WORK}/consumer_pc)
+  c++ -std=c++17 -DCL_HPP_ENABLE_EXCEPTIONS ${SOURCE}/tests/package/consumer.cpp ${flags} -o ${WORK}/consumer_pc)
 sf_run_step("run the pkg-config consumer" ${WORK}/consumer_pc)

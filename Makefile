@@ -4,6 +4,7 @@ JOBS ?= $(shell nproc)
 OUT ?= out
 
 .PHONY: deps deps-bench configure build run test bench data meshes mesh-scenes clean
+.PHONY: fresh-check
 
 deps:
 	@scripts/install-deps.sh core
@@ -74,3 +75,8 @@ mesh-scenes: meshes
 
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log
+
+# The README's commands on a new machine (as root): a clean Debian bookworm root with only make,
+# g++, cmake, git and ca-certificates, a clone of HEAD, then make deps, build, test and run in it.
+fresh-check:
+	scripts/fresh-check.sh .

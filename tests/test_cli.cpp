@@ -170,6 +170,10 @@ TEST_F(Cli, ArgumentErrors) {
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                          " --blur-radius 1000",
                      "--blur-radius");
+  // The library names option fields (FilterOptions::csm.order); the command its own flags.
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                         " --method csm --csm-order 99",
+                     "--csm-order must be in 1..32, got 99");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                          " --encoding weird",
                      "weird");

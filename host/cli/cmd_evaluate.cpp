@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "option_names.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "shadowfilter/errors.hpp"
@@ -90,7 +91,7 @@ int run_evaluate(const EvaluateArgs& a) {
         try {
           rows.push_back(eval::evaluate_config(runtime, scene, o, sref, timing));
         } catch (const InputError& e) {
-          skipped.push_back({scene.name, eval::config_label(o), e.what()});
+          skipped.push_back({scene.name, eval::config_label(o), cli_message(e.what())});
         }
         bar.add(1);
       }

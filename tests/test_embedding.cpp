@@ -320,3 +320,23 @@ TEST(Embedding, KernelPreludeRefusesRawDepthMethods) {
 
 }  // namespace
 }  // namespace sf::test
+
+namespace sf::test {
+namespace {
+
+// The library's kernels build with -w unless warnings are asked for: drivers such as PoCL print
+// compiler warnings to stderr, which would reach every user of the command or an embedding.
+TEST(Embedding, CompilerWarningsAreOffUnlessAsked) {
+  auto& rt = runtime();
+  auto options_of = [&rt](const cl::Program& p) { return p.getBuildInfo<CL_PROGRAM_BUILD_OPTIONS>(rt.device()); };
+  const std::string base = "-cl-std=CL1.2 -DSF_TEST_WARNINGS";
+  const std::string quiet = options_of(rt.program({"common.clh", "pcf.cl"}, base));
+  EXPECT_NE(quiet.find(" -w"), std::string::npos) << quiet;
+  rt.set_compiler_warnings(true);
+  const std::string loud = options_of(rt.program({"common.clh", "pcf.cl"}, base));
+  rt.set_compiler_warnings(false);
+  EXPECT_EQ(loud.find(" -w"), std::string::npos) << loud;
+}
+
+}  // namespace
+}  // namespace sf::test

@@ -194,6 +194,13 @@ Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
 
 void Runtime::set_without_fp64(bool without) { info_.fp64 = device_fp64_ && !without; }
 
+void Runtime::set_compiler_warnings(bool on) { compiler_warnings_ = on; }
+
+bool Runtime::compiler_warnings_from_env() {
+  const char* v = std::getenv("SHADOWFILTER_CL_WARNINGS");
+  return v && std::string(v) == "1";
+}
+
 std::string Runtime::cache_dir() {
   if (const char* d = std::getenv("SHADOWFILTER_CACHE_DIR")) return d;
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/shadowfilter";
@@ -213,7 +220,8 @@ const std::string& kernel_source(const std::string& file) {
 }
 
 cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) try {
-  const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "");
+  const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "") +
+                              (compiler_warnings_ ? "" : " -w");
   std::string source;
   for (const auto& f : files) {
     source += "// ---- " + f + "\n";

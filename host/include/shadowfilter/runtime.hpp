@@ -50,6 +50,12 @@ class Runtime {
   // -DSF_NO_FP64. false restores what the device reports.
   void set_without_fp64(bool without);
 
+  // OpenCL C compiler warnings about the library's own kernels (some drivers, PoCL among them,
+  // print them to stderr while a program builds) are suppressed with -w: they say nothing about
+  // the caller's input and would reach every user's terminal. On to see them: this, or
+  // SHADOWFILTER_CL_WARNINGS=1 in the environment. Programs built from here on follow it.
+  void set_compiler_warnings(bool on);
+
   // Builds (or fetches from the in-memory and disk caches) a program made of the named embedded
   // kernel files concatenated in order (e.g. {"common.clh", "methods/esm.clh", "transform.cl"}),
   // compiled with `options` (-D knobs). Throws DeviceError with the build log on failure.
@@ -66,6 +72,8 @@ class Runtime {
   DeviceInfo info_;
   bool device_fp64_ = false;  // what the device reports (info_.fp64 may be switched off)
   bool profiling_ = false;
+  static bool compiler_warnings_from_env();
+  bool compiler_warnings_ = compiler_warnings_from_env();
   std::mutex mutex_;
   std::map<std::string, cl::Program> programs_;  // key: cache key
 };

@@ -170,6 +170,10 @@ TEST_F(Cli, ArgumentErrors) {
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                          " --blur-radius 1000",
                      "--blur-radius");
+  for (const char* sigma : {"nan", "0", "-1", "inf"})
+    expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                           " --blur-radius 2 --blur-sigma " + sigma,
+                       "--blur-sigma");
   // The library names option fields (FilterOptions::csm.order); the command its own flags.
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                          " --method csm --csm-order 99",

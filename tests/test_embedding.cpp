@@ -91,6 +91,14 @@ TEST(Embedding, MessagesNameOptionFields) {
     EXPECT_NE(m.find("FilterOptions::esm.c"), std::string::npos) << m;
     EXPECT_EQ(m.find("--"), std::string::npos) << m;
   }
+  o = esm_options(Lookup::Bilinear, 2);
+  o.blur.sigma = std::nanf("");
+  try {
+    Pipeline::plan(runtime(), o, 16, 16);
+    FAIL() << "a NaN sigma was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("FilterOptions::blur.sigma"), std::string::npos) << e.what();
+  }
   o = esm_options(Lookup::Bilinear, kMaxBlurRadius + 1);
   try {
     Pipeline pipe(runtime_ptr(), o, 16, 16);

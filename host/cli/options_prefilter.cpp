@@ -1,4 +1,7 @@
+#include <cmath>
 #include <iomanip>
+#include <stdexcept>
+#include <string>
 #include <map>
 #include <sstream>
 
@@ -11,8 +14,22 @@ namespace sf::cli {
 void add_prefilter_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--blur-radius", o.blur.radius, "Gaussian prefilter radius R (taps -R..R)")
       ->capture_default_str();
-  c.add_option("--blur-sigma", o.blur.sigma, "Gaussian sigma in texels (0 = (2R+1)/6)")
-      ->capture_default_str();
+  // Given, sigma must be a positive finite number; not given, it is (2R+1)/6 (FilterOptions's 0).
+  c.add_option("--blur-sigma", o.blur.sigma, "Gaussian sigma in texels (default (2R+1)/6)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            float v = 0.0f;
+            try {
+              size_t used = 0;
+              v = std::stof(text, &used);
+              if (used != text.size()) return std::string("must be a number, got '" + text + "'");
+            } catch (const std::exception&) {
+              return std::string("must be a number, got '" + text + "'");
+            }
+            return std::isfinite(v) && v > 0.0f ? std::string()
+                                                : "must be a positive finite number, got " + text;
+          },
+          "POSITIVE"));
   const std::map<std::string, Lookup> lookups{
       {"bilinear", Lookup::Bilinear}, {"mips", Lookup::Mips}, {"sat", Lookup::Sat}};
   c.add_option("--lookup", o.lookup.kind,

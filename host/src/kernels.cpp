@@ -57,6 +57,9 @@ std::vector<float> gaussian_weights(int radius, float sigma) {
   if (radius < 0 || radius > kMaxBlurRadius)
     throw InputError("FilterOptions::blur.radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
                      std::to_string(radius));
+  if (!std::isfinite(sigma))
+    throw InputError("FilterOptions::blur.sigma must be a finite number (<= 0: the default (2R+1)/6), got " +
+                     std::to_string(sigma));
   if (sigma <= 0.0f) sigma = default_blur_sigma(radius);
   std::vector<double> w(radius + 1);
   double sum = 0.0;

@@ -10,15 +10,6 @@
 
 namespace sf {
 
-namespace {
-
-cl::Buffer sub_buffer(cl::Buffer parent, size_t origin, size_t size) {
-  cl_buffer_region region{origin, size};
-  return parent.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
-}
-
-}  // namespace
-
 void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, const std::string& what) {
   const auto& info = rt.info();
   auto mib = [](size_t b) { return std::to_string((b + (1 << 20) - 1) >> 20) + " MiB"; };
@@ -119,8 +110,8 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
     // basis_ and chain_ are sub-buffers of mips_.
     mips_ = alloc("basis+mips");
     const size_t level0 = joined_level0_bytes(*rt_, shape_);
-    basis_ = sub_buffer(mips_, 0, shape_.bytes());
-    chain_ = sub_buffer(mips_, level0, plan_.bytes("basis+mips") - level0);
+    basis_ = sub_buffer(*rt_, mips_, 0, shape_.bytes());
+    chain_ = sub_buffer(*rt_, mips_, level0, plan_.bytes("basis+mips") - level0);
     level_offsets_ = mip_level_offsets(*rt_, options_.storage, mips_, chain_, shape_);
   } else {
     basis_ = alloc("basis");

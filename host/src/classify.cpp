@@ -22,8 +22,7 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
   if (opt.method != "esm") throw InputError("FilterOptions::esm_classify.mode needs FilterOptions::method esm, got " + opt.method);
   const MethodDesc& m = find_method("esm");
   m.validate(opt);
-  const std::string defines = "-cl-std=CL1.2 " + detail::method_build_options(m, opt) +
-                              " -DSF_LOOKUP=" + std::to_string(static_cast<int>(opt.lookup.kind));
+  const std::string defines = "-cl-std=CL1.2 " + detail::method_lookup_build_options(m, opt);
   cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", "esm_classify.cl"},
                              defines);
   return cl::Kernel(p, name);

@@ -19,8 +19,7 @@ KernelPrelude kernel_prelude(const FilterOptions& options) {
   KernelPrelude p;
   p.files = {"common.clh", "storage.clh", m.header, "lookup.clh"};
   for (const auto& f : p.files) p.source += kernel_source(f) + "\n";
-  p.build_options = detail::method_build_options(m, options) +
-                    " -DSF_LOOKUP=" + std::to_string(static_cast<int>(options.lookup.kind));
+  p.build_options = detail::method_lookup_build_options(m, options);
   p.params = m.pack_params(options);
   return p;
 }

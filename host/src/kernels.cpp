@@ -21,6 +21,10 @@ std::string detail::method_build_options(const MethodDesc& m, const FilterOption
          m.defines(opt);
 }
 
+std::string detail::method_lookup_build_options(const MethodDesc& m, const FilterOptions& opt) {
+  return method_build_options(m, opt) + " -DSF_LOOKUP=" + std::to_string(static_cast<int>(opt.lookup.kind));
+}
+
 namespace {
 
 size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }

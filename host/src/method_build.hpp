@@ -9,5 +9,8 @@ namespace sf::detail {
 // -DSF_METHOD_<name> ('-' becomes '_'), -DSF_STORAGE=<n> and the method's own knobs
 // (MethodDesc::defines). No -cl-std.
 std::string method_build_options(const MethodDesc& m, const FilterOptions& opt);
+// The same and -DSF_LOOKUP=<opt.lookup.kind>: programs that read the basis through sf_lookup
+// (the ESM classification, a caller's kernel from kernel_prelude()).
+std::string method_lookup_build_options(const MethodDesc& m, const FilterOptions& opt);
 
 }  // namespace sf::detail

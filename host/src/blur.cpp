@@ -1,0 +1,154 @@
+// The separable Gaussian prefilter (kernels/blur.cl): its weights, its schedule and its launch.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "cl_errors.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/kernels.hpp"
+
+namespace sf {
+
+float default_blur_sigma(int radius) { return (2.0f * radius + 1.0f) / 6.0f; }
+
+std::vector<float> gaussian_weights(int radius, float sigma) {
+  if (radius < 0 || radius > kMaxBlurRadius)
+    throw InputError("FilterOptions::blur.radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
+                     std::to_string(radius));
+  if (!std::isfinite(sigma))
+    throw InputError("FilterOptions::blur.sigma must be a finite number (<= 0: the default (2R+1)/6), got " +
+                     std::to_string(sigma));
+  if (sigma <= 0.0f) sigma = default_blur_sigma(radius);
+  std::vector<double> w(radius + 1);
+  double sum = 0.0;
+  for (int k = 0; k <= radius; ++k) {
+    w[k] = std::exp(-double(k) * k / (2.0 * double(sigma) * sigma));
+    sum += (k == 0 ? 1.0 : 2.0) * w[k];
+  }
+  std::vector<float> out(radius + 1);
+  for (int k = 0; k <= radius; ++k) out[k] = static_cast<float>(w[k] / sum);
+  return out;
+}
+
+namespace {
+
+// The fused blur's schedule (blur.cl: SF_VEC, SF_STRIP, SF_ROWS, SF_STREAM); none of it changes
+// a result.
+struct BlurSchedule {
+  int vec = 16;         // texels per vector
+  int strip = 1;        // vectors per work-item along a row
+  int rows = 64;        // output rows per work-item
+  bool stream = false;  // streaming stores: every row starts on a vector boundary
+};
+constexpr int kBlurStepRows = 4;     // SF_VROWS: output rows per step, sharing their ring loads
+constexpr int kBlurCopyChunk = 4096;  // SF_COPY_CHUNK: floats per work-item of sf_blur_copy
+
+int floor_pow2(int n) {
+  int p = 1;
+  while (p <= n / 2) p *= 2;
+  return p;
+}
+
+int ceil_div(int a, int b) { return (a + b - 1) / b; }
+
+// Strip: 128 texels (64 once the private ring, two copies of 2R + 4 strip rows, would pass
+// 128 KiB). Rows: 256, fewer when needed to give every compute unit 8 work-items; long strips
+// make the 2R halo rows that two work-items both blur along x a small share. Measured on PoCL
+// (2 cores, AVX-512): 128 x 256 is within noise of the best of {64, 128, 256}^2 for R = 1..31.
+BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions& sched,
+                           const ImageShape& shape) {
+  BlurSchedule s;
+  s.vec = sched.blur_vector_width;
+  const int span = 2 * radius + kBlurStepRows;
+  const int texels = sched.blur_strip_texels > 0 ? sched.blur_strip_texels
+                                                 : std::clamp(floor_pow2(16384 / span), 64, 128);
+  s.strip = std::max(1, texels / s.vec);
+  if (sched.blur_rows > 0) {
+    s.rows = sched.blur_rows;
+  } else {
+    s.rows = 256;
+    const int strips = ceil_div(shape.width, s.strip * s.vec) * shape.channels;
+    const int wanted = 8 * static_cast<int>(std::max<cl_uint>(rt.info().compute_units, 1));
+    while (s.rows > 16 && strips * ceil_div(shape.height, s.rows) < wanted) s.rows /= 2;
+  }
+  s.stream = shape.width % s.vec == 0;
+  return s;
+}
+
+// The blur's compile-time constants: radius, the weights as exact hex-float literals, schedule.
+std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
+  std::string weights;
+  for (float w : gaussian_weights(blur.radius, blur.sigma)) {
+    char lit[32];
+    std::snprintf(lit, sizeof lit, "%af", w);
+    weights += (weights.empty() ? "" : ",") + std::string(lit);
+  }
+  return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weights +
+         " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
+         " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(kBlurStepRows) +
+         " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + (s.stream ? " -DSF_STREAM" : "");
+}
+
+// The copy back of an in-place blur, tmp -> dst, after `blurred` (blur.cl: sf_blur_copy).
+cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer& tmp,
+                            const cl::Buffer& dst, const ImageShape& shape,
+                            const cl::Event& blurred) {
+  cl::Kernel copy(p, "sf_blur_copy");
+  const int count = static_cast<int>(shape.plane_texels() * shape.channels);
+  copy.setArg(0, tmp);
+  copy.setArg(1, dst);
+  copy.setArg(2, count);
+  const EventList after{blurred};
+  cl::Event e;
+  rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)),
+                                  cl::NDRange(1), &after, &e);
+  return e;
+}
+
+}  // namespace
+
+BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
+                        const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
+                        const ImageShape& shape, const EventList* wait, Storage storage) try {
+  BlurEvents ev;
+  if (blur.radius == 0) {
+    if (src() != dst()) {
+      rt.queue().enqueueCopyBuffer(src, dst, 0, 0, shape.bytes(), wait, &ev.rows);
+    } else {
+      rt.queue().enqueueMarkerWithWaitList(wait, &ev.rows);
+    }
+    ev.cols = ev.rows;
+    return ev;
+  }
+  const int vec = sched.blur_vector_width;
+  if (vec != 4 && vec != 8 && vec != 16)
+    throw InputError("blur vector width must be 4, 8 or 16, got " + std::to_string(vec));
+  if (sched.blur_strip_texels < 0 || sched.blur_strip_texels % vec != 0 || sched.blur_rows < 0)
+    throw InputError("blur strip must be a multiple of the vector width and rows >= 0");
+  if (shape.value_bytes != storage_bytes(storage))
+    throw InputError(std::string("blur: the image holds ") + std::to_string(shape.value_bytes) +
+                     "-byte values, storage " + storage_name(storage) + " has " +
+                     std::to_string(storage_bytes(storage)));
+  // Both passes run in one kernel, which cannot blur in place: in place goes through tmp and a
+  // copy back.
+  const bool in_place = src() == dst();
+  const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
+  const cl::Program p =
+      rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
+  cl::Kernel k(p, "sf_blur");
+  k.setArg(0, src);
+  k.setArg(1, in_place ? tmp : dst);
+  k.setArg(2, shape.width);
+  k.setArg(3, shape.height);
+  k.setArg(4, static_cast<int>(shape.plane_texels()));
+  const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows),
+                           shape.channels);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
+  ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
+  return ev;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_blur", e);
+}
+
+}  // namespace sf

@@ -10,7 +10,7 @@
 
 // Level-0 box [lo.x, hi.x] x [lo.y, hi.y] of the lookup's support before the prefilter.
 inline int4 sf_support(int W, int H, float u, float v, float f) {
-#if SF_LOOKUP == 2
+#if SF_LOOKUP == SF_LOOKUP_SAT
   const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
   const float X0 = fma(u, (float)W, -s), X1 = fma(u, (float)W, s);
   const float Y0 = fma(v, (float)H, -s), Y1 = fma(v, (float)H, s);
@@ -18,7 +18,7 @@ inline int4 sf_support(int W, int H, float u, float v, float f) {
                 sf_clampi((int)ceil(X1) - 1, 0, W - 1), sf_clampi((int)ceil(Y1) - 1, 0, H - 1));
 #else
   int k0 = 0, k1 = 0;
-#if SF_LOOKUP == 1
+#if SF_LOOKUP == SF_LOOKUP_MIPS
   float t;
   k0 = sf_lod(f, sf_mip_top(W, H), &t);
   k1 = t > 0.0f ? k0 + 1 : k0;
@@ -72,12 +72,6 @@ inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, f
 #undef SF_T
 }
 
-typedef struct {
-  int mode;          // 1 zmax, 2 threshold
-  int radius;        // Gaussian prefilter radius R (widens the support)
-  float offset;      // zmax offset
-  float log_thresh;  // log1p(eps)
-} sf_classify_params;
 
 // One receiver: returns whether it is flagged; `vis` is replaced by the fall-back if so.
 // box: the lookup's support before the prefilter (zmax mode); b: the filtered basis as the
@@ -88,7 +82,7 @@ inline bool sf_classify(__global const sf_stored* restrict basis, __global const
                         float d, int4 box, const float* b, const sf_classify_params C,
                         const sf_method_params P, float* vis) {
   bool flag;
-  if (C.mode == 1) {
+  if (C.mode == SF_CLASSIFY_ZMAX) {
     box = (int4)(max(box.x - C.radius, 0), max(box.y - C.radius, 0), min(box.z + C.radius, W - 1),
                  min(box.w + C.radius, H - 1));
     flag = sf_zmax_box(depth, zchain, W, H, box) > d + C.offset;
@@ -116,7 +110,7 @@ __kernel void sf_esm_classify_points(
   }
   const float fi = f ? f[i] : 1.0f;
   float b[SF_CHANNELS] = {0.0f};
-  if (C.mode == 2) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
+  if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
   float vis = 0.0f;
   const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, ui, vi, clamp(di, 0.0f, 1.0f),
                                 sf_support(W, H, ui, vi, fi), b, C, P, &vis);
@@ -141,7 +135,7 @@ __kernel void sf_esm_classify_grid(
   }
   const float ui = ((float)x + 0.5f) / (float)W, vi = ((float)y + 0.5f) / (float)H;
   float b[SF_CHANNELS] = {0.0f};
-  if (C.mode == 2) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
+  if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
   float vis = 0.0f;
   const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, ui, vi, clamp(di, 0.0f, 1.0f),
                                 (int4)(x, y, x, y), b, C, P, &vis);

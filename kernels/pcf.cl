@@ -8,11 +8,7 @@
 // the Gaussian g, the texel x0 + o gets wx = (1 - ax) g(o) + ax g(o - dx) (g = 0 beyond R),
 // exactly the weight the blur-then-bilinear path gives it, so brute force costs (2R+2)^2 tests.
 
-#define SF_PCF_MAX_RADIUS 64
-
-typedef struct {
-  float w[SF_PCF_MAX_RADIUS + 1];  // normalised Gaussian weights g(0..R)
-} sf_pcf_weights;
+// sf_pcf_weights and SF_PCF_MAX_RADIUS: shared_types.clh.
 
 inline float sf_pcf_g(const sf_pcf_weights* g, int radius, int o) {
   o = abs(o);
@@ -113,7 +109,7 @@ inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H
                               float f, float d, float bias, int radius, const sf_pcf_weights* g) {
   sf_pcf_axis ax[2], ay[2];
   float t = 0.0f;
-#if SF_LOOKUP == 1
+#if SF_LOOKUP == SF_LOOKUP_MIPS
   const int k0 = sf_lod(f, sf_mip_top(W, H), &t);
   ax[0] = sf_pcf_level_axis(u, W, k0);
   ay[0] = sf_pcf_level_axis(v, H, k0);

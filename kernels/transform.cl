@@ -29,9 +29,9 @@ typedef SF_CAT(uchar, SF_XVEC) __attribute__((aligned(1))) sf_xuchar_u;
 // product is rounded first as in sf_store.
 inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 #pragma OPENCL FP_CONTRACT OFF
-#if SF_STORAGE == 0
+#if SF_STORAGE == SF_STORAGE_F32
   *(__global sf_xfloat_u*)p = v;
-#elif SF_STORAGE == 1
+#elif SF_STORAGE == SF_STORAGE_F16
 #if defined(__x86_64__) && defined(__AVX512F__) && SF_XVEC == 16
   SF_CAT(ushort, SF_XVEC) h;
   __asm__("vcvtps2ph $0, %1, %0" : "=v"(h) : "v"(v));
@@ -45,7 +45,7 @@ inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 #else
   const sf_xfloat t = clamp(v, 0.0f, 1.0f) * SF_UNORM_MAX + 12582912.0f;
 #endif
-#if SF_STORAGE == 2
+#if SF_STORAGE == SF_STORAGE_UNORM16
   *(__global sf_xushort_u*)p = SF_CAT(convert_ushort, SF_XVEC)(SF_CAT(as_uint, SF_XVEC)(t));
 #else
   *(__global sf_xuchar_u*)p = SF_CAT(convert_uchar, SF_XVEC)(SF_CAT(as_uint, SF_XVEC)(t));

@@ -263,7 +263,8 @@ TEST_P(KernelPreludeCases, CallerKernelMatchesReconstruct) {
   const std::vector<float> want = pipeline_visibility(rt, o, depth, p);
 
   const KernelPrelude pre = kernel_prelude(o);
-  ASSERT_EQ(pre.files.size(), 4u);
+  ASSERT_EQ(pre.files.size(), 5u);
+  EXPECT_EQ(pre.files.front(), "shared_types.clh");
   cl::Program prog(rt->context(), pre.source + kCallerKernel);
   try {
     prog.build(pre.build_options.c_str());

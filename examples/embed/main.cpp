@@ -30,9 +30,10 @@ constexpr int kMap = 512;                      // shadow map kMap x kMap
 constexpr int kWidth = 640, kHeight = 480;     // camera image
 constexpr float kTolerance = 1e-5f;            // |own - library| visibility, same math in both
 
-// The renderer's kernels. The four includes are the installed shadowfilter headers; the build
+// The renderer's kernels. The five includes are the installed shadowfilter headers; the build
 // options (-DSF_STORAGE, -DSF_LOOKUP, the method's) come from sf::kernel_prelude().
 const char* kRendererSource = R"CLC(
+#include "shadowfilter/cl/shared_types.clh"
 #include "shadowfilter/cl/common.clh"
 #include "shadowfilter/cl/storage.clh"
 #include "shadowfilter/cl/methods/esm.clh"

@@ -21,13 +21,13 @@ int run_methods(const MethodsArgs&) {
     }
     std::ostringstream mem;
     const int ch = m.channels(o);
-    std::istringstream st(m.storages);
-    for (std::string s; st >> s;) {
-      o.storage = parse_storage(s);
-      mem << (mem.tellp() > 0 ? ", " : "") << s << " " << basis_bytes_per_texel(m, o);
+    for (const StorageLimit& l : m.storages) {
+      o.storage = l.storage;
+      mem << (mem.tellp() > 0 ? ", " : "") << storage_name(l.storage) << " " << basis_bytes_per_texel(m, o);
+      if (!l.limit.empty()) mem << " (" << l.limit << ")";
     }
     std::cout << "\n    basis: " << ch << " channel(s)";
-    if (m.name == "csm") std::cout << " at the default order " << o.csm.order << " (2M in general)";
+    if (!m.channels_note.empty()) std::cout << " with the defaults (" << m.channels_note << " in general)";
     std::cout << "; bytes per texel by --storage: " << mem.str()
               << " (twice that while prefiltering)\n";
   }

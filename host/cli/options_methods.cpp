@@ -35,15 +35,7 @@ std::string method_summary(const FilterOptions& o) {
   for (const auto& d : methods())
     if (d.name == o.method) m = &d;
   if (!m) return s.str();
-  if (o.method == "sm" || o.method == "pcf" || o.method.rfind("msm", 0) == 0)
-    s << " bias=" << depth_bias(o);
-  if (o.method == "esm") s << " c=" << o.esm.c;
-  if (o.method == "vsm" || o.method.rfind("evsm", 0) == 0) s << " lbr=" << o.vsm.lbr;
-  if (o.method.rfind("evsm", 0) == 0) s << " c+=" << o.evsm.pos << " c-=" << o.evsm.neg;
-  if (o.method == "csm") {
-    const CsmParameters p = csm_parameters(o);
-    s << " M=" << o.csm.order << " alpha=" << p.alpha << " offset=" << p.offset << " scale=" << p.scale;
-  }
+  for (const MethodParameter& p : m->parameter_values(o)) s << " " << p.key << "=" << p.value;
   if (!m->raw_depth) s << " storage=" << storage_name(o.storage);
   return s.str();
 }

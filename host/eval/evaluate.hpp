@@ -115,6 +115,8 @@ struct Row {
 };
 Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
                     SrefCache& sref, const TimingSettings& t);
+// A row's identity and timings from one measurement; the caller adds the errors it needs.
+Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m);
 
 struct Skipped {
   std::string scene, label, reason;

@@ -12,6 +12,7 @@
 #include "evaluate.hpp"
 #include "image_io.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
 
 namespace sf::eval {
 namespace {
@@ -55,14 +56,9 @@ void stats_json(std::ostream& f, const char* name, const ErrorStats& e) {
     << ", \"leak\": " << e.leak << ", \"darken\": " << e.darken << "}";
 }
 
-// Method colours (fixed so every plot reads the same).
 std::vector<float> method_colour(const std::string& m) {
-  static const std::map<std::string, std::vector<float>> c{
-      {"sm", {0.0f, 0.0f, 0.0f}},       {"pcf", {0.55f, 0.55f, 0.55f}},   {"esm", {0.85f, 0.1f, 0.1f}},
-      {"vsm", {0.1f, 0.35f, 0.9f}},     {"evsm2", {0.0f, 0.65f, 0.65f}},  {"evsm4", {0.1f, 0.6f, 0.1f}},
-      {"msm", {0.9f, 0.5f, 0.0f}},      {"msm-hausdorff", {0.6f, 0.3f, 0.0f}}, {"csm", {0.6f, 0.1f, 0.75f}}};
-  auto it = c.find(m);
-  return it == c.end() ? std::vector<float>{0.3f, 0.3f, 0.3f} : it->second;
+  const auto& c = find_method(m).colour;
+  return {c[0], c[1], c[2]};
 }
 
 std::string font_path() {
@@ -79,9 +75,20 @@ void text(OIIO::ImageBuf& img, int x, int y, const std::string& s, const std::ve
 
 }  // namespace
 
+// The method's parameters in effect, "key=value" separated by spaces (the registry's names).
+std::string parameter_text(const FilterOptions& o) {
+  std::string s;
+  for (const MethodParameter& p : find_method(o.method).parameter_values(o)) {
+    std::ostringstream v;
+    v << p.value;
+    s += (s.empty() ? "" : " ") + p.key + "=" + v.str();
+  }
+  return s;
+}
+
 void write_csv(const std::string& path, const std::vector<Row>& rows) {
   auto f = open_out(path);
-  f << "scene,method,config,blur_radius,lookup,storage,esm_c,csm_order,vsm_lbr,time_ms,min_ms,runs,"
+  f << "scene,method,config,blur_radius,lookup,storage,parameters,time_ms,min_ms,runs,"
        "transform_ms,blur_ms,mips_ms,sat_ms,zmax_ms,reconstruct_ms,classify_ms,device_bytes";
   for (const char* ref : {"sref", "hard", "soft"})
     for (const char* m : {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"})
@@ -91,9 +98,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
     const auto& o = r.options;
     f << r.scene << "," << r.method << "," << csv_quote(r.label) << "," << o.blur.radius << ","
       << lookup_name(o.lookup.kind) << "," << storage_name(o.storage) << ","
-      << (o.method == "esm" ? std::to_string(o.esm.c) : "") << ","
-      << (o.method == "csm" ? std::to_string(o.csm.order) : "") << ","
-      << (o.method == "vsm" || o.method.rfind("evsm", 0) == 0 ? std::to_string(o.vsm.lbr) : "") << ","
+      << csv_quote(parameter_text(o)) << ","
       << r.time_ms << "," << r.min_ms << "," << r.runs << "," << r.stages.transform * 1e3 << ","
       << r.stages.blur * 1e3 << "," << r.stages.pyramid * 1e3 << "," << r.stages.sat * 1e3 << ","
       << r.stages.zmax * 1e3 << "," << r.stages.reconstruct * 1e3 << "," << r.stages.classify * 1e3 << ","
@@ -127,10 +132,8 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
       << json_escape(r.label) << "\", \"parameters\": {\"blur_radius\": " << o.blur.radius
       << ", \"lookup\": \"" << lookup_name(o.lookup.kind) << "\", \"storage\": \"" << storage_name(o.storage)
       << "\"";
-    if (o.method == "esm") f << ", \"esm_c\": " << o.esm.c;
-    if (o.method == "csm") f << ", \"csm_order\": " << o.csm.order;
-    if (o.method == "vsm" || o.method.rfind("evsm", 0) == 0) f << ", \"lbr\": " << o.vsm.lbr;
-    if (o.method.rfind("evsm", 0) == 0) f << ", \"evsm_pos\": " << o.evsm.pos << ", \"evsm_neg\": " << o.evsm.neg;
+    for (const MethodParameter& p : find_method(o.method).parameter_values(o))
+      f << ", \"" << json_escape(p.key) << "\": " << p.value;
     f << "}, \"time_ms\": " << r.time_ms << ", \"min_ms\": " << r.min_ms << ", \"runs\": " << r.runs
       << ", \"stages_ms\": {\"transform\": " << r.stages.transform * 1e3 << ", \"blur\": " << r.stages.blur * 1e3
       << ", \"mips\": " << r.stages.pyramid * 1e3 << ", \"sat\": " << r.stages.sat * 1e3

@@ -1,28 +1,20 @@
-// The reference's method index: resolves parameters through the registry, dispatches to the
-// per-method files, and emulates the storage formats.
+// The reference's basis transform through the registry's double-precision twins, and the
+// storage formats' rounding.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
-#include "methods_detail.hpp"
+#include "reference.hpp"
 #include "shadowfilter/methods.hpp"
 
 namespace sf::ref {
 
 MethodRef method_ref(const FilterOptions& opt) {
   const MethodDesc& m = find_method(opt.method);
+  if (!m.scalar) throw std::invalid_argument("reference: method " + opt.method + " has no basis");
   m.validate(opt);
-  const auto bytes = m.pack_params(opt);
-  std::vector<float> p(bytes.size() / sizeof(float));
-  std::memcpy(p.data(), bytes.data(), p.size() * sizeof(float));
-  if (opt.method == "esm") return detail::esm_ref(p, opt);
-  if (opt.method == "vsm") return detail::vsm_ref(p, opt);
-  if (opt.method == "evsm2" || opt.method == "evsm4") return detail::evsm_ref(p, opt, opt.method == "evsm4");
-  if (opt.method == "msm" || opt.method == "msm-hausdorff")
-    return detail::msm_ref(p, opt, opt.method == "msm-hausdorff");
-  if (opt.method == "csm") return detail::csm_ref(p, opt);
-  throw std::invalid_argument("reference: no basis for method " + opt.method);
+  return m.scalar(opt);
 }
 
 Planes transform(const FilterOptions& opt, const HostImage& depth) {

@@ -104,11 +104,12 @@ void receiver_at(const Receivers& rx, size_t i, double& u, double& v, double& d)
 
 std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, const Receivers& rx) {
   std::vector<double> out(rx.count(), 1.0);
-  if (opt.method == "sm" || opt.method == "pcf") {
+  const MethodDesc& method = find_method(opt.method);
+  if (method.raw_depth) {
     BlurOptions weights = opt.blur;
-    if (opt.method == "sm") weights.radius = 0;
+    if (!method.filtered) weights.radius = 0;
     // pcf follows the lookup's footprints (sm ignores them; grid receivers have f = 1).
-    const bool footprints = opt.method == "pcf" && opt.lookup.kind != Lookup::Bilinear && !rx.grid;
+    const bool footprints = method.filtered && opt.lookup.kind != Lookup::Bilinear && !rx.grid;
     for (size_t i = 0; i < rx.count(); ++i) {
       double u, v, d;
       receiver_at(rx, i, u, v, d);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "shadowfilter/host_image.hpp"
+#include "shadowfilter/methods.hpp"
 #include "shadowfilter/options.hpp"
 
 namespace sf::ref {
@@ -19,22 +20,12 @@ struct Planes {
   double at(int c, int x, int y) const { return data[(size_t(c) * height + y) * width + x]; }
 };
 
-// --- ESM ---------------------------------------------------------------------
-// The stored ESM basis, exp(c (z - 1/2)) (see kernels/methods/esm.clh for why centred).
-Planes esm_basis(const HostImage& depth, double c);
-// Visibility from a filtered stored basis value: exp(-c (d - 1/2)) bar(B), clamped to [0,1].
-double esm_visibility(double filtered_basis, double d, double c);
-
-// --- every method (methods_*.cpp, one file per kernels/methods/*.clh) -----------
-// The same two functions as the method's header, in double, with the parameters the registry
-// resolves (defaults, clamps) for `opt`: basis values as the kernel stores them before rounding
-// (mapped into [0,1] where the method does so for unorm storage), and the visibility from
-// filtered stored values, clamped to [0,1].
-struct MethodRef {
-  int channels = 1;
-  std::function<void(double z, double* b)> basis;
-  std::function<double(const double* b, double d)> visibility;
-};
+// --- every basis method ------------------------------------------------------
+// The method's double-precision twin (MethodDesc::scalar, registered beside its kernel header)
+// with the parameters the registry resolves (defaults, clamps) for `opt`, after the registry
+// validated them: basis values as the kernel stores them before rounding, and the visibility
+// from filtered stored values, clamped to [0,1].
+using MethodRef = ScalarMethod;
 MethodRef method_ref(const FilterOptions& opt);  // basis methods (not sm, pcf)
 // The basis planes of a depth map (unrounded).
 Planes transform(const FilterOptions& opt, const HostImage& depth);

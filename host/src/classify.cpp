@@ -1,9 +1,11 @@
 // ESM failure classification (kernels/esm_classify.cl).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "cl_errors.hpp"
 #include "method_build.hpp"
+#include "shadowfilter/classify.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -11,20 +13,17 @@
 namespace sf {
 namespace {
 
-struct ClassifyParams {  // sf_classify_params
-  cl_int mode;
-  cl_int radius;
-  cl_float offset;
-  cl_float log_thresh;
-};
+using ClassifyParams = sf_classify_params;  // shared_types.clh
 
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {
-  if (opt.method != "esm") throw InputError("FilterOptions::esm_classify.mode needs FilterOptions::method esm, got " + opt.method);
-  const MethodDesc& m = find_method("esm");
+  const MethodDesc& m = find_method(opt.method);
+  if (!m.classifiable)
+    throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
+                     opt.method);
   m.validate(opt);
-  const std::string defines = "-cl-std=CL1.2 " + detail::method_lookup_build_options(m, opt);
-  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", "esm_classify.cl"},
-                             defines);
+  detail::BuildOptions b;
+  detail::add_method_options(b, m, opt).lookup(opt.lookup.kind);
+  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", "esm_classify.cl"}, b.str());
   return cl::Kernel(p, name);
 }
 
@@ -37,22 +36,17 @@ ClassifyParams params(const FilterOptions& opt) {
   return c;
 }
 
-void set_or_null(cl::Kernel& k, cl_uint i, const cl::Buffer& b) {
-  if (b())
-    k.setArg(i, b);
-  else
-    k.setArg(i, sizeof(cl_mem), nullptr);
-}
-
 // Arguments 0..6 shared by both kernels.
-void set_common(cl::Kernel& k, const ClassifyInputs& in) {
-  k.setArg(0, in.basis);
-  set_or_null(k, 1, in.lookup.chain);
-  set_or_null(k, 2, in.lookup.sat);
-  k.setArg(3, in.depth);
-  set_or_null(k, 4, in.zmax_chain);
-  k.setArg(5, in.width);
-  k.setArg(6, in.height);
+detail::KernelArgs common_args(cl::Kernel& k, const ClassifyInputs& in) {
+  detail::KernelArgs a(k);
+  a.buffer(in.basis)
+      .optional(in.lookup.chain)
+      .optional(in.lookup.sat)
+      .buffer(in.depth)
+      .optional(in.zmax_chain)
+      .value(in.width)
+      .value(in.height);
+  return a;
 }
 
 void check(const FilterOptions& opt, const ClassifyInputs& in) {
@@ -74,18 +68,16 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, con
                                       size_t count, const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
-  set_common(k, in);
-  k.setArg(7, u);
-  k.setArg(8, v);
-  k.setArg(9, d);
-  set_or_null(k, 10, in.lookup.footprint);
-  k.setArg(11, visibility);
-  k.setArg(12, flags);
-  k.setArg(13, static_cast<int>(count));
-  const ClassifyParams c = params(opt);
-  k.setArg(14, sizeof c, &c);
-  const auto P = find_method("esm").pack_params(opt);
-  k.setArg(15, P.size(), P.data());
+  common_args(k, in)
+      .buffer(u)
+      .buffer(v)
+      .buffer(d)
+      .optional(in.lookup.footprint)
+      .buffer(visibility)
+      .buffer(flags)
+      .value(static_cast<int>(count))
+      .value(params(opt))
+      .bytes(find_method(opt.method).pack_params(opt));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
                                   cl::NullRange, wait, &e);
@@ -99,20 +91,76 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
                                     const cl::Buffer& flags, const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_grid");
-  set_common(k, in);
-  k.setArg(7, d);
-  k.setArg(8, visibility);
-  k.setArg(9, flags);
-  const ClassifyParams c = params(opt);
-  k.setArg(10, sizeof c, &c);
-  const auto P = find_method("esm").pack_params(opt);
-  k.setArg(11, P.size(), P.data());
+  common_args(k, in).buffer(d).buffer(visibility).buffer(flags).value(params(opt)).bytes(
+      find_method(opt.method).pack_params(opt));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange,
                                   wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_esm_classify_grid", e);
+}
+
+}  // namespace sf
+
+namespace sf {
+
+void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan) {
+  if (options.esm_classify.mode == EsmClassify::None) return;
+  if (!find_method(options.method).classifiable)
+    throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
+                     options.method);
+  if (options.esm_classify.mode == EsmClassify::ZMax)
+    plan.buffers.push_back({"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
+  plan.bytes_per_receiver += 1;  // the flags
+}
+
+ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
+    try : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
+  BufferPlan plan;
+  add_to_plan(options_, width, height, plan);
+  if (const size_t bytes = plan.bytes("zmax chain")) zmax_chain_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("ClassifyStage::ClassifyStage", e);
+}
+
+PassEvents ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait) try {
+  depth_ = depth;
+  zmax_done_ = PassEvents{};
+  classify_done_ = cl::Event();
+  if (zmax_chain_())
+    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_, {width_, height_, 1, 4}, wait);
+  return zmax_done_;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("ClassifyStage::prepare", e);
+}
+
+cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& lookup, const DeviceReceivers& rx,
+                                  const cl::Buffer& visibility, const EventList* wait) try {
+  if (!flags_() || flags_count_ < rx.count) {
+    flags_count_ = std::max<size_t>(rx.count, 1);
+    flags_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, flags_count_);
+  }
+  ClassifyInputs in;
+  in.depth = depth_;
+  in.zmax_chain = zmax_chain_;
+  in.basis = basis;
+  in.lookup = lookup;
+  in.width = width_;
+  in.height = height_;
+  classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
+                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_,
+                                                         rx.count, wait);
+  return classify_done_;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("ClassifyStage::classify", e);
+}
+
+void ClassifyStage::add_times(StageTimes& t) const try {
+  if (zmax_done_.first()) t.zmax = event_seconds(zmax_done_.first, zmax_done_.last);
+  if (classify_done_()) t.classify = event_seconds(classify_done_);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("ClassifyStage::add_times", e);
 }
 
 }  // namespace sf

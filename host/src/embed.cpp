@@ -17,7 +17,7 @@ KernelPrelude kernel_prelude(const FilterOptions& options) {
                      " tests the depth map itself and has no basis to reconstruct from");
   m.validate(options);
   KernelPrelude p;
-  p.files = {"common.clh", "storage.clh", m.header, "lookup.clh"};
+  p.files = {"shared_types.clh", "common.clh", "storage.clh", m.header, "lookup.clh"};
   for (const auto& f : p.files) p.source += kernel_source(f) + "\n";
   p.build_options = detail::method_lookup_build_options(m, options);
   p.params = m.pack_params(options);

@@ -13,15 +13,20 @@
 
 namespace sf {
 
-std::string detail::method_build_options(const MethodDesc& m, const FilterOptions& opt) {
+detail::BuildOptions& detail::add_method_options(BuildOptions& b, const MethodDesc& m, const FilterOptions& opt) {
   std::string id = m.name;
   std::replace(id.begin(), id.end(), '-', '_');
-  return "-DSF_METHOD_" + id + " -DSF_STORAGE=" + std::to_string(static_cast<int>(opt.storage)) +
-         m.defines(opt);
+  return b.flag("SF_METHOD_" + id).storage(opt.storage).append(m.defines(opt));
+}
+
+std::string detail::method_build_options(const MethodDesc& m, const FilterOptions& opt) {
+  BuildOptions b = BuildOptions::without_standard();
+  return add_method_options(b, m, opt).str();
 }
 
 std::string detail::method_lookup_build_options(const MethodDesc& m, const FilterOptions& opt) {
-  return method_build_options(m, opt) + " -DSF_LOOKUP=" + std::to_string(static_cast<int>(opt.lookup.kind));
+  BuildOptions b = BuildOptions::without_standard();
+  return add_method_options(b, m, opt).lookup(opt.lookup.kind).str();
 }
 
 namespace {
@@ -35,21 +40,19 @@ cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
   return cl::NDRange(s.work_group_size > 0 ? round_up(n, s.work_group_size) : n);
 }
 
-std::string method_options(const MethodDesc& m, const FilterOptions& opt) {
-  return "-cl-std=CL1.2 " + detail::method_build_options(m, opt);
-}
-
-cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt,
-                         const char* file, const char* name, const std::string& extra = "") {
-  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file},
-                             method_options(m, opt) + extra);
+// A kernel of `file` built on the method's header, with the method's options and `extra`.
+cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt, const char* file,
+                         const char* name, const detail::BuildOptions& extra = detail::BuildOptions::without_standard()) {
+  detail::BuildOptions b;
+  detail::add_method_options(b, m, opt).append(extra.str());
+  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file}, b.str());
   return cl::Kernel(p, name);
 }
 
-void set_params(cl::Kernel& k, cl_uint index, const MethodDesc& m, const FilterOptions& opt) {
+// The method's sf_method_params for these options, validated.
+std::vector<uint8_t> method_params(const MethodDesc& m, const FilterOptions& opt) {
   m.validate(opt);
-  auto bytes = m.pack_params(opt);
-  k.setArg(index, bytes.size(), bytes.data());
+  return m.pack_params(opt);
 }
 
 }  // namespace
@@ -74,13 +77,10 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   const int rep = method.channels(opt) > 4 ? std::max(1, 64 / (vec * storage_bytes(opt.storage))) : 1;
   cl::Kernel k = vec == 1 ? method_kernel(rt, method, opt, "transform.cl", "sf_transform")
                           : method_kernel(rt, method, opt, "transform.cl", "sf_transformv",
-                                          " -DSF_XVEC=" + std::to_string(vec) +
-                                              " -DSF_XREP=" + std::to_string(rep));
-  k.setArg(0, depth);
-  k.setArg(1, basis);
-  k.setArg(2, texels);
-  k.setArg(3, texels);
-  set_params(k, 4, method, opt);
+                                          detail::BuildOptions::without_standard()
+                                              .define("SF_XVEC", vec)
+                                              .define("SF_XREP", rep));
+  detail::KernelArgs(k).buffer(depth).buffer(basis).value(texels).value(texels).bytes(method_params(method, opt));
   cl::Event e;
   // sf_transformv: work-groups of 64 items unless the schedule fixes one. PoCL gives a private
   // basis array it does not keep in registers (csm M = 32: 64 vectors) one copy per work-item of
@@ -156,47 +156,39 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                                                      storage_bytes(opt.storage),
                                                                      mips.chain_values)
                                                 : -1;
+  const bool joined = chain_offset >= 0;
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
-                               " -DSF_RX_VEC=" + std::to_string(vec) +
-                                   (kind == Lookup::Bilinear
-                                        ? std::string()
-                                        : " -DSF_LOOKUP=" + std::to_string(static_cast<int>(kind))) +
-                                   (chain_offset >= 0 ? " -DSF_MIPS_JOINED" : "") +
-                                   (chain_offset >= 0 || (kind == Lookup::Bilinear && width >= 2)
-                                        ? " -DSF_RX_PAIRS"
-                                        : ""));
+                               detail::BuildOptions::without_standard()
+                                   .define("SF_RX_VEC", vec)
+                                   .append(kind == Lookup::Bilinear ? "" : detail::BuildOptions::without_standard().lookup(kind).str())
+                                   .flag_if(joined, "SF_MIPS_JOINED")
+                                   .flag_if(joined || (kind == Lookup::Bilinear && width >= 2), "SF_RX_PAIRS"));
   // The caller's table (the pipeline builds it once with its mip chain), else one built here.
-  cl::Buffer level_offsets = chain_offset >= 0 ? lookup->level_offsets : cl::Buffer();
-  if (chain_offset >= 0) {
+  cl::Buffer level_offsets = joined ? lookup->level_offsets : cl::Buffer();
+  if (joined) {
     const size_t table_bytes = size_t(mips.top() + 1) * sizeof(cl_int);
     if (!level_offsets())
       level_offsets = level_offset_table(rt, mips, chain_offset);
     else if (level_offsets.getInfo<CL_MEM_SIZE>() != table_bytes)
       throw InputError("mips level_offsets holds " + std::to_string(level_offsets.getInfo<CL_MEM_SIZE>()) +
                        " bytes, the chain needs " + std::to_string(table_bytes));
-    k.setArg(13, level_offsets);
-  } else {
-    k.setArg(13, sizeof(cl_mem), nullptr);
   }
-  auto buffer_or_null = [&k](cl_uint i, const cl::Buffer* b) {
-    if (b && (*b)())
-      k.setArg(i, *b);
-    else
-      k.setArg(i, sizeof(cl_mem), nullptr);
-  };
-  buffer_or_null(10, kind == Lookup::Mips ? &lookup->chain : nullptr);
-  buffer_or_null(11, kind == Lookup::Sat ? &lookup->sat : nullptr);
-  buffer_or_null(12, lookup ? &lookup->footprint : nullptr);
-  k.setArg(0, basis);
-  k.setArg(1, width);
-  k.setArg(2, height);
-  k.setArg(3, width * height);
-  k.setArg(4, u);
-  k.setArg(5, v);
-  k.setArg(6, d);
-  k.setArg(7, visibility);
-  k.setArg(8, static_cast<int>(count));
-  set_params(k, 9, method, opt);
+  const cl::Buffer none;
+  detail::KernelArgs(k)
+      .buffer(basis)
+      .value(width)
+      .value(height)
+      .value(width * height)
+      .buffer(u)
+      .buffer(v)
+      .buffer(d)
+      .buffer(visibility)
+      .value(static_cast<int>(count))
+      .bytes(method_params(method, opt))
+      .optional(kind == Lookup::Mips ? lookup->chain : none)
+      .optional(kind == Lookup::Sat ? lookup->sat : none)
+      .optional(lookup ? lookup->footprint : none)
+      .optional(level_offsets);
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d((count + vec - 1) / vec, opt.schedule),
                                   local_1d(opt.schedule), wait, &e);
@@ -211,13 +203,14 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
                                    const EventList* wait) try {
   if (method.raw_depth) return enqueue_pcf_grid(rt, opt, basis, width, height, d, visibility, wait);
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_grid");
-  k.setArg(0, basis);
-  k.setArg(1, width);
-  k.setArg(2, height);
-  k.setArg(3, width * height);
-  k.setArg(4, d);
-  k.setArg(5, visibility);
-  set_params(k, 6, method, opt);
+  detail::KernelArgs(k)
+      .buffer(basis)
+      .value(width)
+      .value(height)
+      .value(width * height)
+      .buffer(d)
+      .buffer(visibility)
+      .bytes(method_params(method, opt));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
                                   &e);

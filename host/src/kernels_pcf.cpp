@@ -4,22 +4,20 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "launch.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
 
 namespace sf {
 namespace {
 
-struct PcfWeights {
-  float w[kMaxBlurRadius + 1] = {};  // matches sf_pcf_weights (SF_PCF_MAX_RADIUS = 64)
-};
-static_assert(kMaxBlurRadius == 64, "kernels/pcf.cl assumes SF_PCF_MAX_RADIUS = kMaxBlurRadius");
+static_assert(kMaxBlurRadius == SF_PCF_MAX_RADIUS, "the raw-depth tests take every prefilter radius");
 
 struct PcfSetup {
   cl::Kernel kernel;
   int radius = 0;
   float bias = 0;
-  PcfWeights weights;
+  sf_pcf_weights weights{};
 };
 
 PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear) {
@@ -30,12 +28,11 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
   // Footprint lookups reuse lookup.clh's level-of-detail rule (one float channel).
   const cl::Program p =
       lookup == Lookup::Bilinear
-          ? rt.program({"common.clh", "pcf.cl"}, "-cl-std=CL1.2")
+          ? rt.program({"common.clh", "pcf.cl"}, detail::BuildOptions().str())
           : rt.program({"common.clh", "storage.clh", "lookup.clh", "pcf.cl"},
-                       "-cl-std=CL1.2 -DSF_STORAGE=0 -DSF_CHANNELS=1 -DSF_LOOKUP=" +
-                           std::to_string(static_cast<int>(lookup)));
+                       detail::BuildOptions().storage(Storage::F32).define("SF_CHANNELS", 1).lookup(lookup).str());
   s.kernel = cl::Kernel(p, name);
-  s.radius = opt.method == "sm" ? 0 : opt.blur.radius;
+  s.radius = m.filtered ? opt.blur.radius : 0;
   s.bias = depth_bias(opt);
   const auto w = gaussian_weights(s.radius, opt.blur.sigma);
   std::copy(w.begin(), w.end(), s.weights.w);
@@ -49,27 +46,23 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
                              const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
                              const EventList* wait, const cl::Buffer* footprint) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
-  const Lookup lookup = opt.method == "pcf" ? opt.lookup.kind : Lookup::Bilinear;
+  const Lookup lookup = find_method(opt.method).filtered ? opt.lookup.kind : Lookup::Bilinear;
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
                                           : pcf_setup(rt, opt, "sf_pcf_points_footprint", lookup);
+  detail::KernelArgs args(s.kernel);
+  args.buffer(depth)
+      .value(width)
+      .value(height)
+      .buffer(u)
+      .buffer(v)
+      .buffer(d)
+      .buffer(visibility)
+      .value(static_cast<int>(count))
+      .value(s.bias)
+      .value(s.radius)
+      .value(s.weights);
+  if (lookup != Lookup::Bilinear) args.optional(footprint ? *footprint : cl::Buffer());
   cl::Kernel& k = s.kernel;
-  if (lookup != Lookup::Bilinear) {
-    if (footprint && (*footprint)())
-      k.setArg(11, *footprint);
-    else
-      k.setArg(11, sizeof(cl_mem), nullptr);
-  }
-  k.setArg(0, depth);
-  k.setArg(1, width);
-  k.setArg(2, height);
-  k.setArg(3, u);
-  k.setArg(4, v);
-  k.setArg(5, d);
-  k.setArg(6, visibility);
-  k.setArg(7, static_cast<int>(count));
-  k.setArg(8, s.bias);
-  k.setArg(9, s.radius);
-  k.setArg(10, sizeof(PcfWeights), &s.weights);
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), cl::NullRange, wait, &e);
   return e;
@@ -82,14 +75,7 @@ cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buff
                            const EventList* wait) try {
   PcfSetup s = pcf_setup(rt, opt, "sf_pcf_grid");
   cl::Kernel& k = s.kernel;
-  k.setArg(0, depth);
-  k.setArg(1, width);
-  k.setArg(2, height);
-  k.setArg(3, d);
-  k.setArg(4, visibility);
-  k.setArg(5, s.bias);
-  k.setArg(6, s.radius);
-  k.setArg(7, sizeof(PcfWeights), &s.weights);
+  detail::KernelArgs(k).buffer(depth).value(width).value(height).buffer(d).buffer(visibility).value(s.bias).value(s.radius).value(s.weights);
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
                                   &e);

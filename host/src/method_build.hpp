@@ -2,12 +2,15 @@
 // The build options of a method's programs, shared by the kernel wrappers and kernel_prelude().
 #include <string>
 
+#include "launch.hpp"
 #include "shadowfilter/methods.hpp"
 
 namespace sf::detail {
 
 // -DSF_METHOD_<name> ('-' becomes '_'), -DSF_STORAGE=<n> and the method's own knobs
-// (MethodDesc::defines). No -cl-std.
+// (MethodDesc::defines), added to `b`.
+BuildOptions& add_method_options(BuildOptions& b, const MethodDesc& m, const FilterOptions& opt);
+// The same as a string, without -cl-std.
 std::string method_build_options(const MethodDesc& m, const FilterOptions& opt);
 // The same and -DSF_LOOKUP=<opt.lookup.kind>: programs that read the basis through sf_lookup
 // (the ESM classification, a caller's kernel from kernel_prelude()).

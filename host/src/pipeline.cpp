@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "cl_errors.hpp"
+#include "shadowfilter/classify.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf {
@@ -61,9 +62,6 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
   const MethodDesc& method = find_method(options.method);
   method.validate(options);
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
-  if (options.esm_classify.mode != EsmClassify::None && options.method != "esm")
-    throw InputError("FilterOptions::esm_classify.mode needs FilterOptions::method esm, got " +
-                     options.method);
   BufferPlan plan;
   plan.shape = {width, height, method.channels(options),
                 method.raw_depth ? 4 : storage_bytes(options.storage)};
@@ -89,9 +87,7 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
     add("sat", L.table_floats * sizeof(float));
     add("sat bands", L.band_floats * sizeof(float));
   }
-  if (options.esm_classify.mode == EsmClassify::ZMax)
-    add("zmax chain", mip_layout(width, height, 1).chain_values * sizeof(float));
-  if (options.esm_classify.mode != EsmClassify::None) plan.bytes_per_receiver = 1;  // the flags
+  ClassifyStage::add_to_plan(options, width, height, plan);
   return plan;
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::plan", e);
@@ -121,7 +117,8 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
     sat_ = alloc("sat");
     sat_bands_ = alloc("sat bands");
   }
-  if (plan_.bytes("zmax chain")) zmax_chain_ = alloc("zmax chain");
+  if (options_.esm_classify.mode != EsmClassify::None)
+    classify_ = std::make_shared<ClassifyStage>(rt_, options_, width, height);
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::Pipeline", e);
 }
@@ -132,8 +129,7 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   transform_done_ = enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height,
                                       blur ? scratch_ : basis_, wait);
   blur_done_ = BlurEvents{};
-  depth_ = depth;
-  pyramid_done_ = sat_done_ = zmax_done_ = PassEvents{};
+  pyramid_done_ = sat_done_ = PassEvents{};
   cl::Event filtered = transform_done_;
   if (blur) {  // out of place, scratch_ -> basis_: no copy back
     EventList after{transform_done_};
@@ -152,10 +148,9 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
     sat_done_ = enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter);
     done.push_back(sat_done_.last);
   }
-  if (zmax_chain_()) {
-    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_,
-                                 {shape_.width, shape_.height, 1, 4}, wait);
-    done.push_back(zmax_done_.last);
+  if (classify_) {  // the stage's own pass over the raw depth (z-max pyramid)
+    const PassEvents e = classify_->prepare(depth, wait);
+    if (e.last()) done.push_back(e.last);
   }
   if (done.size() == 1) return filtered;
   cl::Event all;
@@ -183,26 +178,16 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
                                                    shape_.height, rx.u, rx.v, rx.d, visibility,
                                                    rx.count, wait, &lookup);
   }
-  classify_done_ = cl::Event();
-  if (options_.esm_classify.mode == EsmClassify::None) return reconstruct_done_;
-  if (!flags_() || flags_count_ < rx.count) {
-    flags_count_ = std::max<size_t>(rx.count, 1);
-    flags_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, flags_count_);
-  }
-  ClassifyInputs in;
-  in.depth = depth_;
-  in.zmax_chain = zmax_chain_;
-  in.basis = basis_;
-  in.lookup = lookup;
-  in.width = shape_.width;
-  in.height = shape_.height;
+  if (!classify_) return reconstruct_done_;
   EventList after{reconstruct_done_};
-  classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, &after)
-                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility,
-                                                         flags_, rx.count, &after);
-  return classify_done_;
+  return classify_->classify(basis_, lookup, rx, visibility, &after);
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::reconstruct", e);
+}
+
+const cl::Buffer& Pipeline::flags() const {
+  static const cl::Buffer none;
+  return classify_ ? classify_->flags() : none;
 }
 
 LookupBuffers Pipeline::lookup_tables() const {
@@ -221,8 +206,7 @@ StageTimes Pipeline::times() const try {
   if (reconstruct_done_()) t.reconstruct = event_seconds(reconstruct_done_);
   if (pyramid_done_.first()) t.pyramid = event_seconds(pyramid_done_.first, pyramid_done_.last);
   if (sat_done_.first()) t.sat = event_seconds(sat_done_.first, sat_done_.last);
-  if (zmax_done_.first()) t.zmax = event_seconds(zmax_done_.first, zmax_done_.last);
-  if (classify_done_()) t.classify = event_seconds(classify_done_);
+  if (classify_) classify_->add_times(t);
   return t;
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::times", e);

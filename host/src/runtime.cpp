@@ -222,17 +222,24 @@ const std::string& kernel_source(const std::string& file) {
 cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) try {
   const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "") +
                               (compiler_warnings_ ? "" : " -w");
-  std::string source;
+  // Built programs are keyed by their file names and options, before any source is assembled:
+  // the embedded sources cannot change within a process, so a hit costs one map lookup.
+  std::string names;
+  for (const auto& f : files) names += f + '\0';
+  const std::string program_key = names + '\0' + options;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = programs_.find(program_key); it != programs_.end()) return it->second;
+
+  // Every program starts with the types and constants the host shares (shared_types.clh).
+  std::string source = "// ---- shared_types.clh\n" + kernel_source("shared_types.clh") + "\n";
   for (const auto& f : files) {
     source += "// ---- " + f + "\n";
     source += kernel_source(f);
     source += "\n";
   }
+  // The binary cache outlives the process: its key is the source itself and the device.
   const std::string key = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' +
                                       info_.device_name + '\0' + info_.driver_version));
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (auto it = programs_.find(key); it != programs_.end()) return it->second;
-
   const std::string dir = cache_dir();
   const std::filesystem::path cached = dir.empty() ? std::filesystem::path() : std::filesystem::path(dir) / (key + ".bin");
   if (!dir.empty()) {
@@ -242,7 +249,7 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
         cl::Program::Binaries bins{std::vector<unsigned char>(bin.begin(), bin.end())};
         cl::Program p(context_, {device_}, bins);
         p.build({device_}, options.c_str());
-        programs_[key] = p;
+        programs_[program_key] = p;
         return p;
       } catch (const cl::Error&) {
         // stale or foreign binary: fall through to a source build, which rewrites it
@@ -266,7 +273,7 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     if (!bins.empty() && !bins[0].empty())
       write_file_atomic(cached, std::string(bins[0].begin(), bins[0].end()));
   }
-  programs_[key] = p;
+  programs_[program_key] = p;
   return p;
 } catch (const cl::Error& e) {
   detail::throw_device_error("Runtime::program", e);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cl_errors.hpp"
+#include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 #include "shadowfilter/soft.hpp"
@@ -10,16 +11,9 @@
 namespace sf {
 namespace {
 
-// Mirrors sf_soft_light (kernels/soft/soft_common.clh).
-struct ClSoftLight {
-  float k, a, b;
-  cl_int persp;
-  float bias, max_width;
-};
-struct ClCssmParams {  // sf_cssm_params (kernels/soft/cssm.cl)
-  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset, width_scale, inv_lit;
-  cl_int contact;
-};
+// The kernels' parameter structs (shared_types.clh).
+using ClSoftLight = sf_soft_light;
+using ClCssmParams = sf_cssm_params;
 
 constexpr double kPi = 3.14159265358979323846;
 

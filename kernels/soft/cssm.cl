@@ -24,7 +24,7 @@
 // and the bilinear tent each blur by about the level's texel, so level log2(w) filters far wider
 // than the box of side w; 0.65 matches the box's spread at the default width scale (parallel
 // planes: -6.7% ortho, -9.1% perspective; mips stay alignment-dependent, docs/soft.md).
-#if SF_LOOKUP == 1
+#if SF_LOOKUP == SF_LOOKUP_MIPS
 #define SF_CSSM_MIP_SCALE 0.65f
 #else
 #define SF_CSSM_MIP_SCALE 1.0f
@@ -83,7 +83,7 @@ inline float2 sf_cssm_sat_at(__global const float* restrict pk, int W, int H, fl
 inline void sf_cssm_lookup(__global const float* restrict basis, __global const float* restrict chain,
                            __global const float* restrict pk, int W, int H, float u, float v, float f, int nch,
                            float* out) {
-#if SF_LOOKUP == 1
+#if SF_LOOKUP == SF_LOOKUP_MIPS
   float t;
   const int k0 = sf_lod(f, sf_mip_top(W, H), &t);
   sf_cssm_level(basis, chain, W, H, k0, u, v, nch, out);
@@ -120,10 +120,7 @@ __kernel void sf_cssm_sat_pack(__global const float* restrict sat, __global floa
   }
 }
 
-typedef struct {
-  float offset, scale, sharpen_a, sharpen_b, min_den, z_offset, width_scale, inv_lit;
-  int contact;  // 1: receivers without a blocker in stage 1 still run stage 2 at their footprint
-} sf_cssm_params;
+// sf_cssm_params: shared_types.clh.
 
 __kernel void sf_cssm_basis(__global const float* restrict depth, __global float* restrict basis,
                             const int texels) {

@@ -23,7 +23,7 @@ int main() {
   bool ok = true;
   sf::FilterOptions opt;  // esm by default
   const sf::KernelPrelude p = sf::kernel_prelude(opt);
-  ok &= check(p.files.size() == 4 && p.source.find("sf_visibility") != std::string::npos &&
+  ok &= check(p.files.size() == 5 && p.source.find("sf_visibility") != std::string::npos &&
                   p.build_options.find("-DSF_STORAGE=0") != std::string::npos && !sf::kernel_files().empty(),
               "kernel prelude");
 

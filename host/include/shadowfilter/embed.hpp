@@ -5,6 +5,7 @@
 // The kernel headers are installed under <prefix>/include/shadowfilter/cl/ (the CMake package's
 // shadowfilter_KERNEL_INCLUDE_DIR is <prefix>/include). A caller's program includes them in
 // this order, after the build options kernel_prelude() gives:
+//   #include "shadowfilter/cl/shared_types.clh"  // parameter structs and constants
 //   #include "shadowfilter/cl/common.clh"    // helpers
 //   #include "shadowfilter/cl/storage.clh"   // sf_stored, sf_load (SF_STORAGE)
 //   #include "shadowfilter/cl/methods/esm.clh"  // SF_CHANNELS, sf_method_params, sf_visibility

@@ -18,12 +18,11 @@ struct MethodCase {
     o.method = method;
     o.storage = storage;
     o.csm.order = csm_order;
-    if (method == "esm" && storage == Storage::F16) o.esm.c = 20;  // f16 holds c <= 22
-    return o;
+    return find_method(method).fitted(o);  // within the storage's limits (esm f16: c = 20)
   }
   std::string label() const {
     std::string s = method + "_" + storage_name(storage);
-    if (method == "csm") s += "_M" + std::to_string(csm_order);
+    if (!find_method(method).channels_note.empty()) s += "_M" + std::to_string(csm_order);
     for (char& c : s)
       if (c == '-') c = '_';
     return s;
@@ -31,14 +30,14 @@ struct MethodCase {
 };
 
 // Every basis method (not sm / pcf) with every storage it accepts, in registry order; csm once
-// per order of `csm_orders`.
+// per order of `csm_orders` (the method whose channel count follows its order).
 inline std::vector<MethodCase> method_storage_cases(const std::vector<int>& csm_orders) {
   std::vector<MethodCase> out;
   for (const auto& m : methods()) {
     if (m.raw_depth) continue;
     for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
-      if (m.storages.find(storage_name(s)) == std::string::npos) continue;
-      if (m.name != "csm") {
+      if (!m.accepts(s)) continue;
+      if (m.channels_note.empty()) {  // a fixed channel count: one case
         out.push_back({m.name, s, 8});
         continue;
       }

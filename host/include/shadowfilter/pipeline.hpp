@@ -37,6 +37,8 @@
 
 namespace sf {
 
+class ClassifyStage;
+
 struct StageTimes {  // device seconds from profiling events (0 on non-profiling queues)
   double transform = 0, blur = 0, reconstruct = 0, upload = 0, download = 0;
   double pyramid = 0, sat = 0, zmax = 0, classify = 0;  // footprint lookups, ESM classification
@@ -96,7 +98,7 @@ class Pipeline {
   const BufferPlan& buffer_plan() const { return plan_; }
   // ESM classification: one uchar per receiver of the last reconstruct (1 = flagged), or an
   // empty buffer when the options classify nothing.
-  const cl::Buffer& flags() const { return flags_; }
+  const cl::Buffer& flags() const;
   // Stage times of the last prefilter/reconstruct (waits for their events).
   StageTimes times() const;
 
@@ -113,10 +115,10 @@ class Pipeline {
   BufferPlan plan_;
   cl::Buffer mips_;  // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
-  cl::Buffer chain_, sat_, sat_bands_, zmax_chain_, depth_, flags_;
-  size_t flags_count_ = 0;
-  PassEvents pyramid_done_, sat_done_, zmax_done_;
-  cl::Event classify_done_;
+  cl::Buffer chain_, sat_, sat_bands_;
+  PassEvents pyramid_done_, sat_done_;
+  // The optional stage after the reconstruction (classify.hpp), when the options ask for it.
+  std::shared_ptr<ClassifyStage> classify_;
 };
 
 // Checks that `bytes` in one buffer and `total` bytes overall fit the runtime's device.

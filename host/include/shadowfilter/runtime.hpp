@@ -75,7 +75,7 @@ class Runtime {
   static bool compiler_warnings_from_env();
   bool compiler_warnings_ = compiler_warnings_from_env();
   std::mutex mutex_;
-  std::map<std::string, cl::Program> programs_;  // key: cache key
+  std::map<std::string, cl::Program> programs_;  // key: file names and build options
 };
 
 // The source of one embedded kernel file (throws std::out_of_range for unknown names).

@@ -1,0 +1,135 @@
+// Errors against a reference: the statistics, the metrics by name, the Pareto front, and s_ref
+// for the weights a configuration approximates.
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "evaluate.hpp"
+#include "lookups.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
+
+namespace sf::eval {
+
+// --- errors ----------------------------------------------------------------------------------------
+
+ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref,
+                       const std::vector<uint8_t>& mask) {
+  ErrorStats e;
+  if (ref.size() != v.size() || mask.size() != v.size()) return e;
+  std::vector<float> abs_err;
+  abs_err.reserve(v.size());
+  double sq = 0;
+  size_t over1 = 0, over5 = 0, leak = 0, dark = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!mask[i]) continue;
+    const double diff = double(v[i]) - ref[i];
+    const double a = std::isfinite(diff) ? std::abs(diff) : 1.0;  // NaN counts as the worst error
+    abs_err.push_back(float(a));
+    sq += a * a;
+    over1 += a > 1.0 / 255.0;
+    over5 += a > 0.05;
+    leak += diff > 0.05;
+    dark += diff < -0.05;
+  }
+  e.n = abs_err.size();
+  if (e.n == 0) return e;
+  e.valid = true;
+  const double n = double(e.n);
+  e.rmse = std::sqrt(sq / n);
+  e.max = *std::max_element(abs_err.begin(), abs_err.end());
+  // p99: the smallest error that at least 99% of the receivers stay at or under.
+  const size_t k = std::min(e.n - 1, size_t(std::ceil(0.99 * n)) - 1);
+  std::nth_element(abs_err.begin(), abs_err.begin() + k, abs_err.end());
+  e.p99 = abs_err[k];
+  e.frac_1_255 = over1 / n;
+  e.frac_005 = over5 / n;
+  e.leak = leak / n;
+  e.darken = dark / n;
+  return e;
+}
+
+void check_metric(const std::string& m) {
+  static const char* names[] = {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"};
+  for (const char* n : names)
+    if (m == n) return;
+  throw InputError("unknown error metric '" + m + "' (known: rmse, p99, max, frac_1_255, frac_005, leak, darken)");
+}
+
+double metric_value(const ErrorStats& e, const std::string& m) {
+  check_metric(m);
+  if (m == "rmse") return e.rmse;
+  if (m == "p99") return e.p99;
+  if (m == "max") return e.max;
+  if (m == "frac_1_255") return e.frac_1_255;
+  if (m == "frac_005") return e.frac_005;
+  if (m == "leak") return e.leak;
+  return e.darken;
+}
+
+double row_metric(const Row& r, const std::string& metric) {
+  if (metric.rfind("hard_", 0) == 0) return metric_value(r.hard, metric.substr(5));
+  if (metric.rfind("soft_", 0) == 0) return metric_value(r.soft, metric.substr(5));
+  return metric_value(r.sref, metric);
+}
+
+// --- s_ref -----------------------------------------------------------------------------------------
+
+std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup,
+                                   const Receivers& rx, double bias) {
+  const size_t n = rx.count();
+  std::vector<double> out(n, 1.0);
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = unsigned(std::min<size_t>(threads, std::max<size_t>(1, n / 4096)));
+  auto work = [&](size_t t) {
+    for (size_t i = t; i < n; i += threads) {
+      const double u = rx.grid ? ref::texel_centre(int(i % rx.width), rx.width) : rx.u[i];
+      const double v = rx.grid ? ref::texel_centre(int(i / rx.width), rx.height) : rx.v[i];
+      out[i] = ref::s_ref(depth, blur, lookup, u, v, rx.d[i], ref::footprint_at(rx, i), bias);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (auto& th : pool) th.join();
+  return out;
+}
+
+const std::vector<double>& SrefCache::get(const BlurOptions& blur, Lookup lookup) {
+  const float sigma = blur.radius > 0 ? (blur.sigma > 0 ? blur.sigma : float((2 * blur.radius + 1) / 6.0)) : 0.0f;
+  const std::string key = std::to_string(blur.radius) + "/" + std::to_string(sigma) + "/" +
+                          std::to_string(int(lookup));
+  auto it = cache_.find(key);
+  if (it != cache_.end()) return it->second;
+  return cache_[key] = s_ref_parallel(scene_.depth, blur, lookup, scene_.receivers, bias_);
+}
+
+const std::vector<double>& SrefCache::for_options(const FilterOptions& o) {
+  const MethodDesc& m = find_method(o.method);
+  BlurOptions blur = o.blur;
+  if (!m.filtered) blur = BlurOptions{};
+  return get(blur, m.raw_depth ? Lookup::Bilinear : o.lookup.kind);
+}
+
+// --- pareto -----------------------------------------------------------------------------------------
+
+std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string& metric) {
+  std::vector<size_t> idx(rows.size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
+    if (rows[a].time_ms != rows[b].time_ms) return rows[a].time_ms < rows[b].time_ms;
+    return row_metric(rows[a], metric) < row_metric(rows[b], metric);
+  });
+  std::vector<size_t> front;
+  double best = INFINITY;
+  for (size_t i : idx) {
+    const double e = row_metric(rows[i], metric);
+    if (e < best) {
+      front.push_back(i);
+      best = e;
+    }
+  }
+  return front;
+}
+
+}  // namespace sf::eval

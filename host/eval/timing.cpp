@@ -1,0 +1,106 @@
+// Timing a configuration honestly: the inputs on the device, warm-up, the median of repeated
+// runs, device stage times from profiling events; and one evaluated row.
+#include <algorithm>
+#include <chrono>
+
+#include "eval_util.hpp"
+#include "evaluate.hpp"
+
+namespace sf::eval {
+
+using detail::median;
+
+// --- timing ----------------------------------------------------------------------------------------
+
+Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const Scene& scene,
+                 const TimingSettings& t) {
+  using Clock = std::chrono::steady_clock;
+  const Receivers& r = scene.receivers;
+  Pipeline pipe(rt, o, scene.depth.width, scene.depth.height);  // validates, may throw InputError
+  auto& q = rt->queue();
+  auto up = [&](const std::vector<float>& h) {
+    cl::Buffer b(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));
+    if (!h.empty()) q.enqueueWriteBuffer(b, CL_TRUE, 0, h.size() * sizeof(float), h.data());
+    return b;
+  };
+  const size_t count = r.count();
+  cl::Buffer depth = up(scene.depth.data);
+  DeviceReceivers rx;
+  rx.grid = r.grid;
+  rx.count = count;
+  rx.d = up(r.d);
+  size_t rx_bytes = count * sizeof(float);
+  if (!r.grid) {
+    rx.u = up(r.u);
+    rx.v = up(r.v);
+    rx_bytes += 2 * count * sizeof(float);
+    if (r.has_footprint && o.lookup.kind != Lookup::Bilinear) {
+      rx.f = up(r.f);
+      rx_bytes += count * sizeof(float);
+    }
+  }
+  cl::Buffer vis(rt->context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, count * sizeof(float)));
+
+  Measured m;
+  std::vector<double> wall, tr, bl, rc, py, sa, zm, cls;
+  for (int i = 0; i < t.warmup + std::max(1, t.runs); ++i) {
+    const auto t0 = Clock::now();
+    cl::Event f = pipe.prefilter(depth);
+    EventList after{f};
+    pipe.reconstruct(rx, vis, &after);
+    q.finish();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (i < t.warmup) continue;
+    wall.push_back(ms);
+    const StageTimes s = pipe.times();
+    tr.push_back(s.transform), bl.push_back(s.blur), rc.push_back(s.reconstruct), py.push_back(s.pyramid);
+    sa.push_back(s.sat), zm.push_back(s.zmax), cls.push_back(s.classify);
+  }
+  m.runs = int(wall.size());
+  m.median_ms = median(wall);
+  m.min_ms = *std::min_element(wall.begin(), wall.end());
+  m.stages.transform = median(tr);
+  m.stages.blur = median(bl);
+  m.stages.reconstruct = median(rc);
+  m.stages.pyramid = median(py);
+  m.stages.sat = median(sa);
+  m.stages.zmax = median(zm);
+  m.stages.classify = median(cls);
+  m.visibility.resize(count);
+  if (count) q.enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), m.visibility.data());
+  m.device_bytes = pipe.device_bytes() + scene.depth.data.size() * sizeof(float) + rx_bytes +
+                   count * sizeof(float);
+  return m;
+}
+
+// A result row's identity and timings; the caller adds the errors it needs.
+Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
+  Row row;
+  row.scene = scene.name;
+  row.method = o.method;
+  row.label = config_label(o);
+  row.options = o;
+  row.time_ms = m.median_ms;
+  row.min_ms = m.min_ms;
+  row.stages = m.stages;
+  row.device_bytes = m.device_bytes;
+  row.runs = m.runs;
+  return row;
+}
+
+Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
+                    SrefCache& sref, const TimingSettings& t) {
+  Measured m = measure(rt, o, scene, t);
+  Row row = timed_row(scene, o, m);
+  row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);
+  auto vs_image = [&](const HostImage& img) {
+    if (img.texels() != m.visibility.size()) return ErrorStats{};
+    return error_stats(m.visibility, std::vector<double>(img.data.begin(), img.data.end()), scene.valid);
+  };
+  row.hard = vs_image(scene.ref_hard);
+  row.soft = vs_image(scene.ref_soft);
+  row.visibility = std::move(m.visibility);
+  return row;
+}
+
+}  // namespace sf::eval

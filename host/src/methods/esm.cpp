@@ -1,0 +1,79 @@
+// ESM (kernels/methods/esm.clh): B = exp(c (z - 1/2)), v = exp(-c (d - 1/2)) bar(B).
+#include <algorithm>
+#include <cmath>
+
+#include "registration.hpp"
+
+namespace sf::registration {
+namespace {
+
+// Largest exponent whose centred storage exp(c (z - 1/2)) stays within normal float32 numbers:
+// exp(+-c/2) within [FLT_MIN, FLT_MAX] means c/2 <= 87.3.
+constexpr float kMaxCFloat32 = 174.0f;
+// float16: exp(c/2) <= 65504 (the largest half) means c <= 2 ln 65504 = 22.18.
+constexpr float kMaxCFloat16 = 22.0f;
+// Where a grid or table puts esm in f16: the largest round exponent under the limit.
+constexpr float kFloat16GridC = 20.0f;
+
+}  // namespace
+
+MethodDesc esm_method() {
+  MethodDesc m;
+  m.name = "esm";
+  m.summary = "exponential shadow maps: B = exp(c z), v = exp(-c d) bar(B)";
+  m.header = "methods/esm.clh";
+  m.classifiable = true;
+  m.channel_count = [](const FilterOptions&) { return 1; };
+  m.parameters = "--esm-c C (default 80; limit 174 in f32, 22 in f16)";
+  m.storages = {{Storage::F32, "c <= 174", {}},
+                {Storage::F16, "c <= 22", [](FilterOptions& o) { o.esm.c = std::min(o.esm.c, kFloat16GridC); }}};
+  m.validate = [m](const FilterOptions& o) {
+    check_storage(m, o, "exp(c z) is unbounded, so unorm cannot hold it");
+    if (!std::isfinite(o.esm.c) || o.esm.c <= 0.0f)
+      throw InputError("FilterOptions::esm.c must be a positive number, got " + std::to_string(o.esm.c));
+    const bool half = o.storage == Storage::F16;
+    const float limit = half ? kMaxCFloat16 : kMaxCFloat32;
+    if (o.esm.c > limit) {
+      std::ostringstream s;
+      s << "FilterOptions::esm.c " << o.esm.c << " exceeds the " << (half ? "float16" : "float32") << " limit of "
+        << limit << (half ? " (exp(c/2) must stay below 65504, the largest half)"
+                          : " (exp(c/2) must stay a normal float)");
+      throw InputError(s.str());
+    }
+  };
+  m.pack_params = [](const FilterOptions& o) { return bytes_of(sf_esm_params{o.esm.c}); };
+  m.defines = [](const FilterOptions&) { return std::string(); };
+  m.scalar = [](const FilterOptions& o) {
+    const double c = o.esm.c;
+    ScalarMethod s;
+    s.channels = 1;
+    s.basis = [c](double z, double* b) { b[0] = std::exp(c * (z - 0.5)); };
+    s.visibility = [c](const double* b, double d) { return std::clamp(std::exp(-c * (d - 0.5)) * b[0], 0.0, 1.0); };
+    return s;
+  };
+  m.parameter_values = [](const FilterOptions& o) { return std::vector<MethodParameter>{{"c", o.esm.c}}; };
+  m.label = [](const FilterOptions& o) { return " c=" + num(o.esm.c); };
+  m.variants = [](const FilterOptions& base, GridSize g) {
+    if (g == GridSize::Auto) {
+      std::vector<FilterOptions> out;
+      for (float c : {20.0f, 40.0f, 80.0f, 160.0f})
+        for (EsmClassify k : {EsmClassify::None, EsmClassify::Threshold, EsmClassify::ZMax}) {
+          FilterOptions o = base;
+          o.esm.c = c;
+          o.esm_classify.mode = k;
+          out.push_back(o);
+        }
+      return out;
+    }
+    const std::vector<float> cs = g == GridSize::Quick  ? std::vector<float>{40, 80}
+                                  : g == GridSize::Wide ? std::vector<float>{20, 40, 80, 120, 160}
+                                                        : std::vector<float>{40, 80, 160};
+    return variants_of(base, cs, [](FilterOptions& o, float c) { o.esm.c = c; });
+  };
+  m.quick_footprints = true;
+  m.cost.reconstruct = 25.0;  // the exponential in log space
+  m.colour = {0.85f, 0.1f, 0.1f};
+  return m;
+}
+
+}  // namespace sf::registration

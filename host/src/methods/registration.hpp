@@ -1,0 +1,60 @@
+#pragma once
+// What the per-method registrations (host/src/methods/*.cpp) share: one builder per method and
+// the small helpers they validate and pack with.
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/errors.hpp"
+#include "shared_types.clh"
+#include "shadowfilter/methods.hpp"
+
+namespace sf::registration {
+
+MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered);
+MethodDesc esm_method();
+MethodDesc vsm_method();
+MethodDesc evsm_method(int channels);
+MethodDesc msm_method(bool hausdorff);
+MethodDesc csm_method();
+
+template <typename T>
+std::vector<uint8_t> bytes_of(const T& v) {
+  std::vector<uint8_t> b(sizeof(T));
+  std::memcpy(b.data(), &v, sizeof(T));
+  return b;
+}
+
+// Shortest round-trip text of a number, as labels show it.
+inline std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+inline void require_finite(float v, const char* field) {
+  if (!std::isfinite(v)) throw InputError(std::string(field) + " must be a finite number");
+}
+
+// The storage must be one the method lists (MethodDesc::storages); `why` says why the others
+// do not work.
+void check_storage(const MethodDesc& m, const FilterOptions& o, const std::string& why);
+
+// One variant of `base` per value, each set by `set`.
+template <typename T, typename Set>
+std::vector<FilterOptions> variants_of(const FilterOptions& base, const std::vector<T>& values, Set set) {
+  std::vector<FilterOptions> out;
+  for (const T& v : values) {
+    FilterOptions o = base;
+    set(o, v);
+    out.push_back(o);
+  }
+  return out;
+}
+
+// The same storages, each with no limit of its own.
+std::vector<StorageLimit> plain_storages(std::initializer_list<Storage> list);
+
+}  // namespace sf::registration

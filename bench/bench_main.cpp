@@ -7,6 +7,12 @@
 
 #include "bench_common.hpp"
 
+#ifdef SF_HAVE_OPENCV
+namespace sf::bench {
+void register_opencv_esm();  // bench_opencv_esm.cpp: the ESM pipeline in OpenCV beside ours
+}
+#endif
+
 int main(int argc, char** argv) {
   using namespace sf::bench;
   benchmark::Initialize(&argc, argv);
@@ -31,6 +37,7 @@ int main(int argc, char** argv) {
   register_coverage();
 #ifdef SF_HAVE_OPENCV
   register_opencv_pyrdown();
+  register_opencv_esm();
 #endif
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

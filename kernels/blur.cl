@@ -21,6 +21,58 @@
 // (1, 1, 1): PoCL replicates private arrays per work-item of a group, and one ring is enough.
 // sf_blur_copy is the copy back of an in-place blur, with the same streaming stores.
 
+// Gpu family (SF_BLUR_GPU; docs/gpu.md, "Launch shapes"): sf_blur_tiles, a work-group of
+// SF_BGX x SF_BGY work-items, one per column of its tile, each computing SF_BROWS output rows of
+// that column. The tile is SF_BGX columns x SF_BGY SF_BROWS rows; its row pass blurs along x
+// the tile's rows plus the 2R halo rows (clamped to the image) into local memory, lanes on
+// adjacent columns (coalesced loads), and after one barrier the column pass sums down 2R + 1
+// of them. Every texel is the same fma sequence as in sf_blur (the Cpu family), on the same
+// decoded values, rounded once on store: the two families give the same codes. Columns past the
+// image (partial groups) are blurred on the clamped column and never stored; every item reaches
+// the barrier. NDRange (ceil(W / SF_BGX) SF_BGX, ceil(H / (SF_BGY SF_BROWS)) SF_BGY, channels).
+// Plain scalar loads and stores through storage.clh: no vector pointer of any alignment.
+#ifdef SF_BLUR_GPU
+__constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
+
+#define SF_TILE_ROWS (SF_BGY * SF_BROWS)
+#define SF_TILE_SPAN (SF_TILE_ROWS + 2 * SF_RADIUS)
+
+__kernel __attribute__((reqd_work_group_size(SF_BGX, SF_BGY, 1))) void sf_blur_tiles(
+    __global const sf_stored* restrict src, __global sf_stored* restrict dst, const int width,
+    const int height, const int plane_stride) {
+  __local float tile[SF_TILE_SPAN * SF_BGX];
+  const int lx = get_local_id(0), ly = get_local_id(1);
+  const int x = get_group_id(0) * SF_BGX + lx;
+  const int y0 = get_group_id(1) * SF_TILE_ROWS;
+  const size_t plane = (size_t)get_global_id(2) * plane_stride;
+  __global const sf_stored* img = src + plane;
+  const int xc = min(x, width - 1);
+  // Tile row r holds image row y0 - R + r (clamped); the last tile needs the rows down to H - 1 + R.
+  const int span = min(SF_TILE_SPAN, height - y0 + 2 * SF_RADIUS);
+  for (int r = ly; r < span; r += SF_BGY) {
+    __global const sf_stored* row = img + (size_t)sf_clampi(y0 - SF_RADIUS + r, 0, height - 1) * width;
+    float acc = sf_w[0] * sf_load(row, xc);
+    for (int k = 1; k <= SF_RADIUS; ++k) {
+      const float pair = sf_load(row, max(xc - k, 0)) + sf_load(row, min(xc + k, width - 1));
+      acc = fma(sf_w[k], pair, acc);
+    }
+    tile[r * SF_BGX + lx] = acc;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (x >= width) return;
+  __global sf_stored* out = dst + plane;
+  for (int i = 0; i < SF_BROWS; ++i) {
+    const int j = ly + i * SF_BGY, y = y0 + j;
+    if (y >= height) break;
+    __local const float* col = tile + (j + SF_RADIUS) * SF_BGX + lx;
+    float acc = sf_w[0] * col[0];
+    for (int k = 1; k <= SF_RADIUS; ++k) acc = fma(sf_w[k], col[-k * SF_BGX] + col[k * SF_BGX], acc);
+    sf_store(out, (size_t)y * width + x, acc);
+  }
+}
+
+#else  // the Cpu family
+
 #if SF_VEC == 16
 typedef float16 sf_vec;
 typedef uint16 sf_uvec;
@@ -306,3 +358,5 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_blur_copy(
   write_mem_fence(CLK_GLOBAL_MEM_FENCE);
 #endif
 }
+
+#endif  // SF_BLUR_GPU

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
 
@@ -76,15 +77,20 @@ BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions&
   return s;
 }
 
-// The blur's compile-time constants: radius, the weights as exact hex-float literals, schedule.
-std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
+// The weights as exact hex-float literals, comma-separated (SF_WEIGHTS).
+std::string weight_literals(const BlurOptions& blur) {
   std::string weights;
   for (float w : gaussian_weights(blur.radius, blur.sigma)) {
     char lit[32];
     std::snprintf(lit, sizeof lit, "%af", w);
     weights += (weights.empty() ? "" : ",") + std::string(lit);
   }
-  return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weights +
+  return weights;
+}
+
+// The blur's compile-time constants: radius, the weights, schedule.
+std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
+  return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weight_literals(blur) +
          " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
          " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(kBlurStepRows) +
          " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + (s.stream ? " -DSF_STREAM" : "");
@@ -104,6 +110,71 @@ cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer&
   rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)),
                                   cl::NDRange(1), &after, &e);
   return e;
+}
+
+// The Gpu family's tile (blur.cl, sf_blur_tiles): a work-group of x * y items (x along a row,
+// up to 32 for whole 128-byte lines per warp), `rows` output rows per item.
+struct GpuBlurShape {
+  int x = 32, y = 8, rows = 4;
+  int items() const { return x * y; }
+  size_t local_bytes(int radius) const { return size_t(y * rows + 2 * radius) * x * sizeof(float); }
+};
+
+// `items` work-items per group, as the table shapes them; rows per item from the table, fewer
+// (then narrower groups) until the tile with its 2R halo fits the device's local memory.
+GpuBlurShape gpu_blur_shape(const Runtime& rt, int radius, int items) {
+  const LaunchDefaults& d = launch_defaults(ScheduleFamily::Gpu);
+  GpuBlurShape g;
+  g.x = std::min(d.blur_group.x, items);
+  g.y = items / g.x;
+  g.rows = d.blur_rows_per_item;
+  const size_t budget = local_mem_bytes(rt);
+  while (g.local_bytes(radius) > budget) {
+    if (g.rows > 1) {
+      g.rows /= 2;
+    } else if (g.y > 1) {
+      g.y /= 2;
+    } else if (g.x > 1) {
+      g.x /= 2;
+    } else {
+      throw DeviceError("blur: the device's " + std::to_string(budget) +
+                        " bytes of local memory do not hold one column of radius " + std::to_string(radius));
+    }
+  }
+  return g;
+}
+
+// The Gpu family: src -> out in one launch of sf_blur_tiles, halving the group while the built
+// kernel allows fewer items.
+cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
+                             const cl::Buffer& src, const cl::Buffer& out, const ImageShape& shape,
+                             const EventList* wait, Storage storage) {
+  int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).blur_group.items(), sched.gpu_work_group);
+  for (;;) {
+    const GpuBlurShape g = gpu_blur_shape(rt, blur.radius, items);
+    const cl::Program p = rt.program(
+        {"common.clh", "storage.clh", "blur.cl"},
+        "-cl-std=CL1.2 -DSF_BLUR_GPU -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" +
+            weight_literals(blur) + " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
+            " -DSF_BGX=" + std::to_string(g.x) + " -DSF_BGY=" + std::to_string(g.y) +
+            " -DSF_BROWS=" + std::to_string(g.rows));
+    cl::Kernel k(p, "sf_blur_tiles");
+    if (kernel_group_limit(rt, k) < size_t(g.items()) && items > 1) {
+      items /= 2;
+      continue;
+    }
+    k.setArg(0, src);
+    k.setArg(1, out);
+    k.setArg(2, shape.width);
+    k.setArg(3, shape.height);
+    k.setArg(4, static_cast<int>(shape.plane_texels()));
+    const int tile_rows = g.y * g.rows;
+    const cl::NDRange global(size_t(ceil_div(shape.width, g.x)) * g.x,
+                             size_t(ceil_div(shape.height, tile_rows)) * g.y, shape.channels);
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(g.x, g.y, 1), wait, &e);
+    return e;
+  }
 }
 
 }  // namespace
@@ -133,6 +204,17 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   // Both passes run in one kernel, which cannot blur in place: in place goes through tmp and a
   // copy back.
   const bool in_place = src() == dst();
+  if (resolve_family(rt, sched.family) == ScheduleFamily::Gpu) {
+    // One launch cannot blur in place either (a tile's halo rows are another tile's output).
+    ev.rows = enqueue_blur_tiles(rt, blur, sched, src, in_place ? tmp : dst, shape, wait, storage);
+    if (in_place) {
+      const EventList after{ev.rows};
+      rt.queue().enqueueCopyBuffer(tmp, dst, 0, 0, shape.bytes(), &after, &ev.cols);
+    } else {
+      ev.cols = ev.rows;
+    }
+    return ev;
+  }
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
   const cl::Program p =
       rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));

@@ -91,8 +91,24 @@ struct EsmClassifyOptions {
   float threshold_eps = -1.0f;
 };
 
+// Which family of launch shapes the blur, the SAT and the pyramid use (docs/gpu.md, "Launch
+// shapes"). Cpu: one work-item per long strip or band (work-groups of one item, SIMD inside it:
+// tuned for PoCL). Gpu: work-groups of 64-256 items, one item per output texel, local-memory
+// tiles. Auto: the defaults table by device type (CPU devices take Cpu, GPUs and accelerators
+// take Gpu; host/src/schedule_defaults.cpp). Forcing Gpu on a CPU device is how the GPU shapes
+// are tested on PoCL and Oclgrind.
+enum class ScheduleFamily { Auto = 0, Cpu = 1, Gpu = 2 };
+const char* schedule_family_name(ScheduleFamily f);        // "auto", "cpu", "gpu"
+ScheduleFamily parse_schedule_family(const std::string&);  // throws InputError for other names
+
 // How the kernels are scheduled (Halide-style: what is computed does not depend on these).
 struct ScheduleOptions {
+  // Launch-shape family of the blur, SAT and pyramid; Auto = by device type (see above).
+  ScheduleFamily family = ScheduleFamily::Auto;
+  // Work-items per work-group of the Gpu family's kernels (a power of two, 1..1024); 0 = the
+  // defaults table (256). The kernels fall back to smaller groups where the device or the
+  // kernel allows fewer items or less local memory.
+  int gpu_work_group = 0;
   // Texels per vector in the blur (4, 8 or 16): wide vector loads on CPUs.
   int blur_vector_width = 16;
   // Blur work-item tile: texels along a row (a multiple of the vector width) and output rows.

@@ -1,0 +1,140 @@
+// The launch-shape families (docs/gpu.md, "Launch shapes"; host/src/schedule_defaults.cpp): the
+// Gpu family's blur, SAT and pyramid forced on the test device (PoCL, a CPU) against the scalar
+// reference with the tolerances of the Cpu family's tests (test_kernels.cpp, test_sat.cpp,
+// test_pyramid.cpp), on sizes that are not multiples of the work-groups (partial groups), and
+// against the Cpu family where both compute the same float sequence. Smaller groups (the
+// fallbacks for devices with fewer work-items) are run as well.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "lookups.hpp"
+#include "reference.hpp"
+#include "schedule_defaults.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/pyramids.hpp"
+#include "test_methods_common.hpp"
+
+namespace sf::test {
+namespace {
+
+ScheduleOptions family(ScheduleFamily f, int work_group = 0) {
+  ScheduleOptions s;
+  s.family = f;
+  s.gpu_work_group = work_group;
+  return s;
+}
+
+std::vector<uint8_t> raw_from(const cl::Buffer& buf, size_t bytes) {
+  std::vector<uint8_t> raw(bytes);
+  runtime().queue().enqueueReadBuffer(buf, CL_TRUE, 0, bytes, raw.data());
+  return raw;
+}
+
+// --- the table ----------------------------------------------------------------
+
+TEST(ScheduleDefaults, FamilyByDeviceType) {
+  EXPECT_EQ(default_family("CPU"), ScheduleFamily::Cpu);
+  EXPECT_EQ(default_family("GPU"), ScheduleFamily::Gpu);
+  EXPECT_EQ(default_family("accelerator"), ScheduleFamily::Gpu);
+  EXPECT_EQ(default_family("other"), ScheduleFamily::Gpu);
+  EXPECT_EQ(resolve_family(runtime(), ScheduleFamily::Auto), default_family(runtime().info().type));
+  EXPECT_EQ(resolve_family(runtime(), ScheduleFamily::Gpu), ScheduleFamily::Gpu);
+  EXPECT_EQ(resolve_family(runtime(), ScheduleFamily::Cpu), ScheduleFamily::Cpu);
+  EXPECT_EQ(launch_defaults(ScheduleFamily::Cpu).blur_group.items(), 1);
+  const LaunchDefaults& g = launch_defaults(ScheduleFamily::Gpu);
+  EXPECT_GE(g.blur_group.items(), 64);
+  EXPECT_LE(g.blur_group.items(), 256);
+  EXPECT_GE(g.sat_group, 64);
+  EXPECT_GE(g.pyramid_group * g.pyramid_group, 64);
+  EXPECT_THROW(launch_defaults(ScheduleFamily::Auto), InputError);
+  for (ScheduleFamily f : {ScheduleFamily::Auto, ScheduleFamily::Cpu, ScheduleFamily::Gpu})
+    EXPECT_EQ(parse_schedule_family(schedule_family_name(f)), f);
+  EXPECT_THROW(parse_schedule_family("tpu"), InputError);
+  EXPECT_EQ(gpu_group_items(runtime(), 256, 0), std::min<int>(256, int(runtime().info().max_work_group_size)));
+  EXPECT_EQ(gpu_group_items(runtime(), 256, 64), 64);
+  for (int bad : {-1, 3, 100, 2048}) EXPECT_THROW(gpu_group_items(runtime(), 256, bad), InputError) << bad;
+}
+
+// --- blur ---------------------------------------------------------------------
+
+struct BlurCase {
+  Storage storage;
+  int width, height, channels, radius;
+  int work_group = 0;  // 0: the table's
+};
+
+std::string blur_name(const ::testing::TestParamInfo<BlurCase>& i) {
+  const BlurCase& c = i.param;
+  return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) + "x" + std::to_string(c.height) +
+         "x" + std::to_string(c.channels) + "_R" + std::to_string(c.radius) + "_g" + std::to_string(c.work_group);
+}
+
+class GpuBlur : public ::testing::TestWithParam<BlurCase> {};
+
+// Against the reference in double with BlurStorage's bound (f32: BlurShapes' 1e-5 relative),
+// the same codes as the Cpu family (the same fma sequence per texel), and in place the same.
+TEST_P(GpuBlur, MatchesReferenceAndTheCpuFamily) {
+  const BlurCase bc = GetParam();
+  const ImageShape shape{bc.width, bc.height, bc.channels, storage_bytes(bc.storage)};
+  const size_t n = shape.plane_texels() * shape.channels;
+  const StoredImage img = random_stored(n, bc.storage, bc.width * 31 + bc.radius);
+  ref::Planes in(bc.width, bc.height, bc.channels);
+  double maxabs = 0;
+  for (size_t i = 0; i < n; ++i) {
+    in.data[i] = img.values[i];
+    maxabs = std::max(maxabs, std::fabs(double(img.values[i])));
+  }
+  cl::Buffer src = stored_buffer(img);
+  cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  cl::Buffer gpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  const BlurOptions blur{bc.radius, 0.0f};
+  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), src, tmp, gpu, shape, nullptr,
+               bc.storage)
+      .cols.wait();
+  const auto got = read_stored(gpu, n, bc.storage);
+  const auto want = ref::blur(in, bc.radius, 0.0);
+  const double e = 1.2e-7 * (bc.radius + 2) * maxabs;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = want.data[i];
+    ASSERT_TRUE(std::isfinite(got[i])) << "index " << i;
+    if (bc.storage == Storage::F32)
+      ASSERT_NEAR(got[i], w, 1e-5 * std::fabs(w)) << "index " << i;
+    else
+      ASSERT_LE(std::fabs(got[i] - w), 0.5 * storage_step(std::fabs(w) + e, bc.storage) + e)
+          << "index " << i << " want " << w;
+  }
+  if (bc.work_group == 0 && bc.radius <= 3 && bc.storage != Storage::Unorm16) {
+    // One Cpu schedule for every shape (rows fixed: one program per radius and storage; the
+    // larger radii's Cpu programs take 5-10 s each to build on PoCL); every Cpu schedule gives
+    // the same codes (BlurStorage.SchedulesAreBitIdentical).
+    ScheduleOptions cpu_sched = family(ScheduleFamily::Cpu);
+    cpu_sched.blur_rows = 16;
+    enqueue_blur(runtime(), blur, cpu_sched, src, tmp, cpu, shape, nullptr, bc.storage).cols.wait();
+    EXPECT_EQ(raw_from(gpu, shape.bytes()), raw_from(cpu, shape.bytes())) << "Gpu and Cpu families differ";
+  }
+  cl::Buffer a = stored_buffer(img);
+  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), a, tmp, a, shape, nullptr, bc.storage)
+      .cols.wait();
+  EXPECT_EQ(raw_from(a, shape.bytes()), raw_from(gpu, shape.bytes())) << "in place";
+}
+
+std::vector<BlurCase> blur_cases() {
+  // Few radii per storage: a program build costs about a second on PoCL. The largest radius
+  // (the halo far past the tile and the image), no blur, and smaller groups (32: a tile of 4 rows
+  // under a halo of 16; 1: a single item) once each.
+  return {{Storage::F32, 1, 1, 1, 3},       {Storage::F32, 7, 5, 2, 8},         {Storage::F32, 33, 17, 3, 1},
+          {Storage::F32, 129, 257, 1, 3},   {Storage::F32, 40, 70, 2, kMaxBlurRadius},
+          {Storage::F16, 7, 5, 2, 3},       {Storage::F16, 129, 257, 1, 3},     {Storage::F16, 33, 17, 1, 0},
+          {Storage::Unorm16, 1, 1, 1, 3},   {Storage::Unorm16, 33, 17, 3, 3},   {Storage::Unorm8, 7, 5, 2, 3},
+          {Storage::Unorm8, 129, 257, 1, 3}, {Storage::F32, 33, 17, 2, 3, 64},  {Storage::Unorm8, 33, 17, 1, 8, 32},
+          {Storage::F32, 7, 5, 1, 3, 1}};
+}
+INSTANTIATE_TEST_SUITE_P(Shapes, GpuBlur, ::testing::ValuesIn(blur_cases()), blur_name);
+
+}  // namespace
+}  // namespace sf::test

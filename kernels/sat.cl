@@ -34,6 +34,118 @@
 // The float-float accumulator is bound by the latency of its running sum (a chain of ~8
 // dependent float additions per column step): a double addition is one.
 
+// The Gpu family (SF_SAT_GPU, SatSchedule::WorkGroupScan; docs/gpu.md, "Launch shapes"), three
+// launches over the table itself, every sum in sf_acc (sat_accum.clh) and every table entry
+// hi + lo of an sf_acc:
+// - sf_sat_scan_rows: a work-group of SF_SAT_WG items per S row r >= 1 (and the zero row 0)
+//   and channel scans input row r - 1 in blocks of SF_SAT_WG texels (one per item, coalesced):
+//   an inclusive Hillis-Steele scan in local memory plus the running total of the blocks before.
+//   S[r][x + 1] then holds the row prefix (texels 0..x of the row); S[r][0] = 0.
+// - sf_sat_scan_bands: one item per column and band (all but the last): the band's column sum
+//   of the row prefixes into the scratch (N nb W entries).
+// - sf_sat_scan_cols: one item per column and band: the sums of the bands above (in order),
+//   then down the band's rows, S[r][x + 1] = S[r - 1][x + 1] + row prefix.
+// A row prefix passes through the table as hi + lo (2^-47 of it: the double's split, or the
+// normalised float-float pair exactly), which keeps every entry within the bound above.
+// Partial groups: items past the row (scan) take zeros and reach every barrier; items past W
+// (column passes, which have no barrier) return.
+#ifdef SF_SAT_GPU
+
+#if SF_SAT_FP64
+inline sf_acc sf_sat_acc_of(float v) { return (double)v; }
+inline sf_acc sf_sat_entry(__global const float* hi, __global const float* lo, size_t i) {
+  return (double)hi[i] + (double)lo[i];
+}
+// sf_acc8_split for one entry: hi = the sum truncated to 24 significant bits, lo the rest.
+inline void sf_sat_put_entry(__global float* hi, __global float* lo, size_t i, sf_acc d) {
+  const double h = as_double(as_ulong(d) & 0xFFFFFFFFE0000000UL);
+  hi[i] = (float)h;
+  lo[i] = (float)(d - h);
+}
+#else
+inline sf_acc sf_sat_acc_of(float v) { return (float2)(v, 0.0f); }
+inline sf_acc sf_sat_entry(__global const float* hi, __global const float* lo, size_t i) {
+  return (float2)(hi[i], lo[i]);
+}
+inline void sf_sat_put_entry(__global float* hi, __global float* lo, size_t i, sf_acc d) {
+  hi[i] = d.x;
+  lo[i] = d.y;
+}
+#endif
+
+// NDRange (SF_SAT_WG, H + 1, N), local (SF_SAT_WG, 1, 1).
+__kernel __attribute__((reqd_work_group_size(SF_SAT_WG, 1, 1))) void sf_sat_scan_rows(
+    __global const sf_stored* restrict src, const int W, const int H, __global float* restrict sat) {
+  __local sf_acc buf[2][SF_SAT_WG];
+  const int lx = get_local_id(0), r = get_group_id(1), c = get_group_id(2);
+  const size_t Wp = sf_sat_pitch(W), P = Wp * (H + 1);
+  __global float* hi = sat + 2 * c * P + SF_SAT_X0 + (size_t)r * Wp;
+  __global float* lo = hi + P;
+  if (r == 0) {  // the whole group: no barrier follows
+    for (int x = lx; x <= W; x += SF_SAT_WG) {
+      hi[x] = 0.0f;
+      lo[x] = 0.0f;
+    }
+    return;
+  }
+  if (lx == 0) {
+    hi[0] = 0.0f;
+    lo[0] = 0.0f;
+  }
+  __global const sf_stored* row = src + (size_t)c * W * H + (size_t)(r - 1) * W;
+  sf_acc carry = SF_ACC_ZERO;  // the row's sum over the blocks before this one
+  for (int x0 = 0; x0 < W; x0 += SF_SAT_WG) {
+    const int x = x0 + lx;
+    buf[0][lx] = sf_sat_acc_of(x < W ? sf_load(row, x) : 0.0f);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int cur = 0;
+    for (int d = 1; d < SF_SAT_WG; d <<= 1) {
+      buf[cur ^ 1][lx] = lx >= d ? sf_acc_add(buf[cur][lx - d], buf[cur][lx]) : buf[cur][lx];
+      cur ^= 1;
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (x < W) sf_sat_put_entry(hi, lo, x + 1, sf_acc_add(carry, buf[cur][lx]));
+    carry = sf_acc_add(carry, buf[cur][SF_SAT_WG - 1]);
+    barrier(CLK_LOCAL_MEM_FENCE);  // every item has read buf before the next block writes it
+  }
+}
+
+// NDRange (ceil(W / SF_SAT_WG) SF_SAT_WG, nb - 1, N), local (SF_SAT_WG, 1, 1). Band b: input rows
+// [b band_rows, (b + 1) band_rows), S rows b band_rows + 1 .. on.
+__kernel __attribute__((reqd_work_group_size(SF_SAT_WG, 1, 1))) void sf_sat_scan_bands(
+    const int W, const int H, const int band_rows, const int nb, __global sf_acc* restrict scratch,
+    __global const float* restrict sat) {
+  const int x = get_global_id(0), b = get_global_id(1), c = get_global_id(2);
+  if (x >= W) return;
+  const size_t Wp = sf_sat_pitch(W), P = Wp * (H + 1);
+  __global const float* hi = sat + 2 * c * P + SF_SAT_X0 + 1 + x;
+  __global const float* lo = hi + P;
+  sf_acc t = SF_ACC_ZERO;
+  const int r1 = min(H, (b + 1) * band_rows);
+  for (int r = b * band_rows + 1; r <= r1; ++r) t = sf_acc_add(t, sf_sat_entry(hi, lo, (size_t)r * Wp));
+  scratch[(size_t)(c * nb + b) * W + x] = t;
+}
+
+// NDRange (ceil(W / SF_SAT_WG) SF_SAT_WG, nb, N), local (SF_SAT_WG, 1, 1).
+__kernel __attribute__((reqd_work_group_size(SF_SAT_WG, 1, 1))) void sf_sat_scan_cols(
+    const int W, const int H, const int band_rows, const int nb, __global const sf_acc* restrict scratch,
+    __global float* restrict sat) {
+  const int x = get_global_id(0), b = get_global_id(1), c = get_global_id(2);
+  if (x >= W) return;
+  const size_t Wp = sf_sat_pitch(W), P = Wp * (H + 1);
+  __global float* hi = sat + 2 * c * P + SF_SAT_X0 + 1 + x;
+  __global float* lo = hi + P;
+  sf_acc t = SF_ACC_ZERO;
+  for (int j = 0; j < b; ++j) t = sf_acc_add(t, scratch[(size_t)(c * nb + j) * W + x]);
+  const int r1 = min(H, (b + 1) * band_rows);
+  for (int r = b * band_rows + 1; r <= r1; ++r) {
+    t = sf_acc_add(t, sf_sat_entry(hi, lo, (size_t)r * Wp));
+    sf_sat_put_entry(hi, lo, (size_t)r * Wp, t);
+  }
+}
+
+#else  // the Cpu family's schedules
+
 // 16 texels of a stored plane row from x (zeros from W on).
 inline float16 sf_sat_load_stored(__global const sf_stored* row, int x, int W) {
   if (x + 16 <= W) return SF_VLOAD(16, row, x);
@@ -368,3 +480,5 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void sf_sat_chain(
   __global float* shi = sat + 2 * c * P + SF_SAT_X0;
   sf_sat_band(plane, W, H, y0, y1, last, excl, b > 0 ? 1 : 0, vrow, shi, shi + P, sf_sat_lines(sat));
 }
+
+#endif  // SF_SAT_GPU

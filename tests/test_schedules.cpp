@@ -136,5 +136,80 @@ std::vector<BlurCase> blur_cases() {
 }
 INSTANTIATE_TEST_SUITE_P(Shapes, GpuBlur, ::testing::ValuesIn(blur_cases()), blur_name);
 
+// --- summed-area tables --------------------------------------------------------
+
+struct SatCase {
+  Storage storage;
+  int w, h, channels;
+  SatAccumulator accumulator = SatAccumulator::Auto;
+  int work_group = 0;
+};
+
+std::string sat_name(const ::testing::TestParamInfo<SatCase>& i) {
+  const SatCase& c = i.param;
+  return std::string(storage_name(c.storage)) + "_" + std::to_string(c.w) + "x" + std::to_string(c.h) + "x" +
+         std::to_string(c.channels) + (c.accumulator == SatAccumulator::FloatFloat ? "_ff" : "") + "_g" +
+         std::to_string(c.work_group);
+}
+
+class GpuSat : public ::testing::TestWithParam<SatCase> {};
+
+// Every entry hi + lo against the double table: Sat's tolerance, 1e-11 |S| + 1e-12; built twice
+// on one scratch (the second build must not depend on what the first left there).
+TEST_P(GpuSat, TableMatchesTheReference) {
+  const SatCase sc = GetParam();
+  const ImageShape shape{sc.w, sc.h, sc.channels, storage_bytes(sc.storage)};
+  const StoredImage img = random_stored(size_t(sc.w) * sc.h * sc.channels, sc.storage, sc.w * 13 + sc.h);
+  ref::Planes in(sc.w, sc.h, sc.channels);
+  for (size_t i = 0; i < img.values.size(); ++i) in.data[i] = img.values[i];
+  const SatLayout L = sat_layout(shape);
+  cl::Buffer table(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
+  cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
+  SatBuild build = sat_build(family(ScheduleFamily::Gpu, sc.work_group));
+  build.accumulator = sc.accumulator;
+  cl::Buffer src = stored_buffer(img);
+  for (int i = 0; i < 2; ++i) enqueue_sat(runtime(), sc.storage, src, table, bands, shape, nullptr, build).last.wait();
+  // The table's entries (not the rows' padding, which no build writes).
+  auto entries = [&](const cl::Buffer& t) {
+    const auto all = from_device(t, L.table_floats);
+    std::vector<double> out;
+    for (int c = 0; c < sc.channels; ++c)
+      for (int y = 0; y <= sc.h; ++y)
+        for (int x = 0; x <= sc.w; ++x) out.push_back(double(all[L.at(c, false, x, y)]) + all[L.at(c, true, x, y)]);
+    return out;
+  };
+  const auto got = entries(table);
+  const ref::Planes want = ref::sat_table(in);
+  size_t i = 0;
+  for (int c = 0; c < sc.channels; ++c)
+    for (int y = 0; y <= sc.h; ++y)
+      for (int x = 0; x <= sc.w; ++x, ++i) {
+        const double w = want.at(c, x, y);
+        ASSERT_NEAR(got[i], w, 1e-11 * w + 1e-12) << "channel " << c << " at " << x << "," << y;
+      }
+  // The explicit schedule is the same build as the family's Auto.
+  SatBuild expl;
+  expl.accumulator = sc.accumulator;
+  expl.schedule = SatSchedule::WorkGroupScan;
+  expl.work_group = sc.work_group;
+  cl::Buffer table2(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
+  enqueue_sat(runtime(), sc.storage, src, table2, bands, shape, nullptr, expl).last.wait();
+  EXPECT_EQ(entries(table2), got);
+}
+
+std::vector<SatCase> sat_cases() {
+  std::vector<SatCase> out;
+  for (SatAccumulator a : {SatAccumulator::Auto, SatAccumulator::FloatFloat})
+    for (SatCase c : {SatCase{Storage::F32, 1, 1, 1}, SatCase{Storage::F32, 7, 5, 2}, SatCase{Storage::F32, 33, 17, 1},
+                      SatCase{Storage::F32, 129, 257, 1}, SatCase{Storage::F32, 300, 640, 2}}) {
+      c.accumulator = a;
+      out.push_back(c);
+    }
+  for (Storage st : {Storage::F16, Storage::Unorm8}) out.push_back({st, 37, 100, 2});
+  out.push_back({Storage::F32, 129, 70, 1, SatAccumulator::Auto, 64});
+  return out;
+}
+INSTANTIATE_TEST_SUITE_P(Shapes, GpuSat, ::testing::ValuesIn(sat_cases()), sat_name);
+
 }  // namespace
 }  // namespace sf::test

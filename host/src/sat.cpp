@@ -1,10 +1,11 @@
 // Summed-area tables (kernels/sat.cl): double (or float-float) accumulation stored as float-float,
 // the row prefix in transposed 8x8 blocks; one launch on CPUs (bands chained in start order),
-// two elsewhere (band sums, then rows).
+// two elsewhere (band sums, then rows); the Gpu family scans rows in work-groups (three launches).
 #include <algorithm>
 #include <string>
 
 #include "cl_errors.hpp"
+#include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -56,6 +57,64 @@ SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
   return rt.info().type == "CPU" ? SatSchedule::Chained : SatSchedule::TwoLaunch;
 }
 
+SatBuild sat_build(const ScheduleOptions& sched) {
+  SatBuild b;
+  b.family = sched.family;
+  b.work_group = sched.gpu_work_group;
+  return b;
+}
+
+namespace {
+
+// SatSchedule::WorkGroupScan (sat.cl, SF_SAT_GPU): the rows' scan, the bands' column sums, the
+// columns; bands of the two-launch layout (their scratch holds the band sums: N nb W entries).
+PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::Buffer& src,
+                            const cl::Buffer& table, const cl::Buffer& band_scratch, const ImageShape& shape,
+                            const SatLayout& L, const EventList* wait, int work_group) {
+  int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).sat_group, work_group);
+  // Two rows of sf_acc (8 bytes) per item in local memory.
+  while (items > 1 && size_t(items) * 16 > local_mem_bytes(rt)) items /= 2;
+  for (;;) {
+    const cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
+                                     options + " -DSF_SAT_GPU -DSF_SAT_WG=" + std::to_string(items));
+    cl::Kernel rows(p, "sf_sat_scan_rows"), bands(p, "sf_sat_scan_bands"), cols(p, "sf_sat_scan_cols");
+    if (items > 1 && (kernel_group_limit(rt, rows) < size_t(items) || kernel_group_limit(rt, bands) < size_t(items) ||
+                      kernel_group_limit(rt, cols) < size_t(items))) {
+      items /= 2;
+      continue;
+    }
+    const int W = shape.width, H = shape.height, N = shape.channels;
+    rows.setArg(0, src);
+    rows.setArg(1, W);
+    rows.setArg(2, H);
+    rows.setArg(3, table);
+    for (cl::Kernel* k : {&bands, &cols}) {
+      k->setArg(0, W);
+      k->setArg(1, H);
+      k->setArg(2, L.band_rows);
+      k->setArg(3, L.bands);
+      k->setArg(4, band_scratch);
+      k->setArg(5, table);
+    }
+    const size_t columns = size_t((W + items - 1) / items) * items;
+    PassEvents ev;
+    rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(items, size_t(H) + 1, N),
+                                    cl::NDRange(items, 1, 1), wait, &ev.first);
+    EventList after{ev.first};
+    if (L.bands > 1) {
+      cl::Event e;
+      rt.queue().enqueueNDRangeKernel(bands, cl::NullRange, cl::NDRange(columns, L.bands - 1, N),
+                                      cl::NDRange(items, 1, 1), &after, &e);
+      after = {e};
+    }
+    rt.queue().enqueueNDRangeKernel(cols, cl::NullRange, cl::NDRange(columns, L.bands, N), cl::NDRange(items, 1, 1),
+                                    &after, &ev.last);
+    return ev;
+  }
+}
+
+}  // namespace
+
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
                        const SatBuild& build) try {
@@ -66,6 +125,14 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   if (fp64 && !rt.info().fp64)
     throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
                      rt.info().device_name + "' does not support");
+  if (schedule == SatSchedule::Auto)
+    schedule = resolve_family(rt, build.family) == ScheduleFamily::Gpu ? SatSchedule::WorkGroupScan
+                                                                        : sat_schedule(rt, shape);
+  if (schedule == SatSchedule::WorkGroupScan)
+    return enqueue_sat_scan(rt,
+                            "-cl-std=CL1.2 -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
+                                " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"),
+                            src, table, band_scratch, shape, L, wait, build.work_group);
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
                              "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
                                  " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
@@ -85,7 +152,6 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
     return k;
   };
   PassEvents ev;
-  if (schedule == SatSchedule::Auto) schedule = sat_schedule(rt, shape);
   if (schedule == SatSchedule::Chained) {
     // The ticket counter and the statuses start at zero.
     rt.queue().enqueueFillBuffer(band_scratch, cl_int(0), L.chain_ctl_offset * sizeof(float),

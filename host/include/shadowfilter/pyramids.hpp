@@ -66,9 +66,13 @@ enum class SatAccumulator { Auto, Double, FloatFloat };
 //   Chained: bands of rows in one launch, each band taking the carries of the bands above as
 //     they publish them; the image read once from memory (each band twice, the second from cache).
 //   TwoLaunch: the column sums of every band, then the bands' rows; the image read twice.
-// Auto: PerChannel when the channels alone fill the compute units, else Chained on CPUs and
-// TwoLaunch elsewhere (sat_schedule).
-enum class SatSchedule { Auto, PerChannel, Chained, TwoLaunch };
+//   WorkGroupScan (the Gpu family): a work-group per row scans it in blocks of its size in
+//     local memory (the row prefixes, held in the table), then one work-item per column and
+//     band adds them down, from the column sums of the bands above; the image read once.
+// Auto: the family's default (SatBuild::family, Auto = by device type): Gpu takes
+// WorkGroupScan; Cpu takes PerChannel when the channels alone fill the compute units, else
+// Chained on CPU devices and TwoLaunch elsewhere (sat_schedule).
+enum class SatSchedule { Auto, PerChannel, Chained, TwoLaunch, WorkGroupScan };
 SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape);
 // How enqueue_sat builds the table; the defaults choose by device.
 struct SatBuild {
@@ -78,7 +82,12 @@ struct SatBuild {
   // (< 0: the kernel's ~1 ms); chain_sum_all: every band sums all the rows above it (tests).
   int chain_polls = -1;
   bool chain_sum_all = false;
+  // Which family Auto takes, and WorkGroupScan's items per group (0: the table's 256; a power
+  // of two; smaller where the device allows fewer).
+  ScheduleFamily family = ScheduleFamily::Auto;
+  int work_group = 0;
 };
+SatBuild sat_build(const ScheduleOptions& sched);  // family and gpu_work_group, the rest default
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape,
                        const EventList* wait = nullptr, const SatBuild& build = {});

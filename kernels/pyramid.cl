@@ -44,6 +44,8 @@ inline __global sf_stored* sf_level_plane(__global sf_stored* level0, __global s
   return chain + off + (size_t)c * (*w) * (*h);
 }
 
+#ifndef SF_PYRAMID_GPU  // the Cpu family
+
 // n (1 or SF_WIDE) interior tiles side by side at (x0, y0) of level s: vector path, produces
 // `m` levels. Every row of every level is read and written as one run of n tiles (with n =
 // SF_WIDE rows of 32 SF_WIDE texels, full cache lines from level 1 on, instead of 128-byte
@@ -204,3 +206,58 @@ __kernel void sf_pyramid_tail(__global const sf_stored* src, const int src_off,
     ph = h;
   }
 }
+#endif  // !SF_PYRAMID_GPU
+
+// The Gpu family (SF_PYRAMID_GPU; docs/gpu.md, "Launch shapes"): sf_pyramid_groups, work-groups
+// of SF_PG x SF_PG items, one per texel of level s + 1 (its 2x2 texels of level s loaded with the
+// clamping of methods.md, coalesced along rows), then up to log2(SF_PG) further levels from the
+// group's tile in local memory, one barrier-separated step per level with the active items
+// halving each way. As in sf_pyramid_tiles, clamping never leaves a tile (the tiles are aligned
+// powers of two), levels within a launch are reduced from the unrounded float values and each
+// value is rounded once when stored. Items outside a level compute nothing and still reach every
+// barrier. NDRange (ceil(w / SF_PG) SF_PG, ceil(h / SF_PG) SF_PG, N) for level s + 1 of w x h.
+#ifdef SF_PYRAMID_GPU
+__kernel __attribute__((reqd_work_group_size(SF_PG, SF_PG, 1))) void sf_pyramid_groups(
+    __global const sf_stored* src, const int src_off, __global sf_stored* chain, const int W,
+    const int H, const int N, const int s, const int m) {
+  __local float buf[SF_PG * SF_PG];
+  const int lx = get_local_id(0), ly = get_local_id(1), c = get_global_id(2);
+  int bx = get_group_id(0) * SF_PG, by = get_group_id(1) * SF_PG;  // the tile's origin in level s + 1
+  int ws, hs, w, h;
+  size_t unused;
+  sf_mip_level(W, H, N, s, &ws, &hs, &unused);
+  __global const sf_stored* plane = src + src_off + (size_t)c * ws * hs;
+  __global sf_stored* dst = sf_level_plane(0, chain, W, H, N, s + 1, c, &w, &h);
+  const int i = bx + lx, j = by + ly;
+  float v = 0.0f;
+  if (i < w && j < h) {
+    const size_t r0 = (size_t)(2 * j) * ws, r1 = (size_t)min(2 * j + 1, hs - 1) * ws;
+    const int i0 = 2 * i, i1 = min(2 * i + 1, ws - 1);
+    v = SF_RED(sf_load(plane, r0 + i0), sf_load(plane, r0 + i1), sf_load(plane, r1 + i0),
+               sf_load(plane, r1 + i1));
+    sf_store(dst, (size_t)j * w + i, v);
+  }
+  buf[ly * SF_PG + lx] = v;
+  // The tile's valid extent in the level just made (local coordinates).
+  int vw = min(SF_PG, w - bx), vh = min(SF_PG, h - by), size = SF_PG;
+  for (int k = 2; k <= m; ++k) {
+    barrier(CLK_LOCAL_MEM_FENCE);
+    size >>= 1;
+    bx >>= 1;
+    by >>= 1;
+    dst = sf_level_plane(0, chain, W, H, N, s + k, c, &w, &h);
+    const int nw = min(size, w - bx), nh = min(size, h - by);
+    const bool active = lx < nw && ly < nh;
+    float r = 0.0f;
+    if (active) {
+      const int i0 = 2 * lx, i1 = min(2 * lx + 1, vw - 1), j0 = 2 * ly, j1 = min(2 * ly + 1, vh - 1);
+      r = SF_RED(buf[j0 * SF_PG + i0], buf[j0 * SF_PG + i1], buf[j1 * SF_PG + i0], buf[j1 * SF_PG + i1]);
+      sf_store(dst, (size_t)(by + ly) * w + bx + lx, r);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (active) buf[ly * SF_PG + lx] = r;
+    vw = nw;
+    vh = nh;
+  }
+}
+#endif  // SF_PYRAMID_GPU

@@ -211,5 +211,86 @@ std::vector<SatCase> sat_cases() {
 }
 INSTANTIATE_TEST_SUITE_P(Shapes, GpuSat, ::testing::ValuesIn(sat_cases()), sat_name);
 
+// --- pyramids -------------------------------------------------------------------
+
+struct PyramidCase {
+  Storage storage;
+  int w, h, channels;
+  int work_group = 0;
+  int ops = 7;  // bit op: the reductions to run (1 mean, 2 max, 4 min)
+};
+
+std::string pyramid_name(const ::testing::TestParamInfo<PyramidCase>& i) {
+  const PyramidCase& c = i.param;
+  return std::string(storage_name(c.storage)) + "_" + std::to_string(c.w) + "x" + std::to_string(c.h) + "x" +
+         std::to_string(c.channels) + "_g" + std::to_string(c.work_group);
+}
+
+class GpuPyramid : public ::testing::TestWithParam<PyramidCase> {};
+
+// Every level of the mean, max and min chains against the reference with Pyramid's (f32:
+// 1e-6 relative + 1e-7) and PyramidStorage's (one storage step) tolerances, max / min exact;
+// in f32 the same values as the Cpu family (the same float operations; unrounded levels there
+// and here are float either way).
+TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
+  const PyramidCase pc = GetParam();
+  const ImageShape shape{pc.w, pc.h, pc.channels, storage_bytes(pc.storage)};
+  const StoredImage img = random_stored(size_t(pc.w) * pc.h * pc.channels, pc.storage, pc.w * 5 + pc.h);
+  ref::Planes in(pc.w, pc.h, pc.channels);
+  for (size_t i = 0; i < img.values.size(); ++i) in.data[i] = img.values[i];
+  const MipLayout L = mip_layout(pc.w, pc.h, pc.channels);
+  const size_t values = std::max<size_t>(L.chain_values, 1);
+  cl::Buffer level0 = stored_buffer(img);
+  for (int op : {0, 1, 2}) {
+    if (!(pc.ops >> op & 1)) continue;
+    cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE, values * storage_bytes(pc.storage));
+    enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, chain, shape, nullptr,
+                    pyramid_build(family(ScheduleFamily::Gpu, pc.work_group)))
+        .last.wait();
+    const auto got = read_stored(chain, values, pc.storage);
+    const auto want = ref::mip_chain(in, op);
+    ASSERT_EQ(int(want.size()) - 1, L.top());
+    for (int k = 1; k <= L.top(); ++k)
+      for (size_t i = 0; i < want[k].data.size(); ++i) {
+        const double w = want[k].data[i];
+        const float g = got[L.levels[k].offset + i];
+        if (op != 0) {
+          ASSERT_EQ(g, float(ref::quantise(w, pc.storage))) << "op " << op << " level " << k << " index " << i;
+        } else if (pc.storage == Storage::F32) {
+          ASSERT_NEAR(g, w, 1e-6 * std::abs(w) + 1e-7) << "level " << k << " index " << i;
+        } else {
+          ASSERT_NEAR(g, ref::quantise(w, pc.storage), storage_step(w, pc.storage) + 1e-6 * std::abs(w))
+              << "level " << k << " index " << i;
+        }
+      }
+    if (pc.storage == Storage::F32 && L.top() > 0) {
+      cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, values * sizeof(float));
+      enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, cpu, shape, nullptr,
+                      pyramid_build(family(ScheduleFamily::Cpu)))
+          .last.wait();
+      EXPECT_EQ(from_device(cpu, values), got) << "op " << op << ": Gpu and Cpu families differ";
+    }
+  }
+}
+
+std::vector<PyramidCase> pyramid_cases() {
+  std::vector<PyramidCase> out;
+  for (PyramidCase c : {PyramidCase{Storage::F32, 1, 1, 1}, PyramidCase{Storage::F32, 7, 5, 1},
+                        PyramidCase{Storage::F32, 1, 9, 1}, PyramidCase{Storage::F32, 33, 17, 3},
+                        PyramidCase{Storage::F32, 129, 257, 1}, PyramidCase{Storage::F32, 517, 300, 2},
+                        PyramidCase{Storage::F32, 1000, 37, 1}})
+    out.push_back(c);
+  // Narrow storages: the mean (rounded per launch) and, in unorm8, max; groups of 64 (8x8, four
+  // levels per launch). A program build costs about a second on PoCL.
+  for (Storage st : {Storage::F16, Storage::Unorm8}) {
+    const int ops = st == Storage::Unorm8 ? 3 : 1;
+    out.push_back({st, 33, 17, 1, 0, ops});
+    out.push_back({st, 300, 129, 2, 0, ops});
+  }
+  out.push_back({Storage::F32, 129, 257, 2, 64, 1});
+  return out;
+}
+INSTANTIATE_TEST_SUITE_P(Shapes, GpuPyramid, ::testing::ValuesIn(pyramid_cases()), pyramid_name);
+
 }  // namespace
 }  // namespace sf::test

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -35,8 +36,69 @@ MipLayout mip_layout(int width, int height, int channels) {
   return L;
 }
 
+PyramidBuild pyramid_build(const ScheduleOptions& sched) {
+  PyramidBuild b;
+  b.family = sched.family;
+  b.work_group = sched.gpu_work_group;
+  return b;
+}
+
+namespace {
+
+// The Gpu family (pyramid.cl, SF_PYRAMID_GPU): square groups of side g, log2(g) + 1 levels per
+// launch, one launch per that many levels down to 1x1.
+PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
+                                  const cl::Buffer& chain, const ImageShape& shape, const MipLayout& L,
+                                  const EventList* wait, int work_group) {
+  const int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).pyramid_group *
+                                            launch_defaults(ScheduleFamily::Gpu).pyramid_group,
+                                    work_group);
+  int side = 1;
+  while (side * side * 4 <= items) side *= 2;
+  cl::Kernel k;
+  for (;;) {
+    cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+                               "-cl-std=CL1.2" + storage_define(storage) +
+                                   " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
+                                   " -DSF_PYRAMID_GPU -DSF_PG=" + std::to_string(side));
+    k = cl::Kernel(p, "sf_pyramid_groups");
+    if (side == 1 || kernel_group_limit(rt, k) >= size_t(side) * side) break;
+    side /= 2;
+  }
+  int levels = 1;
+  for (int g = side; g > 1; g /= 2) ++levels;
+  PassEvents ev;
+  EventList after;
+  const EventList* deps = wait;
+  for (int s = 0; s < L.top();) {
+    const int m = std::min(levels, L.top() - s);
+    k.setArg(0, s == 0 ? level0 : chain);
+    k.setArg(1, static_cast<int>(L.levels[s].offset));
+    k.setArg(2, chain);
+    k.setArg(3, shape.width);
+    k.setArg(4, shape.height);
+    k.setArg(5, shape.channels);
+    k.setArg(6, s);
+    k.setArg(7, m);
+    const size_t gw = size_t((L.levels[s + 1].width + side - 1) / side) * side;
+    const size_t gh = size_t((L.levels[s + 1].height + side - 1) / side) * side;
+    cl::Event e;
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(gw, gh, shape.channels),
+                                    cl::NDRange(side, side, 1), deps, &e);
+    if (!ev.first()) ev.first = e;
+    ev.last = e;
+    after = {e};
+    deps = &after;
+    s += m;
+  }
+  return ev;
+}
+
+}  // namespace
+
 PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
-                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait) try {
+                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait,
+                           const PyramidBuild& build) try {
   const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
   PassEvents ev;
   if (L.top() == 0) {  // 1x1: nothing to build
@@ -44,6 +106,8 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     ev.last = ev.first;
     return ev;
   }
+  if (resolve_family(rt, build.family) == ScheduleFamily::Gpu)
+    return enqueue_pyramid_groups(rt, op, storage, level0, chain, shape, L, wait, build.work_group);
   cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
                              "-cl-std=CL1.2" + storage_define(storage) +
                                  " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +

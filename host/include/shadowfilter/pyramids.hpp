@@ -35,9 +35,19 @@ struct PassEvents {
 // mip_layout(...).chain_values values, never less than one). Two launches at most for maps up
 // to 4096x4096 (32x32 tiles make five levels per launch; one work-item per channel finishes
 // the levels of 128x128 and below).
+// How the chain is built (docs/gpu.md, "Launch shapes"); every build gives the same max / min
+// chains and mean chains within the storage's rounding. family Cpu: the 32x32 tiles (one item
+// per four) and the per-channel tail; Gpu: work-groups of 16x16 items, one per texel of the next
+// level, five levels per launch through local memory; Auto: by device type. work_group: items
+// per Gpu group (0: the table's 256; a power of two: the square below it, 8x8 for 64 or 128).
+struct PyramidBuild {
+  ScheduleFamily family = ScheduleFamily::Auto;
+  int work_group = 0;
+};
+PyramidBuild pyramid_build(const ScheduleOptions& sched);  // family and gpu_work_group
 PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
                            const cl::Buffer& chain, const ImageShape& shape,
-                           const EventList* wait = nullptr);
+                           const EventList* wait = nullptr, const PyramidBuild& build = {});
 
 // --- summed-area tables -------------------------------------------------------
 // Float-float table (hi + lo planes per channel) of (W+1) x (H+1) entries with zero first row

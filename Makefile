@@ -7,7 +7,7 @@ OUT ?= out
 WERROR ?= $(if $(CI),ON,OFF)
 
 .PHONY: deps deps-bench configure build run test bench data meshes mesh-scenes clean
-.PHONY: fresh-check
+.PHONY: fresh-check oclgrind
 
 deps:
 	@scripts/install-deps.sh core
@@ -75,6 +75,11 @@ mesh-scenes: meshes
 	@for m in $(MESHES); do \
 	  $(BUILD)/shadowfilter scene $(BUILD)/meshes/$$m.off -o $(OUT)/mesh-scenes/$$m $(MESH_ARGS) || exit 1; \
 	done
+
+# The launch-shape tests and the small kernel tests under Oclgrind (scripts/oclgrind-check.sh;
+# slow, not part of CI; docs/gpu.md, "Launch shapes").
+oclgrind: build
+	@scripts/oclgrind-check.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "commands.hpp"
@@ -56,6 +57,13 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   c->add_option("--vector-width", a.options.schedule.blur_vector_width,
                 "Blur texels per work-item (4, 8, 16)")
       ->capture_default_str();
+  c->add_option("--schedule", a.options.schedule.family,
+                "Launch shapes of the blur, SAT and pyramid: auto (by device type), cpu or gpu")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ScheduleFamily>{{"auto", ScheduleFamily::Auto},
+                                                                                 {"cpu", ScheduleFamily::Cpu},
+                                                                                 {"gpu", ScheduleFamily::Gpu}},
+                                          CLI::ignore_case))
+      ->default_str("auto");
   c->add_option("--flags-out", a.flags_out,
                  "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");

@@ -129,7 +129,8 @@ PassEvents ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait
   zmax_done_ = PassEvents{};
   classify_done_ = cl::Event();
   if (zmax_chain_())
-    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_, {width_, height_, 1, 4}, wait);
+    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_, {width_, height_, 1, 4}, wait,
+                                 pyramid_build(options_.schedule));
   return zmax_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::prepare", e);

@@ -141,11 +141,12 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   EventList done{filtered}, after_filter{filtered};
   if (chain_()) {
     pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_,
-                                    &after_filter);
+                                    &after_filter, pyramid_build(options_.schedule));
     done.push_back(pyramid_done_.last);
   }
   if (sat_()) {
-    sat_done_ = enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter);
+    sat_done_ = enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter,
+                            sat_build(options_.schedule));
     done.push_back(sat_done_.last);
   }
   if (classify_) {  // the stage's own pass over the raw depth (z-max pyramid)

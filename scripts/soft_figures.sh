@@ -3,7 +3,7 @@
 # built-in scene at two light sizes (the scene's default and twice it; plus spheres under a
 # perspective light), cost against light size, and frame time against the light count; then
 # the cssm parameter table that chose the defaults (bundled scenes, data/*).
-# Usage: scripts/soft_figures.sh [BUILD_DIR]   (default build-soft; needs shadowfilter and sf_tests)
+# Usage: scripts/soft_figures.sh [BUILD_DIR]   (default build-soft; needs shadowfilter and sf_measure)
 #        scripts/soft_figures.sh --sweep       (prints the sweep's SF_SOFT_SWEEP list only)
 set -eu
 sweep() {
@@ -46,10 +46,10 @@ d=$OUT/spheres-persp-L0.2
 [ -f "$d/reference_soft.exr" ] || "$B/shadowfilter" scene spheres -o "$d" --size 512 --receivers 640x480 --samples 64 --light perspective -q
 dirs="$dirs $d"
 export SHADOWFILTER_CACHE_DIR=$B/test_cache
-SF_SOFT_SCENES="$dirs" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
-  --gtest_filter='SoftFigures.DISABLED_QualityAndTime' | grep '^|'
-SF_SOFT_SCENES="$OUT/spheres-L0.2" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
-  --gtest_filter='SoftFigures.DISABLED_CostAgainstLightSize:SoftFigures.DISABLED_LightCount' | grep '^|'
+SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" \
+  --gtest_filter='SoftFigures.QualityAndTime' | grep '^|'
+SF_SOFT_SCENES="$OUT/spheres-L0.2" "$B/tests/sf_measure" \
+  --gtest_filter='SoftFigures.CostAgainstLightSize:SoftFigures.LightCount' | grep '^|'
 here=$(cd "$(dirname "$0")/.." && pwd)
-SF_SOFT_SCENES="$(ls -d "$here"/data/*)" SF_SOFT_SWEEP="$(sweep)" "$B/tests/sf_tests" --gtest_also_run_disabled_tests \
-  --gtest_filter='SoftFigures.DISABLED_CssmSweep' | grep '^|'
+SF_SOFT_SCENES="$(ls -d "$here"/data/*)" SF_SOFT_SWEEP="$(sweep)" "$B/tests/sf_measure" \
+  --gtest_filter='SoftFigures.CssmSweep' | grep '^|'

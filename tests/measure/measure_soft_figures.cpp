@@ -1,4 +1,4 @@
-// Figures of docs/soft.md (not part of the regular run: DISABLED_, run by scripts/soft_figures.sh).
+// Figures of docs/soft.md (sf_measure, run by scripts/soft_figures.sh; not part of the test suite).
 //   SF_SOFT_SCENES="dir dir ..." sf_tests --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
 // Every scene dir holds shadowmap.exr (the light in its header), receivers.exr, reference_soft.exr.
 #include <gtest/gtest.h>
@@ -112,7 +112,7 @@ std::vector<std::string> scene_dirs() {
   return v;
 }
 
-TEST(SoftFigures, DISABLED_QualityAndTime) {
+TEST(SoftFigures, QualityAndTime) {
   std::printf("| scene | light | L | method | RMSE | p99 abs err | mean err | ms (prepare + run) | ns / receiver |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& dir : scene_dirs()) {
@@ -158,7 +158,7 @@ TEST(SoftFigures, DISABLED_QualityAndTime) {
 // cssm parameter sweep (the table of docs/soft.md that chose the defaults): every scene dir, one
 // line per setting of SF_SOFT_SWEEP="M,lookup,offset,scale,z_offset,width_scale,contact,A,B,normalise;..."
 // (lookup m or s; negative values: the defaults of SoftOptions), RMSE and p99 |err| per scene and their means.
-TEST(SoftFigures, DISABLED_CssmSweep) {
+TEST(SoftFigures, CssmSweep) {
   std::vector<Scene> scenes;
   std::vector<Device> dev;
   for (const std::string& dir : scene_dirs()) {
@@ -231,7 +231,7 @@ TEST(SoftFigures, DISABLED_CssmSweep) {
 }
 
 // Time per receiver against light size (first scene dir): cssm's must stay flat, pcss's grows.
-TEST(SoftFigures, DISABLED_CostAgainstLightSize) {
+TEST(SoftFigures, CostAgainstLightSize) {
   const auto dirs = scene_dirs();
   ASSERT_FALSE(dirs.empty());
   const Scene s = load(dirs.front());
@@ -263,7 +263,7 @@ TEST(SoftFigures, DISABLED_CostAgainstLightSize) {
 
 // Frame time against the number of lights (seed 000 table 8.1): N lights, each its own map
 // (the first scene's map, uploaded N times), prepare + run per light, one frame = all of them.
-TEST(SoftFigures, DISABLED_LightCount) {
+TEST(SoftFigures, LightCount) {
   const auto dirs = scene_dirs();
   ASSERT_FALSE(dirs.empty());
   const Scene s = load(dirs.front());

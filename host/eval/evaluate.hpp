@@ -34,10 +34,10 @@ Scene load_scene(const std::string& dir);
 // A scene from memory (filter --auto): no ray-traced references.
 Scene make_scene(std::string name, HostImage depth, Receivers receivers);
 
-// Depth bias of s_ref in evaluations: sum_t W_x(t) H(z_t - d + b). The bundled scenes' surfaces
-// tilt by up to 0.01 in depth across a filter support (tests/test_esm_scene.cpp), so s_ref without
-// a bias shows acne (about 0.5 on lit floors) that no prefiltered method reproduces and no
-// renderer wants; b = 0.01 makes lit surfaces lit. sm and pcf run with the same bias.
+// Depth bias of s_ref in evaluations: sum_t W_x(t) H(z_t - d + b). Tilted surfaces change their
+// depth across a filter support, so s_ref without a bias shows acne on lit floors that no
+// prefiltered method reproduces and no renderer wants; b = 0.01 covers the bundled scenes' tilt
+// (tests/test_esm_scene.cpp, docs/results.md). sm and pcf run with the same bias.
 constexpr double kDefaultSrefBias = 0.01;
 
 // --- the parameter grid -----------------------------------------------------------------------

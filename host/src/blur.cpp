@@ -55,8 +55,8 @@ int ceil_div(int a, int b) { return (a + b - 1) / b; }
 
 // Strip: 128 texels (64 once the private ring, two copies of 2R + 4 strip rows, would pass
 // 128 KiB). Rows: 256, fewer when needed to give every compute unit 8 work-items; long strips
-// make the 2R halo rows that two work-items both blur along x a small share. Measured on PoCL
-// (2 cores, AVX-512): 128 x 256 is within noise of the best of {64, 128, 256}^2 for R = 1..31.
+// make the 2R halo rows that two work-items both blur along x a small share (the measurement
+// against other tiles: docs/lookups.md "The blur's CPU schedule").
 BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions& sched,
                            const ImageShape& shape) {
   BlurSchedule s;

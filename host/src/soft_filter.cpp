@@ -108,8 +108,8 @@ CssmParams cssm_params(const SoftOptions& o) {
 float cssm_z_offset(const SoftOptions& o) {
   if (o.cssm_z_offset >= 0.0f) return o.cssm_z_offset;
   // Default: the smallest x > 0 where the series reaches 1 (~0.306 / M): a lit texel (z = d) then
-  // has blocker weight 1 - f = 0 and does not pull z_avg (at 0.5 / M its weight -0.09 pushed
-  // z_avg away from d: +36% penumbra on parallel planes once scale 3 dilates the shadow).
+  // has blocker weight 1 - f = 0 and does not pull z_avg (at 0.5 / M its negative weight pushed
+  // z_avg away from d and widened the penumbra: docs/soft.md).
   const int M = std::max(o.cssm_order, 1);
   double lo = 0.0, hi = 0.5 / M;  // f(0) = 0.5, f(0.5 / M) ~ 1.09
   for (int i = 0; i < 50; ++i) (cssm_series(M, 0.5 * (lo + hi)) < 1.0 ? lo : hi) = 0.5 * (lo + hi);

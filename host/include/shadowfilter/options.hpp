@@ -82,9 +82,9 @@ enum class EsmClassify { None = 0, ZMax = 1, Threshold = 2 };
 struct EsmClassifyOptions {
   EsmClassify mode = EsmClassify::None;
   // zmax: flag when some texel of the lookup's support has z > d + offset. The offset keeps
-  // lit receivers whose own surface slopes away within the support from being flagged. 0.02:
-  // on the bundled scenes it still flags 90-100% of the receivers where ESM is off by > 0.1
-  // (backyard R = 0..2: 53-81%) with 6-33% flagged; 0.002 flagged 78-93% (docs/lookups.md).
+  // lit receivers whose own surface slopes away within the support from being flagged; 0.02
+  // is the measured balance between flagging ESM's failures and flagging lit receivers
+  // (docs/lookups.md, "The default z-max offset").
   float zmax_offset = 0.02f;
   // threshold: flag when exp(-c d) bar(B) > 1 + eps. Negative = automatic,
   // exp(c offset)(1 + 1e-5) - 1: then threshold flags a subset of zmax.

@@ -30,6 +30,13 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/shadowfilterConfig.cmake
               ${CMAKE_CURRENT_BINARY_DIR}/shadowfilterConfigVersion.cmake
         DESTINATION ${SF_CMAKE_DIR})
 
+# An SF_SANITIZE library needs the sanitizer runtimes at the consumer's link, as the CMake
+# target's link options say.
+set(SF_PC_EXTRA_LIBS "")
+if(SF_SANITIZE)
+  list(JOIN SF_SANITIZE_LINK_FLAGS " " SF_PC_EXTRA_LIBS)
+  string(PREPEND SF_PC_EXTRA_LIBS " ")
+endif()
 file(RELATIVE_PATH SF_PC_TO_PREFIX "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
 configure_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/shadowfilter.pc.in
                ${CMAKE_CURRENT_BINARY_DIR}/shadowfilter.pc @ONLY)

@@ -6,8 +6,8 @@ OUT ?= out
 # stop `make run`.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: deps deps-bench configure build run test bench data meshes mesh-scenes clean
-.PHONY: fresh-check oclgrind sanitize
+.PHONY: deps deps-bench deps-dev configure build run test bench data meshes mesh-scenes clean
+.PHONY: fresh-check oclgrind sanitize tidy format format-check
 
 deps:
 	@scripts/install-deps.sh core
@@ -15,8 +15,12 @@ deps:
 deps-bench:
 	@scripts/install-deps.sh bench
 
+deps-dev:
+	@scripts/install-deps.sh dev
+
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSF_WARNINGS_AS_ERRORS=$(WERROR) > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSF_WARNINGS_AS_ERRORS=$(WERROR) \
+	    -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
 
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
@@ -61,6 +65,14 @@ sanitize: deps
 	  for f in $(SANITIZE_LOGS)/*; do [ -f "$$f" ] && { echo "== $$f"; head -n 60 "$$f"; }; done; \
 	  echo "sanitize: ctest exit $$rc, $$n sanitizer report(s) in $(SANITIZE_LOGS)"; \
 	  [ $$rc = 0 ] && [ $$n = 0 ]
+
+# clang-tidy (.clang-tidy) over the core library's sources, with their headers, through the
+# compile_commands.json of $(BUILD) (configured, not built). Any finding fails.
+CLANG_TIDY ?= clang-tidy
+TIDY_SRC = $(sort $(wildcard host/src/*.cpp))
+tidy: configure deps-dev
+	@printf '%s\n' $(TIDY_SRC) | xargs -P $(JOBS) -n 1 $(CLANG_TIDY) -p $(BUILD) --quiet \
+	  && echo "tidy: $(words $(TIDY_SRC)) files clean"
 
 # Every benchmark, 3 repetitions of >= 0.05 s (5 of >= 0.2 s when sf_bench runs by hand): the
 # full default settings took over 40 minutes on the loaded 2-core machine. The JSON is written to

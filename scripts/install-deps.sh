@@ -2,6 +2,7 @@
 # Installs the Debian packages shadowfilter needs, only those that are missing.
 # Usage: scripts/install-deps.sh [core|bench|all]   (default: core)
 #        meshes: core + libcgal-demo (scanned meshes for `make mesh-scenes`)
+#        dev: core + clang-tidy and clang-format (`make tidy`, docs/development.md)
 set -euo pipefail
 set_name="${1:-core}"
 core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers
@@ -13,12 +14,15 @@ core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers o
 bench=(libbenchmark-dev libopencv-dev)
 # Scanned meshes (Stanford bunny, Chinese dragon, armadillo, ...) in data.tar.gz of the docs.
 meshes=(libcgal-demo)
+# Developer tools: clang-tidy 14 for `make tidy` (.clang-tidy), clang-format for the layout.
+dev=(clang-tidy clang-format)
 case "$set_name" in
   core) want=("${core[@]}") ;;
   bench) want=("${core[@]}" "${bench[@]}") ;;
   meshes) want=("${core[@]}" "${meshes[@]}") ;;
-  all) want=("${core[@]}" "${bench[@]}" "${meshes[@]}") ;;
-  *) echo "install-deps: unknown set '$set_name' (core|bench|meshes|all)" >&2; exit 2 ;;
+  dev) want=("${core[@]}" "${dev[@]}") ;;
+  all) want=("${core[@]}" "${bench[@]}" "${meshes[@]}" "${dev[@]}") ;;
+  *) echo "install-deps: unknown set '$set_name' (core|bench|meshes|dev|all)" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${want[@]}"; do

@@ -170,23 +170,23 @@ void set_buffer_or_null(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
 
 }  // namespace
 
-cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lk,
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup,
                                 const cl::Buffer& level0, const ImageShape& shape,
                                 const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
                                 size_t count, const EventList* wait) try {
   cl::Program p = rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
                              "-cl-std=CL1.2" + storage_define(storage) +
                                  " -DSF_CHANNELS=" + std::to_string(shape.channels) +
-                                 " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lk.kind)));
+                                 " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lookup.kind)));
   cl::Kernel k(p, "sf_lookup_points");
   k.setArg(0, level0);
-  set_buffer_or_null(k, 1, lk.chain);
-  set_buffer_or_null(k, 2, lk.sat);
+  set_buffer_or_null(k, 1, lookup.chain);
+  set_buffer_or_null(k, 2, lookup.sat);
   k.setArg(3, shape.width);
   k.setArg(4, shape.height);
   k.setArg(5, u);
   k.setArg(6, v);
-  set_buffer_or_null(k, 7, lk.footprint);
+  set_buffer_or_null(k, 7, lookup.footprint);
   k.setArg(8, out);
   k.setArg(9, static_cast<int>(count));
   cl::Event e;

@@ -60,8 +60,7 @@ void BM_Blur(benchmark::State& state, bool in_place, Storage storage) {
   state.counters["kernel_ms"] = 1e3 * kernel / runs;
   if (in_place) state.counters["copy_ms"] = 1e3 * copy / runs;
   state.counters["wall_ms"] = 1e3 * wall / runs;
-  set_throughput(state, kBlurPassBytes * shape.value_bytes * shape.plane_texels(),
-                 shape.plane_texels(), s);
+  set_throughput(state, kBlurPassBytes * shape.value_bytes * shape.plane_texels(), shape.plane_texels(), s);
 }
 
 void BM_ReferenceBlur(benchmark::State& state) {
@@ -71,10 +70,7 @@ void BM_ReferenceBlur(benchmark::State& state) {
   const auto values = random_floats(in.data.size(), 3);
   in.data.assign(values.begin(), values.end());
   const double s = time_runs(
-      state,
-      [&] {
-        return wall_seconds([&] { benchmark::DoNotOptimize(ref::blur(in, radius, 0.0)); });
-      },
+      state, [&] { return wall_seconds([&] { benchmark::DoNotOptimize(ref::blur(in, radius, 0.0)); }); },
       n > 512 ? 0 : 1);  // host code: no kernel to build; seconds a run at 2048
   set_throughput(state, kBlurPassBytes * sizeof(float) * in.data.size(), in.data.size(), s);
 }
@@ -100,8 +96,8 @@ void register_blur() {
   for (Storage st : {Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
     for (bool in_place : {false, true})
       configure(benchmark::RegisterBenchmark(
-                    (std::string("blur/ours") + (in_place ? "_in_place_" : "_") + storage_name(st)).c_str(),
-                    BM_Blur, in_place, st))
+                    (std::string("blur/ours") + (in_place ? "_in_place_" : "_") + storage_name(st)).c_str(), BM_Blur,
+                    in_place, st))
           ->ArgNames({"size", "R"})
           ->ArgsProduct({{2048}, {3, 15}});
   }

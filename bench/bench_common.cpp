@@ -59,8 +59,7 @@ void set_throughput(benchmark::State& state, double bytes, double texels, double
   state.SetBytesProcessed(static_cast<int64_t>(bytes) * state.iterations());
   if (seconds <= 0) return;
   state.counters["Mtexel/s"] = texels * 1e-6 / seconds;
-  if (reference_bandwidth() > 0)
-    state.counters["bw_fraction"] = bytes / seconds / reference_bandwidth();
+  if (reference_bandwidth() > 0) state.counters["bw_fraction"] = bytes / seconds / reference_bandwidth();
 }
 
 std::vector<float> random_floats(size_t n, unsigned seed, float lo, float hi) {
@@ -72,13 +71,11 @@ std::vector<float> random_floats(size_t n, unsigned seed, float lo, float hi) {
 }
 
 cl::Buffer to_device(const std::vector<float>& host) {
-  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                    host.size() * sizeof(float), const_cast<float*>(host.data()));
+  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, host.size() * sizeof(float),
+                    const_cast<float*>(host.data()));
 }
 
-cl::Buffer device_buffer(size_t bytes) {
-  return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, bytes);
-}
+cl::Buffer device_buffer(size_t bytes) { return cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, bytes); }
 
 LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape,
                             const cl::Buffer& footprint) {

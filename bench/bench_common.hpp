@@ -38,8 +38,8 @@ void set_throughput(benchmark::State& state, double bytes, double texels, double
 
 // 1920x1080 receivers of a camera-like view of a map x map shadow map, in screen order
 // (bench_pipeline.cpp): u, v, d and footprints f in level-0 texels.
-void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v,
-                        std::vector<float>& d, std::vector<float>& f);
+void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, std::vector<float>& d,
+                        std::vector<float>& f);
 // Deterministic uniform random floats in [lo, hi].
 std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float hi = 1.0f);
 // A device buffer holding `host`, and an uninitialised one of `bytes`.
@@ -47,8 +47,7 @@ cl::Buffer to_device(const std::vector<float>& host);
 cl::Buffer device_buffer(size_t bytes);
 // The table a footprint lookup reads, built (and waited for) outside the timing from a float32
 // basis of `shape`: mips -> the mean chain, sat -> the float-float table, bilinear -> none.
-LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape,
-                            const cl::Buffer& footprint);
+LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageShape& shape, const cl::Buffer& footprint);
 
 // A mip pyramid (Reduce::Mean of `shape.channels` planes, or the Max / Min depth pyramids) of
 // random float32 values, timed from its first to its last launch; bytes: level 0 read + every

@@ -56,9 +56,8 @@ TimedRun copy_kernel_run(const char* name, size_t floats_per_item) {
   cl::Kernel k = copy_kernel(name);
   return [k, floats_per_item]() mutable {
     cl::Event e;
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange,
-                                           cl::NDRange(kCopyFloats / floats_per_item),
-                                           cl::NullRange, nullptr, &e);
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kCopyFloats / floats_per_item), cl::NullRange,
+                                           nullptr, &e);
     e.wait();
     return event_seconds(e);
   };
@@ -78,10 +77,9 @@ void BM_CopyKernel(benchmark::State& state, const char* name, size_t floats_per_
 
 double measure_copy_bandwidth() {
   constexpr int kRuns = 31, kWarmups = 8;  // the first runs fault pages in and wake PoCL's threads
-  const double best =
-      std::min({median_seconds(copy_buffer_once, kRuns, kWarmups),
-                median_seconds(copy_kernel_run("copy1", 1), kRuns, kWarmups),
-                median_seconds(copy_kernel_run("copy16", 16), kRuns, kWarmups)});
+  const double best = std::min({median_seconds(copy_buffer_once, kRuns, kWarmups),
+                                median_seconds(copy_kernel_run("copy1", 1), kRuns, kWarmups),
+                                median_seconds(copy_kernel_run("copy16", 16), kRuns, kWarmups)});
   return 2.0 * kCopyBytes / best;
 }
 

@@ -70,8 +70,8 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
   const LookupBuffers lk = lookup_tables(kind, basis, shape, rx.f);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx,
-                                             nullptr, &lk);
+    cl::Event e =
+        enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx, nullptr, &lk);
     e.wait();
     return event_seconds(e);
   });
@@ -178,10 +178,10 @@ int reps() { return std::min(3, repetitions()); }
 
 void register_coverage() {
   for (const auto& m : methods()) {
-    auto* b = configure(benchmark::RegisterBenchmark(("reconstruct_lookup/" + m.name).c_str(), BM_ReconstructLookup,
-                                                     m.name))
-                  ->Repetitions(reps())
-                  ->ArgNames({"size", "lookup"});  // lookup: 0 bilinear, 1 mips, 2 sat
+    auto* b =
+        configure(benchmark::RegisterBenchmark(("reconstruct_lookup/" + m.name).c_str(), BM_ReconstructLookup, m.name))
+            ->Repetitions(reps())
+            ->ArgNames({"size", "lookup"});  // lookup: 0 bilinear, 1 mips, 2 sat
     for (int size : {512, 2048, 4096})
       for (int lookup : {0, 1, 2})
         if (!m.raw_depth || lookup == 0) b->Args({size, lookup});
@@ -202,9 +202,18 @@ void register_coverage() {
           ->Repetitions(reps())
           ->ArgName("size")
           ->Arg(kRefSize);
-  configure(benchmark::RegisterBenchmark("reference/mips", BM_RefMips))->Repetitions(reps())->ArgName("size")->Arg(kRefSize);
-  configure(benchmark::RegisterBenchmark("reference/sat", BM_RefSat))->Repetitions(reps())->ArgName("size")->Arg(kRefSize);
-  configure(benchmark::RegisterBenchmark("reference/s_ref_R3_128x128", BM_RefSref))->Repetitions(reps())->ArgName("size")->Arg(kRefSize);
+  configure(benchmark::RegisterBenchmark("reference/mips", BM_RefMips))
+      ->Repetitions(reps())
+      ->ArgName("size")
+      ->Arg(kRefSize);
+  configure(benchmark::RegisterBenchmark("reference/sat", BM_RefSat))
+      ->Repetitions(reps())
+      ->ArgName("size")
+      ->Arg(kRefSize);
+  configure(benchmark::RegisterBenchmark("reference/s_ref_R3_128x128", BM_RefSref))
+      ->Repetitions(reps())
+      ->ArgName("size")
+      ->Arg(kRefSize);
 }
 
 }  // namespace sf::bench

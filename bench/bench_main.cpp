@@ -21,12 +21,12 @@ int main(int argc, char** argv) {
   const auto& info = runtime().info();
   const double bw = measure_copy_bandwidth();
   set_reference_bandwidth(bw);
-  benchmark::AddCustomContext("opencl_device", info.device_name + " (" + info.platform_name + " " +
-                                                   info.driver_version + ")");
+  benchmark::AddCustomContext("opencl_device",
+                              info.device_name + " (" + info.platform_name + " " + info.driver_version + ")");
   benchmark::AddCustomContext("opencl_compute_units", std::to_string(info.compute_units));
   benchmark::AddCustomContext("reference_copy_GBps", std::to_string(bw * 1e-9));
-  std::fprintf(stderr, "device: %s, reference copy bandwidth %.2f GB/s (read + write)\n",
-               info.device_name.c_str(), bw * 1e-9);
+  std::fprintf(stderr, "device: %s, reference copy bandwidth %.2f GB/s (read + write)\n", info.device_name.c_str(),
+               bw * 1e-9);
 
   register_copy();
   register_transform();

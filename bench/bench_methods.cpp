@@ -82,9 +82,8 @@ void BM_OpenCvPyrDownChain(benchmark::State& state) {
   const auto values = random_floats(size_t(n) * n, 7);
   const cv::Mat src(n, n, CV_32F, const_cast<float*>(values.data()));
   std::vector<cv::Mat> levels;
-  const double s = time_runs(state, [&] {
-    return wall_seconds([&] { cv::buildPyramid(src, levels, int(std::log2(n))); });
-  });
+  const double s =
+      time_runs(state, [&] { return wall_seconds([&] { cv::buildPyramid(src, levels, int(std::log2(n))); }); });
   set_throughput(state, 4.0 * n * n * (1.0 + 1.0 / 3.0), double(n) * n, s);
 }
 #endif

@@ -19,9 +19,8 @@ void BM_OpenCvGaussianBlur(benchmark::State& state) {
   const int ksize = 2 * radius + 1;
   const double sigma = default_blur_sigma(radius);
   const double s = time_runs(state, [&] {
-    return wall_seconds([&] {
-      cv::GaussianBlur(src, dst, cv::Size(ksize, ksize), sigma, sigma, cv::BORDER_REPLICATE);
-    });
+    return wall_seconds(
+        [&] { cv::GaussianBlur(src, dst, cv::Size(ksize, ksize), sigma, sigma, cv::BORDER_REPLICATE); });
   });
   state.counters["threads"] = cv::getNumThreads();
   set_throughput(state, 4.0 * sizeof(float) * n * n, double(n) * n, s);

@@ -89,9 +89,7 @@ FilterOptions esm_options(int radius) {
 struct Stages {
   double transform = 0, blur = 0, pyramid = 0, lookup = 0;
   double sum() const { return transform + blur + pyramid + lookup; }
-  void add(const Stages& s) {
-    transform += s.transform, blur += s.blur, pyramid += s.pyramid, lookup += s.lookup;
-  }
+  void add(const Stages& s) { transform += s.transform, blur += s.blur, pyramid += s.pyramid, lookup += s.lookup; }
 };
 
 void set_stage_counters(benchmark::State& state, const Stages& sum, int runs, double e2e) {
@@ -108,7 +106,9 @@ void set_stage_counters(benchmark::State& state, const Stages& sum, int runs, do
 class CvEsm {
  public:
   CvEsm(const EsmInputs& in, float c, int radius)
-      : c_(c), ksize_(2 * radius + 1), sigma_(default_blur_sigma(radius)),
+      : c_(c),
+        ksize_(2 * radius + 1),
+        sigma_(default_blur_sigma(radius)),
         depth_(in.n, in.n, CV_32F, const_cast<float*>(in.depth.data())),
         u_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.u.data())),
         v_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.v.data())),
@@ -126,15 +126,11 @@ class CvEsm {
     depth_.convertTo(arg_, CV_32F, c_, -0.5 * c_);
     cv::exp(arg_, basis_);
   }
-  void blur() {
-    cv::GaussianBlur(basis_, levels_[0], cv::Size(ksize_, ksize_), sigma_, sigma_,
-                     cv::BORDER_REPLICATE);
-  }
+  void blur() { cv::GaussianBlur(basis_, levels_[0], cv::Size(ksize_, ksize_), sigma_, sigma_, cv::BORDER_REPLICATE); }
   void pyramid() {
     for (size_t k = 1; k < levels_.size(); ++k) {
       const cv::Mat& src = levels_[k - 1];
-      cv::resize(src, levels_[k], cv::Size((src.cols + 1) / 2, (src.rows + 1) / 2), 0, 0,
-                 cv::INTER_AREA);
+      cv::resize(src, levels_[k], cv::Size((src.cols + 1) / 2, (src.rows + 1) / 2), 0, 0, cv::INTER_AREA);
     }
   }
   void lookup() {
@@ -191,7 +187,8 @@ struct Ours {
   cl::Buffer depth, vis;
   DeviceReceivers rx;
   Ours(const EsmInputs& in, int radius)
-      : pipe(runtime_ptr(), esm_options(radius), in.n, in.n), depth(to_device(in.depth)),
+      : pipe(runtime_ptr(), esm_options(radius), in.n, in.n),
+        depth(to_device(in.depth)),
         vis(device_buffer(kReceivers * sizeof(float))) {
     rx.count = kReceivers;
     rx.u = to_device(in.u), rx.v = to_device(in.v), rx.d = to_device(in.d), rx.f = to_device(in.f);
@@ -221,11 +218,14 @@ void BM_OursEsmMips(benchmark::State& state) {
   Ours ours(in, radius);
   Stages sum, s;
   int calls = 0;
-  const double e2e = time_runs(state, [&] {
-    const double wall = ours.run(s);
-    if (calls++ >= kWarmups) sum.add(s);  // the timed runs only
-    return wall;
-  }, kWarmups);
+  const double e2e = time_runs(
+      state,
+      [&] {
+        const double wall = ours.run(s);
+        if (calls++ >= kWarmups) sum.add(s);  // the timed runs only
+        return wall;
+      },
+      kWarmups);
   set_stage_counters(state, sum, calls - kWarmups, e2e);
   state.counters["threads"] = double(runtime().info().compute_units);
 }
@@ -296,9 +296,9 @@ void BM_OpenCvEsmMips(benchmark::State& state) {
       remap_over += diff > 1.0 / 255;
     }
   }
-  state.counters["max_abs_diff"] = max_diff;  // cv::remap pipeline vs ours
-  state.counters["max_abs_diff_exact"] = max_exact;  // exact bilinear on OpenCV's levels vs ours
-  state.counters["over_remap_bound"] = max_excess;  // largest |diff| beyond the quantisation bound
+  state.counters["max_abs_diff"] = max_diff;                             // cv::remap pipeline vs ours
+  state.counters["max_abs_diff_exact"] = max_exact;                      // exact bilinear on OpenCV's levels vs ours
+  state.counters["over_remap_bound"] = max_excess;                       // largest |diff| beyond the quantisation bound
   state.counters["remap_over_1_255"] = double(remap_over) / kReceivers;  // fraction of receivers
   state.counters["tolerance"] = kTolerance;
   state.counters["partial_fraction"] = double(partial) / kReceivers;  // receivers with 0 < v < 1
@@ -311,11 +311,14 @@ void BM_OpenCvEsmMips(benchmark::State& state) {
   }
   Stages sum, s;
   int calls = 0;
-  const double e2e = time_runs(state, [&] {
-    const double wall = wall_seconds([&] { s = cv_esm.run(); });
-    if (calls++ >= kWarmups) sum.add(s);
-    return wall;
-  }, kWarmups);
+  const double e2e = time_runs(
+      state,
+      [&] {
+        const double wall = wall_seconds([&] { s = cv_esm.run(); });
+        if (calls++ >= kWarmups) sum.add(s);
+        return wall;
+      },
+      kWarmups);
   set_stage_counters(state, sum, calls - kWarmups, e2e);
   state.counters["threads"] = cv::getNumThreads();
 }

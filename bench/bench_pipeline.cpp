@@ -15,8 +15,8 @@ namespace sf::bench {
 
 // A floor seen in perspective: screen row y maps to map row v = v0 + (y / H)^2 span (far rows
 // squeezed), columns spread linearly; depth varies smoothly around the map's values.
-void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v,
-                        std::vector<float>& d, std::vector<float>& f) {
+void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, std::vector<float>& d,
+                        std::vector<float>& f) {
   constexpr int kScreenW = 1920, kScreenH = 1080;
   const size_t count = 1920 * 1080;
   u.resize(count), v.resize(count), d.resize(count), f.resize(count);

@@ -66,8 +66,8 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer u = to_device(hu), v = to_device(hv), d = to_device(hd);
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, kMap, kMap,
-                                             u, v, d, vis, count, nullptr, &lk);
+    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, kMap, kMap, u, v, d, vis, count,
+                                             nullptr, &lk);
     e.wait();
     return event_seconds(e);
   });
@@ -85,7 +85,11 @@ void register_pyramid() {
       ->Args({kMap, 4})
       ->Args({4096, 1})
       ->Args({4096, 4});
-  configure(benchmark::RegisterBenchmark("mips/zmax_chain", BM_ZMaxChain))->ArgName("size")->Arg(512)->Arg(kMap)->Arg(4096);
+  configure(benchmark::RegisterBenchmark("mips/zmax_chain", BM_ZMaxChain))
+      ->ArgName("size")
+      ->Arg(512)
+      ->Arg(kMap)
+      ->Arg(4096);
   configure(benchmark::RegisterBenchmark("sat/table", BM_Sat))
       ->ArgNames({"size", "channels"})
       ->Args({512, 1})

@@ -81,10 +81,8 @@ void BM_ReconstructPoints(benchmark::State& state) {
     lookup.footprint = rx.f;
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt,
-                                             joined ? basis().joined : basis().buf,
-                                             kMapSize, kMapSize, rx.u, rx.v, rx.d, vis, kReceivers,
-                                             nullptr, &lookup);
+    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, joined ? basis().joined : basis().buf,
+                                             kMapSize, kMapSize, rx.u, rx.v, rx.d, vis, kReceivers, nullptr, &lookup);
     e.wait();
     return event_seconds(e);
   });
@@ -98,8 +96,7 @@ void BM_ReconstructGrid(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const FilterOptions opt;
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, kMapSize,
-                                           kMapSize, d, vis);
+    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, kMapSize, kMapSize, d, vis);
     e.wait();
     return event_seconds(e);
   });
@@ -146,8 +143,7 @@ void BM_ReconstructBound(benchmark::State& state) {
   }
   const double s = time_runs(state, [&] {
     cl::Event e;
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kReceivers),
-                                           cl::NullRange, nullptr, &e);
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kReceivers), cl::NullRange, nullptr, &e);
     e.wait();
     return event_seconds(e);
   });
@@ -162,9 +158,7 @@ void register_reconstruct() {
       ->ArgNames({"lookup", "rx", "vec", "joined"})
       ->ArgsProduct({{0}, {0, 1}, {1, 4, 8, 16}, {0}})
       ->ArgsProduct({{1}, {0, 1}, {1, 4, 8, 16}, {0, 1}});
-  configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))
-      ->ArgName("size")
-      ->Arg(kMapSize);
+  configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))->ArgName("size")->Arg(kMapSize);
   configure(benchmark::RegisterBenchmark("esm_reconstruct/bound", BM_ReconstructBound))
       ->ArgNames({"taps", "rx"})
       ->Args({0, 0})

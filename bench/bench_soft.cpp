@@ -62,19 +62,42 @@ const SoftScene& scene(int n = kMap) {
 SoftOptions options(int method, double size) {
   SoftOptions o;
   switch (method) {
-    case 0: o.method = SoftMethod::Pcss; break;
-    case 1: o.method = SoftMethod::Cssm; o.cssm_order = 4; o.cssm_lookup = Lookup::Mips; break;
-    case 2: o.method = SoftMethod::Cssm; o.cssm_order = 4; o.cssm_lookup = Lookup::Sat; break;
-    case 3: o.method = SoftMethod::Cssm; o.cssm_order = 16; o.cssm_lookup = Lookup::Mips; break;
-    case 4: o.method = SoftMethod::Cssm; o.cssm_order = 16; o.cssm_lookup = Lookup::Sat; break;
-    case 5: o.method = SoftMethod::Ssmm; break;
-    default: o.method = SoftMethod::SsmmImproved; break;
+    case 0:
+      o.method = SoftMethod::Pcss;
+      break;
+    case 1:
+      o.method = SoftMethod::Cssm;
+      o.cssm_order = 4;
+      o.cssm_lookup = Lookup::Mips;
+      break;
+    case 2:
+      o.method = SoftMethod::Cssm;
+      o.cssm_order = 4;
+      o.cssm_lookup = Lookup::Sat;
+      break;
+    case 3:
+      o.method = SoftMethod::Cssm;
+      o.cssm_order = 16;
+      o.cssm_lookup = Lookup::Mips;
+      break;
+    case 4:
+      o.method = SoftMethod::Cssm;
+      o.cssm_order = 16;
+      o.cssm_lookup = Lookup::Sat;
+      break;
+    case 5:
+      o.method = SoftMethod::Ssmm;
+      break;
+    default:
+      o.method = SoftMethod::SsmmImproved;
+      break;
   }
   o.light.size = size;
   o.light.extent = 1.0;
   return o;
 }
-const char* kLabels[] = {"pcss", "cssm_M4_mips", "cssm_M4_sat", "cssm_M16_mips", "cssm_M16_sat", "ssmm", "ssmm_improved"};
+const char* kLabels[] = {"pcss",         "cssm_M4_mips", "cssm_M4_sat",  "cssm_M16_mips",
+                         "cssm_M16_sat", "ssmm",         "ssmm_improved"};
 
 // Reconstruction seconds of one method at one light size (prepared once).
 struct Prepared {

@@ -14,8 +14,7 @@ Runtime& runtime() { return *runtime_ptr(); }
 
 cl::Buffer to_device(const std::vector<float>& host) {
   cl::Buffer b(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(host.size(), 1) * sizeof(float));
-  if (!host.empty())
-    runtime().queue().enqueueWriteBuffer(b, CL_TRUE, 0, host.size() * sizeof(float), host.data());
+  if (!host.empty()) runtime().queue().enqueueWriteBuffer(b, CL_TRUE, 0, host.size() * sizeof(float), host.data());
   return b;
 }
 

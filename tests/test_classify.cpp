@@ -81,8 +81,8 @@ TEST_P(Classify, ZMaxFlagsEveryTexelBehindAndThresholdIsASubset) {
   for (size_t i = 0; i < c.rx.u.size(); ++i) {
     const float d = c.rx.d[i];
     bool behind = false;
-    for (const auto& tap : ref::lookup_taps(c.depth.width, c.depth.height, zopt.blur, kind, c.rx.u[i],
-                                            c.rx.v[i], c.rx.f[i]))
+    for (const auto& tap :
+         ref::lookup_taps(c.depth.width, c.depth.height, zopt.blur, kind, c.rx.u[i], c.rx.v[i], c.rx.f[i]))
       behind |= c.depth.at(tap.x, tap.y) > d + zopt.esm_classify.zmax_offset;
     must += behind;
     zflag += z.flags.data[i] > 0;
@@ -97,8 +97,8 @@ TEST_P(Classify, ZMaxFlagsEveryTexelBehindAndThresholdIsASubset) {
   EXPECT_GT(must, 100u) << "the case must exercise the test";
   EXPECT_EQ(zflag, z.flagged);
   EXPECT_LT(tflag, zflag);
-  std::printf("[ classify lookup %d R=%d ] support behind %zu, zmax %zu, threshold %zu of %zu\n",
-              int(kind), radius, must, zflag, tflag, c.rx.u.size());
+  std::printf("[ classify lookup %d R=%d ] support behind %zu, zmax %zu, threshold %zu of %zu\n", int(kind), radius,
+              must, zflag, tflag, c.rx.u.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(KindsAndRadii, Classify,

@@ -16,7 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -58,8 +57,8 @@ class Cli : public ::testing::Test {
 };
 
 TEST_F(Cli, FiltersBothReceiverModesAndPrintsASummary) {
-  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                            " -o " + path("vis.exr") + " --method esm --esm-c 80 --blur-radius 2",
+  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " -o " +
+                            path("vis.exr") + " --method esm --esm-c 80 --blur-radius 2",
                         dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(count_lines(r.out), 1u) << r.out;
@@ -69,9 +68,9 @@ TEST_F(Cli, FiltersBothReceiverModesAndPrintsASummary) {
   EXPECT_EQ(vis.width, 5);
   EXPECT_EQ(vis.height, 4);
 
-  r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") + " -o " +
-                  path("planar.tif"),
-              dir_);
+  r = run_cli(
+      "filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") + " -o " + path("planar.tif"),
+      dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   HostImage planar = io::load_depth_map(path("planar.tif"), {});
   EXPECT_EQ(planar.width, 24);
@@ -80,34 +79,29 @@ TEST_F(Cli, FiltersBothReceiverModesAndPrintsASummary) {
 }
 
 TEST_F(Cli, MissingShadowMap) {
-  expect_input_error("filter --shadow-map " + path("nope.exr") + " --receivers " + path("rx.exr"),
-                     "not found");
+  expect_input_error("filter --shadow-map " + path("nope.exr") + " --receivers " + path("rx.exr"), "not found");
 }
 
 TEST_F(Cli, UnreadableShadowMap) {
   std::ofstream(path("junk.exr")) << "this is not an image\n";
-  expect_input_error("filter --shadow-map " + path("junk.exr") + " --receivers " + path("rx.exr"),
-                     "junk.exr");
+  expect_input_error("filter --shadow-map " + path("junk.exr") + " --receivers " + path("rx.exr"), "junk.exr");
 }
 
 TEST_F(Cli, TruncatedShadowMap) {
   HostImage big = random_depth(256, 256, 1);
   io::write_image(path("big.exr"), big);
   fs::resize_file(path("big.exr"), fs::file_size(path("big.exr")) / 2);
-  expect_input_error("filter --shadow-map " + path("big.exr") + " --receivers " + path("rx.exr"),
-                     "truncated");
+  expect_input_error("filter --shadow-map " + path("big.exr") + " --receivers " + path("rx.exr"), "truncated");
 }
 
 TEST_F(Cli, EmptyFile) {
   std::ofstream(path("empty.exr")).close();
-  expect_input_error("filter --shadow-map " + path("empty.exr") + " --receivers " + path("rx.exr"),
-                     "empty.exr");
+  expect_input_error("filter --shadow-map " + path("empty.exr") + " --receivers " + path("rx.exr"), "empty.exr");
 }
 
 TEST_F(Cli, WrongChannelCount) {
   io::write_image(path("two.exr"), HostImage(8, 8, 2, 0.5f));
-  expect_input_error("filter --shadow-map " + path("two.exr") + " --receivers " + path("rx.exr"),
-                     "2 channels");
+  expect_input_error("filter --shadow-map " + path("two.exr") + " --receivers " + path("rx.exr"), "2 channels");
 }
 
 TEST_F(Cli, NonFiniteDepthIsAnErrorUnlessAskedFar) {
@@ -131,24 +125,22 @@ TEST_F(Cli, NonFiniteDepthIsAnErrorUnlessAskedFar) {
 TEST_F(Cli, ReceiverImageMustBeFloat) {
   HostImage rx(5, 4, 3, 0.5f);
   io::write_image(path("rx16.png"), rx);
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx16.png"),
-                     "float");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx16.png"), "float");
 }
 
 TEST_F(Cli, ReceiverDepthSizeMustMatch) {
   io::write_image(path("small.exr"), HostImage(12, 16, 1, 0.7f));
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("small.exr"),
-                     "12x16");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("small.exr"), "12x16");
 }
 
 // A narrow storage format with a prefilter runs (the blur filters every format): csm in unorm8
 // and f16, R = 2, on the planar receivers: in [0,1], dark under the occluder, lit beside it.
 TEST_F(Cli, NarrowStorageWithBlurRuns) {
   for (const char* storage : {"unorm8", "f16"}) {
-    const RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " +
-                                    path("rd.exr") + " -o " + path("narrow.exr") +
-                                    " --method csm --csm-order 4 --blur-radius 2 --storage " + storage,
-                                dir_);
+    const RunResult r =
+        run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") + " -o " +
+                    path("narrow.exr") + " --method csm --csm-order 4 --blur-radius 2 --storage " + storage,
+                dir_);
     ASSERT_EQ(r.exit_code, 0) << storage << ": " << r.err;
     const HostImage v = io::load_depth_map(path("narrow.exr"), {});
     ASSERT_EQ(v.width, 24);
@@ -161,38 +153,33 @@ TEST_F(Cli, NarrowStorageWithBlurRuns) {
 
 TEST_F(Cli, ArgumentErrors) {
   expect_input_error("filter --shadow-map " + path("sm.exr"), "--receivers or --receiver-depth");
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --method nosuch",
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --method nosuch",
                      "unknown method");
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --esm-c 500",
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --esm-c 500",
                      "174");
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --blur-radius 1000",
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --blur-radius 1000",
                      "--blur-radius");
   for (const char* sigma : {"nan", "0", "-1", "inf"})
     expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                            " --blur-radius 2 --blur-sigma " + sigma,
                        "--blur-sigma");
   // The library names option fields (FilterOptions::csm.order); the command its own flags.
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --method csm --csm-order 99",
-                     "--csm-order must be in 1..32, got 99");
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --encoding weird",
+  expect_input_error(
+      "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --method csm --csm-order 99",
+      "--csm-order must be in 1..32, got 99");
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --encoding weird",
                      "weird");
-  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                         " --device no-such-device",
-                     "no-such-device");
+  expect_input_error(
+      "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --device no-such-device",
+      "no-such-device");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --bogus-flag",
                      "bogus");
 }
 
 TEST_F(Cli, NeverOverwritesAnInput) {
   const auto before = fs::file_size(path("sm.exr"));
-  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") +
-                            " -o " + path("rd.exr"),
-                        dir_);
+  RunResult r = run_cli(
+      "filter --shadow-map " + path("sm.exr") + " --receiver-depth " + path("rd.exr") + " -o " + path("rd.exr"), dir_);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("refusing"), std::string::npos) << r.err;
   EXPECT_EQ(fs::file_size(path("sm.exr")), before);
@@ -201,9 +188,9 @@ TEST_F(Cli, NeverOverwritesAnInput) {
 }
 
 TEST_F(Cli, UnwritableOutputLeavesNothing) {
-  RunResult r = run_cli("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
-                            " -o " + path("no/such/dir/out.exr"),
-                        dir_);
+  RunResult r = run_cli(
+      "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " -o " + path("no/such/dir/out.exr"),
+      dir_);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(count_lines(r.err), 1u) << r.err;
 }

@@ -178,8 +178,7 @@ TEST(Embedding, SubBuffersGiveTheSameVisibility) {
     const size_t first = origin / sizeof(float);
     for (size_t i = 0; i < p.count(); ++i)
       ASSERT_EQ(whole[first + i], want[i]) << "lookup " << int(lookup) << " receiver " << i;
-    EXPECT_TRUE(std::isnan(whole[first - 1]) && std::isnan(whole[first + p.count()]))
-        << "wrote outside the sub-buffer";
+    EXPECT_TRUE(std::isnan(whole[first - 1]) && std::isnan(whole[first + p.count()])) << "wrote outside the sub-buffer";
   }
 }
 
@@ -203,8 +202,7 @@ TEST(Embedding, OutOfOrderQueueGivesTheSameVisibility) {
   auto& rt = runtime();
   const auto props = rt.device().getInfo<CL_DEVICE_QUEUE_PROPERTIES>();
   if (!(props & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)) GTEST_SKIP() << "no out-of-order queues";
-  cl::CommandQueue ooo(rt.context(), rt.device(),
-                       CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE | CL_QUEUE_PROFILING_ENABLE);
+  cl::CommandQueue ooo(rt.context(), rt.device(), CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE | CL_QUEUE_PROFILING_ENABLE);
   auto rt_ooo = std::make_shared<Runtime>(rt.context(), ooo);
   const HostImage depth = random_depth(128, 96, 4, 0.2f, 0.9f);
   const Points p = random_points(2000, 5);
@@ -280,8 +278,10 @@ TEST_P(KernelPreludeCases, CallerKernelMatchesReconstruct) {
   cl::Kernel k(prog, "caller_shade");
   k.setArg(0, pipe.basis());
   auto buffer_or_null = [&k](cl_uint i, const cl::Buffer& b) {
-    if (b()) k.setArg(i, b);
-    else k.setArg(i, sizeof(cl_mem), nullptr);
+    if (b())
+      k.setArg(i, b);
+    else
+      k.setArg(i, sizeof(cl_mem), nullptr);
   };
   buffer_or_null(1, t.chain);
   buffer_or_null(2, t.sat);
@@ -315,7 +315,9 @@ INSTANTIATE_TEST_SUITE_P(
                       PreludeCase{"msm", Lookup::Bilinear, 2e-5f}, PreludeCase{"csm", Lookup::Mips, 2e-5f}),
     [](const auto& info) {
       return std::string(info.param.method) + "_" +
-             (info.param.lookup == Lookup::Bilinear ? "bilinear" : info.param.lookup == Lookup::Mips ? "mips" : "sat");
+             (info.param.lookup == Lookup::Bilinear ? "bilinear"
+              : info.param.lookup == Lookup::Mips   ? "mips"
+                                                    : "sat");
     });
 
 TEST(Embedding, KernelPreludeRefusesRawDepthMethods) {

@@ -23,8 +23,7 @@ const Scene& bundled_scene() {
     Scene s;
     s.depth = io::load_depth_map(data_path("spheres/shadowmap.exr"), {});
     s.camera = io::load_receiver_image(data_path("spheres/receivers.exr"));
-    s.planar = io::load_receiver_depth(data_path("spheres/receiver_depth.exr"), s.depth.width,
-                                       s.depth.height, {});
+    s.planar = io::load_receiver_depth(data_path("spheres/receiver_depth.exr"), s.depth.width, s.depth.height, {});
     s.camera_hard = io::load_depth_map(data_path("spheres/reference_hard.exr"), {});
     return s;
   }();
@@ -57,8 +56,7 @@ bool ray_traced_lit(const HostImage& hard, size_t i) {
 // Lit: every texel the lookup can touch (bilinear taps +- R, plus one texel of margin) lies at
 // most `slope` in front of the receiver: only its own surface, tilted to the light, is there.
 // Shadowed: every such texel is in front of the receiver by at least `gap`.
-Region classify(const HostImage& z, double u, double v, double d, int radius, double slope,
-                double gap) {
+Region classify(const HostImage& z, double u, double v, double d, int radius, double slope, double gap) {
   const int x0 = int(std::floor(u * z.width - 0.5)) - radius - 1;
   const int y0 = int(std::floor(v * z.height - 0.5)) - radius - 1;
   bool all_lit = true, all_shadowed = true;
@@ -111,8 +109,7 @@ TEST_P(EsmOnScene, LitAndUmbraWithin1e3OfSref) {
   EXPECT_GT(shadowed, size_t(2000)) << "umbra receivers";
 }
 
-INSTANTIATE_TEST_SUITE_P(ModesAndRadii, EsmOnScene,
-                         ::testing::Combine(::testing::Bool(), ::testing::Values(0, 3)));
+INSTANTIATE_TEST_SUITE_P(ModesAndRadii, EsmOnScene, ::testing::Combine(::testing::Bool(), ::testing::Values(0, 3)));
 
 class EsmExponentsOnScene : public ::testing::TestWithParam<float> {};
 

@@ -109,7 +109,8 @@ TEST(EvalAuto, ChoosesUnderTheBoundAndSkipsMips) {
   for (const auto& f : r.finalists) {
     EXPECT_GE(f.score, 1.0) << f.label;
     EXPECT_LE(r.chosen_score, (1.0 + r.tolerance) * f.score) << f.label;
-    const auto row = std::find_if(r.tried.begin(), r.tried.end(), [&](const eval::Row& t) { return t.label == f.label; });
+    const auto row =
+        std::find_if(r.tried.begin(), r.tried.end(), [&](const eval::Row& t) { return t.label == f.label; });
     ASSERT_NE(row, r.tried.end());
     EXPECT_LE(row->sref.p99, req.max_error) << f.label;
   }
@@ -309,8 +310,8 @@ TEST(EvalCli, WritesResults) {
   HostImage hard(32, 32, 1, 1.0f);
   io::write_image(scene + "/reference_hard.exr", hard);
   const std::string out = dir + "/out";
-  const std::string cmd = std::string(SF_CLI_PATH) + " evaluate " + scene + " --methods sm,esm --grid quick --runs 1 -q -o " +
-                          out + " > " + dir + "/log.txt 2>&1";
+  const std::string cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
+                          " --methods sm,esm --grid quick --runs 1 -q -o " + out + " > " + dir + "/log.txt 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::ifstream csv(out + "/results.csv");
   std::string header, line;
@@ -327,15 +328,16 @@ TEST(EvalCli, WritesResults) {
   const std::string auto_out = dir + "/auto";
   const std::string auto_cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
                                " --methods sm,pcf,vsm --grid quick --runs 1 -q --auto --auto-radius 1"
-                               " --metric rmse --max-error 0.5 -o " + auto_out + " > " + dir + "/auto_log.txt 2>&1";
+                               " --metric rmse --max-error 0.5 -o " +
+                               auto_out + " > " + dir + "/auto_log.txt 2>&1";
   ASSERT_EQ(std::system(auto_cmd.c_str()), 0) << auto_cmd;
   std::ifstream auto_txt(auto_out + "/auto.txt");
   const std::string text((std::istreambuf_iterator<char>(auto_txt)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("auto: chose"), std::string::npos) << text;
   EXPECT_NE(text.find("rmse <= 0.5"), std::string::npos) << text;
   EXPECT_NE(text.find("skipped mip pyramid"), std::string::npos) << text;  // footprints 1
-  const std::string bad_metric = std::string(SF_CLI_PATH) + " evaluate " + scene + " --auto --metric p98 -o " +
-                                 auto_out + " > /dev/null 2>&1";
+  const std::string bad_metric =
+      std::string(SF_CLI_PATH) + " evaluate " + scene + " --auto --metric p98 -o " + auto_out + " > /dev/null 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(bad_metric.c_str())), 2);
   const std::string bad = std::string(SF_CLI_PATH) + " evaluate " + dir + "/missing -o " + out + " > /dev/null 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);

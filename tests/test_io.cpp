@@ -35,8 +35,7 @@ class ImageIoTest : public ::testing::Test {
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ = fs::path(SF_TEST_TMP) / "io" /
-           (std::string(info->test_suite_name()) + "." + info->name() + "." +
-            std::to_string(::getpid()));
+           (std::string(info->test_suite_name()) + "." + info->name() + "." + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -47,8 +46,7 @@ class ImageIoTest : public ::testing::Test {
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
   std::vector<std::string> files_in_dir() const {
     std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir_))
-      names.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
     return names;
   }
 
@@ -60,27 +58,21 @@ HostImage ramp(int w, int h, int channels = 1) {
   HostImage img(w, h, channels);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      for (int c = 0; c < channels; ++c)
-        img.at(x, y, c) = static_cast<float>((x + 3 * y + 7 * c) % 17) / 16.0f;
+      for (int c = 0; c < channels; ++c) img.at(x, y, c) = static_cast<float>((x + 3 * y + 7 * c) % 17) / 16.0f;
   return img;
 }
 
-HostImage constant_image(int w, int h, int channels, float value) {
-  return HostImage(w, h, channels, value);
-}
+HostImage constant_image(int w, int h, int channels, float value) { return HostImage(w, h, channels, value); }
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 // The call must throw InputError with a one-line message containing every key word.
-void expect_input_error(const std::function<void()>& call,
-                        std::initializer_list<std::string> key_words) {
+void expect_input_error(const std::function<void()>& call, std::initializer_list<std::string> key_words) {
   try {
     call();
     ADD_FAILURE() << "no InputError thrown";
@@ -89,8 +81,7 @@ void expect_input_error(const std::function<void()>& call,
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     EXPECT_EQ(message.find('\r'), std::string::npos) << message;
     for (const std::string& word : key_words)
-      EXPECT_NE(message.find(word), std::string::npos)
-          << "missing '" << word << "' in: " << message;
+      EXPECT_NE(message.find(word), std::string::npos) << "missing '" << word << "' in: " << message;
   }
 }
 
@@ -235,8 +226,7 @@ TEST(ImageIoEncodingTest, ParsesNamesAndRejectsUnknownOnes) {
   EXPECT_EQ(sf::io::parse_depth_encoding("linear"), DepthEncoding::Linear);
   EXPECT_EQ(sf::io::parse_depth_encoding("perspective"), DepthEncoding::Perspective);
   EXPECT_EQ(sf::io::parse_depth_encoding("reversed"), DepthEncoding::Reversed);
-  expect_input_error([] { sf::io::parse_depth_encoding("log"); },
-                     {"log", "linear", "perspective", "reversed"});
+  expect_input_error([] { sf::io::parse_depth_encoding("log"); }, {"log", "linear", "perspective", "reversed"});
 }
 
 TEST(ImageIoEncodingTest, LinearClampsToUnitRange) {
@@ -254,8 +244,7 @@ TEST(ImageIoEncodingTest, PerspectiveMatchesHandComputedValues) {
   EXPECT_NEAR(sf::io::linearize_depth(1.0, opt), 1.0, 1e-12);
   EXPECT_NEAR(sf::io::linearize_depth(0.75, opt), 0.5, 1e-12);
   // N = 0.5, F = 10, z = 0.5: z_view = 5 / 5.25 = 20/21, linear = (20/21 - 1/2) / 9.5 = 1/21.
-  EXPECT_NEAR(sf::io::linearize_depth(0.5, encoded(DepthEncoding::Perspective, 0.5, 10.0)),
-              1.0 / 21.0, 1e-12);
+  EXPECT_NEAR(sf::io::linearize_depth(0.5, encoded(DepthEncoding::Perspective, 0.5, 10.0)), 1.0 / 21.0, 1e-12);
   // Stored values past the far plane clamp to far instead of wrapping through the pole.
   EXPECT_EQ(sf::io::linearize_depth(1.5, opt), 1.0);
   EXPECT_EQ(sf::io::linearize_depth(-0.5, opt), 0.0);
@@ -267,16 +256,14 @@ TEST(ImageIoEncodingTest, ReversedMatchesHandComputedValues) {
   EXPECT_NEAR(sf::io::linearize_depth(0.0, opt), 1.0, 1e-12);  // far
   EXPECT_NEAR(sf::io::linearize_depth(0.25, opt), 0.5, 1e-12);
   // N = 0.5, F = 10, z_rev = 0.25: z_view = 5 / 2.875 = 40/23, linear = (40/23 - 1/2) / 9.5 = 3/23.
-  EXPECT_NEAR(sf::io::linearize_depth(0.25, encoded(DepthEncoding::Reversed, 0.5, 10.0)),
-              3.0 / 23.0, 1e-12);
+  EXPECT_NEAR(sf::io::linearize_depth(0.25, encoded(DepthEncoding::Reversed, 0.5, 10.0)), 3.0 / 23.0, 1e-12);
 }
 
 TEST_F(ImageIoTest, DepthMapIsDecodedWithItsEncoding) {
   HostImage stored(3, 1);
   stored.data = {0.0f, 0.75f, 1.0f};
   sf::io::write_image(file("p.exr"), stored);
-  const HostImage depth =
-      sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Perspective, 1.0, 3.0));
+  const HostImage depth = sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Perspective, 1.0, 3.0));
   EXPECT_NEAR(depth.data[0], 0.0f, 1e-6f);
   EXPECT_NEAR(depth.data[1], 0.5f, 1e-6f);
   EXPECT_NEAR(depth.data[2], 1.0f, 1e-6f);
@@ -287,9 +274,8 @@ TEST_F(ImageIoTest, InvalidPlanesAreRejected) {
   for (const auto& [near_plane, far_plane] :
        std::vector<std::pair<double, double>>{{0.0, 1.0}, {-1.0, 1.0}, {2.0, 2.0}, {3.0, 1.0}}) {
     for (DepthEncoding encoding : {DepthEncoding::Perspective, DepthEncoding::Reversed}) {
-      expect_input_error(
-          [&] { sf::io::load_depth_map(file("p.exr"), encoded(encoding, near_plane, far_plane)); },
-          {"p.exr", "--near", "--far"});
+      expect_input_error([&] { sf::io::load_depth_map(file("p.exr"), encoded(encoding, near_plane, far_plane)); },
+                         {"p.exr", "--near", "--far"});
     }
   }
   // Linear depth ignores the planes.
@@ -379,8 +365,7 @@ TEST_F(ImageIoTest, NonImagesAreReported) {
   write_text(file("fake.exr"), "not an image either\n");
   write_text(file("empty.png"), "");
   for (const std::string name : {"notes.txt", "fake.exr", "empty.png"})
-    expect_input_error([&] { sf::io::load_depth_map(file(name), {}); },
-                       {name, "not a readable image"});
+    expect_input_error([&] { sf::io::load_depth_map(file(name), {}); }, {name, "not a readable image"});
   expect_input_error([&] { sf::io::load_depth_map(dir_.string(), {}); }, {"directory"});
 }
 
@@ -396,8 +381,7 @@ TEST_F(ImageIoTest, TruncatedFilesAreReported) {
 
 TEST_F(ImageIoTest, ZeroSizeImageIsReported) {
   write_text(file("zero.pfm"), "Pf\n0 0\n-1.0\n");
-  expect_input_error([&] { sf::io::load_depth_map(file("zero.pfm"), {}); },
-                     {"zero.pfm", "zero size"});
+  expect_input_error([&] { sf::io::load_depth_map(file("zero.pfm"), {}); }, {"zero.pfm", "zero size"});
 }
 
 // --- receivers -------------------------------------------------------------------------------
@@ -466,8 +450,7 @@ TEST_F(ImageIoTest, IntegerReceiverImageIsRejected) {
   expect_input_error([&] { sf::io::load_receiver_image(file("rec.png")); },
                      {"receiver image", "rec.png", "uint16", "float"});
   write_with_oiio(file("rec8.png"), ramp(3, 3, 3), OIIO::TypeDesc::UINT8);
-  expect_input_error([&] { sf::io::load_receiver_image(file("rec8.png")); },
-                     {"rec8.png", "uint8", "float"});
+  expect_input_error([&] { sf::io::load_receiver_image(file("rec8.png")); }, {"rec8.png", "uint8", "float"});
 }
 
 TEST_F(ImageIoTest, WrongReceiverChannelCountIsRejected) {
@@ -483,8 +466,7 @@ TEST_F(ImageIoTest, ReceiverDepthIsDecodedOnTheShadowMapGrid) {
   HostImage img(3, 2);
   img.data = {0.0f, 0.75f, 1.0f, kNaN, 2.0f, -kInf};
   sf::io::write_image(file("rd.exr"), img);
-  const Receivers rec =
-      sf::io::load_receiver_depth(file("rd.exr"), 3, 2, encoded(DepthEncoding::Perspective, 1, 3));
+  const Receivers rec = sf::io::load_receiver_depth(file("rd.exr"), 3, 2, encoded(DepthEncoding::Perspective, 1, 3));
   EXPECT_TRUE(rec.grid);
   EXPECT_FALSE(rec.has_footprint);
   EXPECT_EQ(rec.width, 3);
@@ -536,8 +518,7 @@ TEST_F(ImageIoTest, MissingDirectoryIsNotCreated) {
 
 TEST_F(ImageIoTest, FailedWriteKeepsTheExistingFile) {
   write_text(file("keep.pfm"), "old contents");
-  expect_input_error([&] { sf::io::write_image(file("keep.pfm"), ramp(4, 4, 4)); },
-                     {"keep.pfm", "PFM", "4"});
+  expect_input_error([&] { sf::io::write_image(file("keep.pfm"), ramp(4, 4, 4)); }, {"keep.pfm", "PFM", "4"});
   HostImage inconsistent(4, 4);
   inconsistent.data.resize(3);
   expect_input_error([&] { sf::io::write_image(file("keep.pfm"), inconsistent); }, {"keep.pfm"});

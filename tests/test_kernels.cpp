@@ -94,17 +94,16 @@ TEST_P(Blur, MatchesReference) {
   enqueue_blur(runtime(), blur, sched, src, tmp, dst, shape).cols.wait();
   const auto got = from_device(dst, host.size());
   const auto want = ref::blur(in, bc.radius, 0.0);
-  for (size_t i = 0; i < got.size(); ++i)
-    ASSERT_NEAR(got[i], want.data[i], 1e-5 * want.data[i]) << "index " << i;
+  for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(got[i], want.data[i], 1e-5 * want.data[i]) << "index " << i;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Shapes, Blur,
-    ::testing::Values(BlurCase{1, 1, 1, 3, 16}, BlurCase{1, 9, 1, 2, 16}, BlurCase{9, 1, 1, 2, 16},
-                      BlurCase{7, 5, 1, 32, 16}, BlurCase{37, 29, 3, 1, 16}, BlurCase{37, 29, 1, 0, 16},
-                      BlurCase{64, 64, 1, 3, 16}, BlurCase{130, 70, 2, 7, 16},
-                      BlurCase{130, 70, 1, 15, 8}, BlurCase{101, 67, 1, 7, 4},
-                      BlurCase{257, 33, 1, 32, 16}, BlurCase{40, 300, 1, 64, 16}));
+INSTANTIATE_TEST_SUITE_P(Shapes, Blur,
+                         ::testing::Values(BlurCase{1, 1, 1, 3, 16}, BlurCase{1, 9, 1, 2, 16}, BlurCase{9, 1, 1, 2, 16},
+                                           BlurCase{7, 5, 1, 32, 16}, BlurCase{37, 29, 3, 1, 16},
+                                           BlurCase{37, 29, 1, 0, 16}, BlurCase{64, 64, 1, 3, 16},
+                                           BlurCase{130, 70, 2, 7, 16}, BlurCase{130, 70, 1, 15, 8},
+                                           BlurCase{101, 67, 1, 7, 4}, BlurCase{257, 33, 1, 32, 16},
+                                           BlurCase{40, 300, 1, 64, 16}));
 
 TEST(Blur, InPlaceEqualsOutOfPlace) {
   const HostImage img = random_depth(53, 41, 3);
@@ -175,8 +174,7 @@ TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
   cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   ScheduleOptions sched;
   sched.blur_vector_width = bc.vec;
-  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, src, tmp, dst, shape, nullptr, bc.storage)
-      .cols.wait();
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, src, tmp, dst, shape, nullptr, bc.storage).cols.wait();
   const auto got = read_stored(dst, n, bc.storage);
   const auto want = ref::blur(in, bc.radius, 0.0);
   const double e = 1.2e-7 * (bc.radius + 2) * maxabs;
@@ -192,8 +190,7 @@ TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
   }
   // In place (through tmp and the copy back) gives the same codes.
   cl::Buffer a = raw_to_device(codes);
-  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, a, tmp, a, shape, nullptr, bc.storage)
-      .cols.wait();
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, a, tmp, a, shape, nullptr, bc.storage).cols.wait();
   EXPECT_EQ(raw_from_device(a, shape.bytes()), raw_from_device(dst, shape.bytes()));
 }
 
@@ -215,9 +212,9 @@ std::vector<BlurStorageCase> blur_storage_cases() {
 INSTANTIATE_TEST_SUITE_P(Formats, BlurStorage, ::testing::ValuesIn(blur_storage_cases()),
                          [](const ::testing::TestParamInfo<BlurStorageCase>& i) {
                            const BlurStorageCase& c = i.param;
-                           return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) +
-                                  "x" + std::to_string(c.height) + "x" + std::to_string(c.channels) +
-                                  "_R" + std::to_string(c.radius) + "_v" + std::to_string(c.vec);
+                           return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) + "x" +
+                                  std::to_string(c.height) + "x" + std::to_string(c.channels) + "_R" +
+                                  std::to_string(c.radius) + "_v" + std::to_string(c.vec);
                          });
 
 // Every schedule (vector width, strip, rows) computes every texel by the same float sequence:
@@ -286,10 +283,10 @@ TEST(Blur, WeightsAreNormalisedAndDefaultSigmaSpansThreeSigma) {
 Receivers odd_and_random_receivers(unsigned seed) {
   Receivers rx;
   const float nan = std::nanf("");
-  std::vector<std::array<float, 3>> pts = {
-      {0.5f, 0.5f, nan},  {0.5f, 0.5f, INFINITY}, {-0.1f, 0.5f, 0.5f}, {0.5f, 1.2f, 0.5f},
-      {0.0f, 0.0f, 0.3f}, {1.0f, 1.0f, 0.3f},     {0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, 1.5f},
-      {nan, 0.5f, 0.5f},  {0.999f, 0.001f, 1.0f}, {0.25f, 0.75f, 0.0f}};
+  std::vector<std::array<float, 3>> pts = {{0.5f, 0.5f, nan},      {0.5f, 0.5f, INFINITY}, {-0.1f, 0.5f, 0.5f},
+                                           {0.5f, 1.2f, 0.5f},     {0.0f, 0.0f, 0.3f},     {1.0f, 1.0f, 0.3f},
+                                           {0.5f, 0.5f, -0.5f},    {0.5f, 0.5f, 1.5f},     {nan, 0.5f, 0.5f},
+                                           {0.999f, 0.001f, 1.0f}, {0.25f, 0.75f, 0.0f}};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int i = 0; i < 500; ++i) pts.push_back({unit(rng), unit(rng), unit(rng)});
@@ -341,8 +338,7 @@ TEST_P(EsmPipeline, PointsAndGridMatchReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ExponentsAndRadii, EsmPipeline,
-                         ::testing::Combine(::testing::Values(1.0f, 40.0f, 80.0f, 88.0f),
-                                            ::testing::Values(0, 1, 4)));
+                         ::testing::Combine(::testing::Values(1.0f, 40.0f, 80.0f, 88.0f), ::testing::Values(0, 1, 4)));
 
 TEST(Pipeline, RefusesMapsThatDoNotFitTheDevice) {
   const auto& info = runtime().info();

@@ -179,8 +179,7 @@ TEST_P(EsmLookupPipeline, MatchesReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(KindsAndRadii, EsmLookupPipeline,
-                         ::testing::Combine(::testing::Values(Lookup::Mips, Lookup::Sat),
-                                            ::testing::Values(0, 2)));
+                         ::testing::Combine(::testing::Values(Lookup::Mips, Lookup::Sat), ::testing::Values(0, 2)));
 
 // pcf with footprints (kernels/pcf.cl, sf_pcf_points_footprint) is s_ref under the lookup's
 // composite weights (lookup_taps: level bilinear pushed down, box coverage, then the Gaussian),
@@ -197,8 +196,7 @@ void expect_pcf_is_sref(const FilterOptions& opt, const HostImage& depth, const 
   double worst = 0;
   size_t partial = 0;
   for (size_t i = 0; i < rx.count(); ++i) {
-    const double s = ref::s_ref(depth, opt.blur, opt.lookup.kind, rx.u[i], rx.v[i], rx.d[i],
-                                ref::footprint_at(rx, i));
+    const double s = ref::s_ref(depth, opt.blur, opt.lookup.kind, rx.u[i], rx.v[i], rx.d[i], ref::footprint_at(rx, i));
     if (!want.empty()) {
       ASSERT_NEAR(want[i], s, 1e-12) << what << " reference " << i;
     }
@@ -208,8 +206,8 @@ void expect_pcf_is_sref(const FilterOptions& opt, const HostImage& depth, const 
   }
   // Penumbrae (0 < s_ref < 1) are where the weights matter: the receivers must contain some.
   EXPECT_GT(partial, rx.count() / 50) << what;
-  std::printf("[ pcf %s ] %zu receivers, %zu partial, max |pcf - s_ref| = %.2g\n", what.c_str(),
-              rx.count(), partial, worst);
+  std::printf("[ pcf %s ] %zu receivers, %zu partial, max |pcf - s_ref| = %.2g\n", what.c_str(), rx.count(), partial,
+              worst);
 }
 
 TEST_P(PcfFootprints, EqualsSRefWithTheSameWeights) {

@@ -29,11 +29,16 @@ double basis_tolerance(const MethodCase& mc, double v) {
   const bool unorm = mc.storage == Storage::Unorm16 || mc.storage == Storage::Unorm8;
   const double av = std::fabs(v);
   double f32;
-  if (mc.method == "esm") f32 = (1e-6 + 1e-7 * 80) * av;
-  else if (mc.method == "vsm") f32 = 1.2e-7 * av + 1e-12;
-  else if (mc.method.rfind("evsm", 0) == 0) f32 = 1.2e-5 * av;
-  else if (mc.method.rfind("msm", 0) == 0) f32 = unorm ? 4e-5 : 4e-7 * av + 1e-12;
-  else f32 = 2e-6 + 6e-7 * mc.csm_order;
+  if (mc.method == "esm")
+    f32 = (1e-6 + 1e-7 * 80) * av;
+  else if (mc.method == "vsm")
+    f32 = 1.2e-7 * av + 1e-12;
+  else if (mc.method.rfind("evsm", 0) == 0)
+    f32 = 1.2e-5 * av;
+  else if (mc.method.rfind("msm", 0) == 0)
+    f32 = unorm ? 4e-5 : 4e-7 * av + 1e-12;
+  else
+    f32 = 2e-6 + 6e-7 * mc.csm_order;
   // A value within f32 error of a rounding boundary may round either way: one storage step.
   return f32 + (mc.storage == Storage::F32 ? 0.0 : storage_step(v, mc.storage));
 }
@@ -86,8 +91,8 @@ TEST_P(MethodKernels, TransformPartialTailEveryVectorWidth) {
       const double w = ref::quantise(want.data[i], mc.storage);
       ASSERT_TRUE(std::isfinite(got[i])) << mc.label() << " width " << width << " value " << i;
       ASSERT_NEAR(got[i], w, basis_tolerance(mc, want.data[i]))
-          << mc.label() << " width " << width << " channel " << i / texels << " texel "
-          << i % texels << " z=" << depth.data[i % texels];
+          << mc.label() << " width " << width << " channel " << i / texels << " texel " << i % texels
+          << " z=" << depth.data[i % texels];
     }
   }
 }
@@ -166,8 +171,7 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
     d.push_back(0.5f);
     cl::Buffer ub = to_device(u), vb = to_device(v), db = to_device(d);
     cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, u.size() * sizeof(float));
-    enqueue_reconstruct_points(runtime(), m, opt, pipe.basis(), depth.width, depth.height, ub, vb, db,
-                               out, u.size())
+    enqueue_reconstruct_points(runtime(), m, opt, pipe.basis(), depth.width, depth.height, ub, vb, db, out, u.size())
         .wait();
     const auto got = from_device(out, u.size());
     std::vector<double> b(ch);
@@ -182,8 +186,8 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
           want = got[i];
       }
       if (std::abs(got[i] - want) > tol && std::getenv("SF_TEST_VERBOSE")) {
-        std::cerr << mc.label() << " point i=" << i << " u=" << u[i] << " v=" << v[i] << " d=" << d[i]
-                  << " got " << got[i] << " want " << want << " b=";
+        std::cerr << mc.label() << " point i=" << i << " u=" << u[i] << " v=" << v[i] << " d=" << d[i] << " got "
+                  << got[i] << " want " << want << " b=";
         for (double x : b) std::cerr << x << " ";
         std::cerr << "\n";
       }

@@ -45,7 +45,9 @@ inline std::vector<float> read_stored(const cl::Buffer& buf, size_t count, Stora
   std::vector<float> out(count);
   for (size_t i = 0; i < count; ++i) {
     switch (s) {
-      case Storage::F32: std::memcpy(&out[i], &raw[4 * i], 4); break;
+      case Storage::F32:
+        std::memcpy(&out[i], &raw[4 * i], 4);
+        break;
       case Storage::F16: {
         uint16_t h;
         std::memcpy(&h, &raw[2 * i], 2);
@@ -58,7 +60,9 @@ inline std::vector<float> read_stored(const cl::Buffer& buf, size_t count, Stora
         out[i] = h * (1.0f / 65535.0f);  // exactly as sf_load
         break;
       }
-      case Storage::Unorm8: out[i] = raw[i] * (1.0f / 255.0f); break;
+      case Storage::Unorm8:
+        out[i] = raw[i] * (1.0f / 255.0f);
+        break;
     }
   }
   return out;
@@ -68,10 +72,14 @@ inline std::vector<float> read_stored(const cl::Buffer& buf, size_t count, Stora
 // correct rounding of a value within float error of the same number.
 inline double storage_step(double v, Storage s) {
   switch (s) {
-    case Storage::F32: return 0;
-    case Storage::F16: return std::max(std::fabs(v) * std::ldexp(1.0, -10), std::ldexp(1.0, -24));
-    case Storage::Unorm16: return 1.0 / 65535;
-    case Storage::Unorm8: return 1.0 / 255;
+    case Storage::F32:
+      return 0;
+    case Storage::F16:
+      return std::max(std::fabs(v) * std::ldexp(1.0, -10), std::ldexp(1.0, -24));
+    case Storage::Unorm16:
+      return 1.0 / 65535;
+    case Storage::Unorm8:
+      return 1.0 / 255;
   }
   return 0;
 }

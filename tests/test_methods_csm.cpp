@@ -27,8 +27,8 @@ TEST(CsmDefaults, LitReceiversLitAndErrorFallsWithOrder) {
       CsmRun r(csm_scene(k), M);
       const CsmParameters p = csm_parameters(r.opt);
       const CsmScore c = score(csm_scene(k), r.visibility(p.offset, p.scale), 1.0f);
-      std::printf("%s M=%2d offset %.4f scale %.2f: rmse %.4f p99 %.4f mean %.4f lit %.5f\n",
-                  kScenes[k], M, p.offset, p.scale, c.rmse, c.p99, c.mean, c.min_lit);
+      std::printf("%s M=%2d offset %.4f scale %.2f: rmse %.4f p99 %.4f mean %.4f lit %.5f\n", kScenes[k], M, p.offset,
+                  p.scale, c.rmse, c.p99, c.mean, c.min_lit);
       EXPECT_GE(c.min_lit, 1.0f - 1.0f / 255.0f) << kScenes[k] << " M=" << M;
       EXPECT_LT(c.rmse, last_rmse) << kScenes[k] << " M=" << M;
       EXPECT_LT(c.p99, last_p99) << kScenes[k] << " M=" << M;
@@ -59,8 +59,7 @@ TEST(CsmUnormCodes, DenseDepthsWithinOneCode) {
       const auto want = ref::transform(opt, depth);
       const double step = storage_step(0.5, st), tol = 2e-6 + 6e-7 * M + step;
       double worst = 0;
-      for (size_t i = 0; i < n; ++i)
-        worst = std::max(worst, std::fabs(got[i] - ref::quantise(want.data[i], st)));
+      for (size_t i = 0; i < n; ++i) worst = std::max(worst, std::fabs(got[i] - ref::quantise(want.data[i], st)));
       EXPECT_LE(worst, tol) << storage_name(st) << " M=" << M;
     }
 }

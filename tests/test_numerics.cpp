@@ -35,8 +35,8 @@ Receivers grid_receivers(int w, int h, const std::function<float(int, int)>& d) 
 }
 
 struct Outcome {
-  double worst = 0;     // max |v - s_ref|
-  size_t bad = 0;       // non-finite or outside [0,1]
+  double worst = 0;  // max |v - s_ref|
+  size_t bad = 0;    // non-finite or outside [0,1]
   std::string first_bad;
 };
 
@@ -139,9 +139,8 @@ TEST(Numerics, DepthsOneMillionthApart) {
 // the limit. Random map, receivers at the surface + 0.01 .. - 0.01.
 TEST(Numerics, EsmExponents) {
   const HostImage depth = random_depth(40, 40, 3, 0.0f, 1.0f);
-  const Receivers rx = grid_receivers(40, 40, [&](int x, int y) {
-    return std::clamp(depth.at(x, y) + 0.01f * float((x % 3) - 1), 0.0f, 1.0f);
-  });
+  const Receivers rx = grid_receivers(
+      40, 40, [&](int x, int y) { return std::clamp(depth.at(x, y) + 0.01f * float((x % 3) - 1), 0.0f, 1.0f); });
   for (float c : {1.0f, 40.0f, 80.0f, 88.0f, 120.0f, 174.0f}) {
     FilterOptions o = method_options("esm", 2);
     o.esm.c = c;

@@ -70,10 +70,9 @@ TEST_P(Pyramid, EveryLevelMatchesTheReference) {
 // Sizes: 1x1 (no level), thin and odd ones, non-powers of two, and maps above 128 texels a side
 // (the 32x32 tile kernel, interior and edge tiles, before the tail kernel), several channels.
 INSTANTIATE_TEST_SUITE_P(Sizes, Pyramid,
-                         ::testing::Values(Size{1, 1, 1}, Size{1, 9, 1}, Size{13, 1, 2}, Size{2, 2, 1},
-                                           Size{3, 5, 1}, Size{33, 17, 3}, Size{128, 128, 1},
-                                           Size{129, 3, 1}, Size{300, 129, 2}, Size{257, 511, 1},
-                                           Size{1000, 37, 1}, Size{517, 300, 4}, Size{256, 96, 2}));
+                         ::testing::Values(Size{1, 1, 1}, Size{1, 9, 1}, Size{13, 1, 2}, Size{2, 2, 1}, Size{3, 5, 1},
+                                           Size{33, 17, 3}, Size{128, 128, 1}, Size{129, 3, 1}, Size{300, 129, 2},
+                                           Size{257, 511, 1}, Size{1000, 37, 1}, Size{517, 300, 4}, Size{256, 96, 2}));
 
 // Conservative: every z-max texel >= every level-0 texel it covers (level-k texel (i, j) covers
 // [i 2^k, (i+1) 2^k) x [j 2^k, (j+1) 2^k) clipped to the map), z-min likewise <=.
@@ -137,11 +136,10 @@ TEST_P(PyramidStorage, EveryLevelMatchesTheReference) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Storages, PyramidStorage,
-    ::testing::Combine(::testing::Values(Storage::F16, Storage::Unorm16, Storage::Unorm8),
-                       ::testing::Values(Size{1, 1, 1}, Size{3, 5, 2}, Size{33, 17, 1}, Size{300, 129, 2},
-                                         Size{517, 300, 1})));
+INSTANTIATE_TEST_SUITE_P(Storages, PyramidStorage,
+                         ::testing::Combine(::testing::Values(Storage::F16, Storage::Unorm16, Storage::Unorm8),
+                                            ::testing::Values(Size{1, 1, 1}, Size{3, 5, 2}, Size{33, 17, 1},
+                                                              Size{300, 129, 2}, Size{517, 300, 1})));
 
 }  // namespace
 }  // namespace sf::test

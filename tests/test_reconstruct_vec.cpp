@@ -34,12 +34,24 @@ Receivers make_rx(int n, unsigned seed) {
     float u = coord(rng), v = coord(rng), d = depth(rng);
     if (i % 13 == 0) {
       switch ((i / 13) % 6) {
-        case 0: u = -0.01f; break;
-        case 1: v = 1.02f; break;
-        case 2: u = nan; break;
-        case 3: v = -inf; break;
-        case 4: d = nan; break;
-        default: d = inf; break;
+        case 0:
+          u = -0.01f;
+          break;
+        case 1:
+          v = 1.02f;
+          break;
+        case 2:
+          u = nan;
+          break;
+        case 3:
+          v = -inf;
+          break;
+        case 4:
+          d = nan;
+          break;
+        default:
+          d = inf;
+          break;
       }
     }
     rx.u.push_back(u);
@@ -51,8 +63,7 @@ Receivers make_rx(int n, unsigned seed) {
 }
 
 bool outside(const Receivers& rx, int i) {
-  return !std::isfinite(rx.d[i]) || !(rx.u[i] >= 0.0f && rx.u[i] <= 1.0f) ||
-         !(rx.v[i] >= 0.0f && rx.v[i] <= 1.0f);
+  return !std::isfinite(rx.d[i]) || !(rx.u[i] >= 0.0f && rx.u[i] <= 1.0f) || !(rx.v[i] >= 0.0f && rx.v[i] <= 1.0f);
 }
 
 class EsmWidths : public ::testing::TestWithParam<std::tuple<int, Lookup>> {};
@@ -121,8 +132,7 @@ TEST_P(MethodWidths, EqualWidthOne) {
 
 INSTANTIATE_TEST_SUITE_P(MethodsAndLookups, MethodWidths,
                          ::testing::Combine(::testing::Values("esm", "vsm", "msm", "csm"),
-                                            ::testing::Values(Lookup::Bilinear, Lookup::Mips,
-                                                              Lookup::Sat)));
+                                            ::testing::Values(Lookup::Bilinear, Lookup::Mips, Lookup::Sat)));
 
 // csm M = 16 and 32 (32 and 64 planes) with mips overflowed PoCL's work-item stack at width 16
 // when the launch was large (a crash; 517 receivers did not show it): the host narrows their
@@ -212,7 +222,8 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       const double tol = opt.method == "esm" ? 2e-5 + 1e-7 * opt.esm.c : 1e-5;
       for (int width : {1, 16}) {
         opt.schedule.reconstruct_vector_width = width;
-        cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4), b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
+        cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4),
+            b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
         const MethodDesc& m = find_method(method);
         enqueue_reconstruct_points(runtime(), m, opt, level0, w, h, u, v, d, a, rx.u.size(), nullptr, &separate);
         enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, b, rx.u.size(), nullptr, &one);
@@ -233,8 +244,8 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
         }
         for (size_t i = 0; i < va.size(); ++i) {
           ASSERT_TRUE(std::isfinite(vj[i])) << method << " " << storage_name(storage) << " " << w << "x" << h;
-          ASSERT_NEAR(vj[i], va[i], tol) << method << " " << storage_name(storage) << " " << w << "x" << h
-                                         << " width " << width << " receiver " << i;
+          ASSERT_NEAR(vj[i], va[i], tol) << method << " " << storage_name(storage) << " " << w << "x" << h << " width "
+                                         << width << " receiver " << i;
           compared += va[i] > 0.01 && va[i] < 0.99;
         }
       }

@@ -83,9 +83,8 @@ TEST_P(Sat, TableMatchesTheReference) {
 
 INSTANTIATE_TEST_SUITE_P(
     Sizes, Sat,
-    ::testing::Combine(::testing::Values(Size{1, 1, 1}, Size{1, 40, 1}, Size{40, 1, 1}, Size{5, 3, 2},
-                                         Size{16, 16, 1}, Size{17, 33, 1}, Size{100, 37, 3},
-                                         Size{257, 300, 1}, Size{640, 1000, 1}),
+    ::testing::Combine(::testing::Values(Size{1, 1, 1}, Size{1, 40, 1}, Size{40, 1, 1}, Size{5, 3, 2}, Size{16, 16, 1},
+                                         Size{17, 33, 1}, Size{100, 37, 3}, Size{257, 300, 1}, Size{640, 1000, 1}),
                        ::testing::Values(SatAccumulator::Auto, SatAccumulator::FloatFloat),
                        ::testing::Values(SatSchedule::PerChannel, SatSchedule::Chained, SatSchedule::TwoLaunch)));
 
@@ -139,7 +138,8 @@ void expect_large_table_exact(SatAccumulator accumulator, SatSchedule schedule =
       }
     }
     for (int x = 1; x <= n; ++x) {
-      const long double v = (long double)got[d.layout.at(0, false, x, y)] + (long double)got[d.layout.at(0, true, x, y)];
+      const long double v =
+          (long double)got[d.layout.at(0, false, x, y)] + (long double)got[d.layout.at(0, true, x, y)];
       if (y == 0) {
         ASSERT_EQ(v, 0.0L);
         continue;
@@ -161,9 +161,7 @@ void expect_large_table_exact(SatAccumulator accumulator, SatSchedule schedule =
 }
 
 TEST(SatLarge, EntriesAt4096MatchALongDoubleTable) { expect_large_table_exact(SatAccumulator::Auto); }
-TEST(SatLarge, FloatFloatEntriesAt4096MatchALongDoubleTable) {
-  expect_large_table_exact(SatAccumulator::FloatFloat);
-}
+TEST(SatLarge, FloatFloatEntriesAt4096MatchALongDoubleTable) { expect_large_table_exact(SatAccumulator::FloatFloat); }
 TEST(SatLarge, TwoLaunchEntriesAt4096MatchALongDoubleTable) {
   expect_large_table_exact(SatAccumulator::Auto, SatSchedule::TwoLaunch);
 }
@@ -187,8 +185,7 @@ void expect_box_means_within_bound(int n, int boxes, const char* label) {
   std::mt19937 rng(n);
   std::uniform_real_distribution<float> dist(0.0f, 1.0f);
   for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x)
-      host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
+    for (int x = 0; x < n; ++x) host[size_t(y) * n + x] = 0.5f * dist(rng) + 0.25f * float(x + y) / n;
   const double vmax = 1.0;
   const ImageShape shape{n, n, 1, 4};
   cl::Buffer img = to_device(host);
@@ -217,8 +214,7 @@ void expect_box_means_within_bound(int n, int boxes, const char* label) {
     worst = std::max(worst, std::abs(got[i] - want));
     ASSERT_NEAR(got[i], want, 2.5e-7 * vmax) << "box " << i << " u=" << u[i] << " v=" << v[i] << " f=" << f[i];
   }
-  std::printf("[ SAT %dx%d%s ] max |box error| = %.3g x max|value| over %d boxes\n", n, n, label, worst / vmax,
-              boxes);
+  std::printf("[ SAT %dx%d%s ] max |box error| = %.3g x max|value| over %d boxes\n", n, n, label, worst / vmax, boxes);
 }
 
 TEST_P(SatBox, BoxMeansMatchBruteForceWithinTheBound) {

@@ -73,8 +73,10 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
       }
     }
   RecordProperty("disk_edge_error_pixels", std::to_string(worst_edge_error));
-  std::printf("  disk: %zu shadowed, %zu lit floor pixels, %zu on the edge misclassified, worst "
-              "%.4f pixels from the edge\n", inside, outside, wrong, worst_edge_error);
+  std::printf(
+      "  disk: %zu shadowed, %zu lit floor pixels, %zu on the edge misclassified, worst "
+      "%.4f pixels from the edge\n",
+      inside, outside, wrong, worst_edge_error);
   EXPECT_GT(inside, 3000u);
   EXPECT_GT(outside, 10000u);
   EXPECT_LE(worst_edge_error, 1.0);
@@ -114,8 +116,7 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
   if (c.type == LightType::Ortho) {
     setup.light = light_straight_down(4.5, 4.0, -0.1);
   } else {
-    setup.light = LightView::fit_perspective(setup.geometry, {1.0, 4.0, 0.0}, {1.0, 0.0, 0.0},
-                                             160.0, 0.01);
+    setup.light = LightView::fit_perspective(setup.geometry, {1.0, 4.0, 0.0}, {1.0, 0.0, 0.0}, 160.0, 0.01);
   }
   setup.camera.position = {3.0, 5.0, 0.0};
   setup.camera.target = {1.0, 0.0, 0.0};
@@ -130,9 +131,8 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
   const SceneRenderer renderer(setup);
   const CameraImages view = renderer.camera_view(true);
   const double d_b = 4.0 - h, d_r = 4.0;
-  const double expected = c.type == LightType::Perspective
-                              ? c.light_size * (d_r - d_b) / d_b
-                              : c.light_size * (d_r - d_b) / d_r;
+  const double expected =
+      c.type == LightType::Perspective ? c.light_size * (d_r - d_b) / d_b : c.light_size * (d_r - d_b) / d_r;
   // Over the ramp's inner part (0.1..0.9), |z| < 0.6: away from the perpendicular edges.
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (int y = 0; y < setup.camera.height; ++y)
@@ -145,16 +145,21 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
       const Vec3 p = ray.at(t_floor);
       const double vis = view.reference_soft.at(x, y);
       if (std::abs(p.z) > 0.6 || vis < 0.1 || vis > 0.9) continue;
-      n += 1; sx += p.x; sy += vis; sxx += p.x * p.x; sxy += p.x * vis;
+      n += 1;
+      sx += p.x;
+      sy += vis;
+      sxx += p.x * p.x;
+      sxy += p.x * vis;
     }
   ASSERT_GT(n, 200) << "too few penumbra pixels";
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   const double centre = (0.5 - (sy - slope * sx) / n) / slope;
   const double measured = 1.0 / slope;
-  std::printf("  penumbra %s L=%.2f: measured %.4f, formula %.4f (%+.2f%%), centre x = %.4f "
-              "(edge at 1), %d ramp pixels\n",
-              c.type == LightType::Ortho ? "ortho" : "perspective", c.light_size, measured,
-              expected, 100.0 * (measured / expected - 1.0), centre, int(n));
+  std::printf(
+      "  penumbra %s L=%.2f: measured %.4f, formula %.4f (%+.2f%%), centre x = %.4f "
+      "(edge at 1), %d ramp pixels\n",
+      c.type == LightType::Ortho ? "ortho" : "perspective", c.light_size, measured, expected,
+      100.0 * (measured / expected - 1.0), centre, int(n));
   EXPECT_NEAR(measured, expected, 0.05 * expected);
   EXPECT_NEAR(centre, 1.0, 0.05 * expected);
 }
@@ -164,8 +169,8 @@ INSTANTIATE_TEST_SUITE_P(Lights, ScenePenumbra,
                                            PenumbraCase{LightType::Perspective, 1.5},
                                            PenumbraCase{LightType::Ortho, 1.5}),
                          [](const auto& info) {
-                           return std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") +
-                                  "_L" + std::to_string(int(info.param.light_size * 100));
+                           return std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") + "_L" +
+                                  std::to_string(int(info.param.light_size * 100));
                          });
 
 // Slope-scaled bias: the receiver's depth change over one shadow-map texel, from the camera
@@ -207,33 +212,34 @@ TEST_P(SceneConsistency, LitReceiversPassShadowMapTest) {
   size_t lit = 0, pass = 0, shadowed = 0;
   for (int y = 0; y < setup.camera.height; ++y)
     for (int x = 0; x < setup.camera.width; ++x) {
-      const float u = view.receivers.at(x, y, 0), v = view.receivers.at(x, y, 1),
-                  d = view.receivers.at(x, y, 2);
+      const float u = view.receivers.at(x, y, 0), v = view.receivers.at(x, y, 1), d = view.receivers.at(x, y, 2);
       if (!std::isfinite(d)) continue;
       ASSERT_TRUE(u >= 0 && u <= 1 && v >= 0 && v <= 1 && d >= 0 && d <= 1)
           << name << ": receiver outside the light frustum at " << x << "," << y;
-      if (view.reference_hard.at(x, y) < 0.5f) { ++shadowed; continue; }
+      if (view.reference_hard.at(x, y) < 0.5f) {
+        ++shadowed;
+        continue;
+      }
       ++lit;
       const int i = std::clamp(int(u * sm.width), 0, sm.width - 1);
       const int j = std::clamp(int(v * sm.height), 0, sm.height - 1);
       if (d <= sm.at(i, j) + bias + slope_bias(view.receivers, x, y, sm.width, sm.height)) ++pass;
     }
   const double fraction = double(pass) / double(lit);
-  std::printf("  %s (%s): %zu lit, %zu shadowed receivers; %.3f%% of the lit pass the test\n",
-              name.c_str(), light.c_str(), lit, shadowed, 100.0 * fraction);
+  std::printf("  %s (%s): %zu lit, %zu shadowed receivers; %.3f%% of the lit pass the test\n", name.c_str(),
+              light.c_str(), lit, shadowed, 100.0 * fraction);
   EXPECT_GT(lit, 5000u);
   EXPECT_GT(shadowed, 500u);
   EXPECT_GE(fraction, 0.99) << name;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    BuiltIn, SceneConsistency,
-    ::testing::Values(std::make_pair("spheres", "ortho"), std::make_pair("fence", "ortho"),
-                      std::make_pair("backyard", "ortho"), std::make_pair("contact", "ortho"),
-                      std::make_pair("thin", "ortho"), std::make_pair("terrain", "ortho"),
-                      std::make_pair("spheres", "perspective"),
-                      std::make_pair("backyard", "perspective")),
-    [](const auto& info) { return info.param.first + "_" + info.param.second; });
+INSTANTIATE_TEST_SUITE_P(BuiltIn, SceneConsistency,
+                         ::testing::Values(std::make_pair("spheres", "ortho"), std::make_pair("fence", "ortho"),
+                                           std::make_pair("backyard", "ortho"), std::make_pair("contact", "ortho"),
+                                           std::make_pair("thin", "ortho"), std::make_pair("terrain", "ortho"),
+                                           std::make_pair("spheres", "perspective"),
+                                           std::make_pair("backyard", "perspective")),
+                         [](const auto& info) { return info.param.first + "_" + info.param.second; });
 
 }  // namespace
 }  // namespace sf::test

@@ -37,7 +37,7 @@ SceneRun scene_cli(const std::string& args, const std::string& dir) {
   return r;
 }
 
-const char* const kFiles[] = {"shadowmap.exr", "receiver_depth.exr", "receivers.exr",
+const char* const kFiles[] = {"shadowmap.exr",      "receiver_depth.exr", "receivers.exr",
                               "reference_hard.exr", "reference_soft.exr", "scene.json"};
 
 TEST(SceneCli, SameArgumentsAndSeedGiveIdenticalFiles) {
@@ -45,16 +45,14 @@ TEST(SceneCli, SameArgumentsAndSeedGiveIdenticalFiles) {
   const std::string common = " --size 96 --receivers 80x60 --samples 16 --seed 7 -q";
   ASSERT_EQ(scene_cli("fence -o " + dir + "/a" + common, dir).exit_code, 0);
   ASSERT_EQ(scene_cli("fence -o " + dir + "/b" + common + " --threads 1", dir).exit_code, 0);
-  ASSERT_EQ(scene_cli("fence -o " + dir + "/c --size 96 --receivers 80x60 --samples 16 --seed 8 -q",
-                      dir).exit_code, 0);
+  ASSERT_EQ(scene_cli("fence -o " + dir + "/c --size 96 --receivers 80x60 --samples 16 --seed 8 -q", dir).exit_code, 0);
   for (const char* name : kFiles) {
     const std::string a = read_all(fs::path(dir) / "a" / name);
     ASSERT_FALSE(a.empty()) << name;
     EXPECT_EQ(a, read_all(fs::path(dir) / "b" / name)) << name << " differs between runs";
   }
   // The seed reaches the soft reference (and only the sampled outputs).
-  EXPECT_NE(read_all(fs::path(dir) / "a/reference_soft.exr"),
-            read_all(fs::path(dir) / "c/reference_soft.exr"));
+  EXPECT_NE(read_all(fs::path(dir) / "a/reference_soft.exr"), read_all(fs::path(dir) / "c/reference_soft.exr"));
   EXPECT_EQ(read_all(fs::path(dir) / "a/shadowmap.exr"), read_all(fs::path(dir) / "c/shadowmap.exr"));
 }
 
@@ -68,9 +66,7 @@ TEST(SceneCli, MeshFileOnAFloor) {
   }
   for (const char* mesh : {"tetra.obj", "quad.off"}) {
     const std::string out = dir + "/out_" + mesh;
-    const SceneRun r = scene_cli(dir + "/" + mesh + " -o " + out +
-                                " --size 64 --receivers 64x48 --samples 4 -q",
-                            dir);
+    const SceneRun r = scene_cli(dir + "/" + mesh + " -o " + out + " --size 64 --receivers 64x48 --samples 4 -q", dir);
     ASSERT_EQ(r.exit_code, 0) << mesh << ": " << r.err;
     for (const char* name : kFiles) EXPECT_TRUE(fs::exists(fs::path(out) / name)) << name;
     const std::string json = read_all(fs::path(out) / "scene.json");
@@ -80,9 +76,10 @@ TEST(SceneCli, MeshFileOnAFloor) {
 
 TEST(SceneCli, PerspectiveLightRecordsFovAndPosition) {
   const std::string dir = temp_dir("scene_perspective");
-  const SceneRun r = scene_cli("spheres -o " + dir + "/p --size 64 --receivers 64x48 --samples 4 -q "
-                          "--light perspective --light-pos 3,9,2 --fov 70 --light-size 0.3",
-                          dir);
+  const SceneRun r = scene_cli("spheres -o " + dir +
+                                   "/p --size 64 --receivers 64x48 --samples 4 -q "
+                                   "--light perspective --light-pos 3,9,2 --fov 70 --light-size 0.3",
+                               dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string json = read_all(fs::path(dir) / "p/scene.json");
   EXPECT_NE(json.find("\"type\": \"perspective\""), std::string::npos);
@@ -109,19 +106,18 @@ TEST_P(SceneCliErrors, ClearErrorAndNoDirectory) {
   EXPECT_EQ(entries, 1u) << "something besides garbage.obj was left in " << dir;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    BadArguments, SceneCliErrors,
-    ::testing::Values(std::make_pair("nosuchscene", "unknown scene 'nosuchscene'"),
-                      std::make_pair("@/missing.ply", "no such file"),
-                      std::make_pair("@/garbage.obj", "cannot read mesh"),
-                      std::make_pair("spheres --size 0", "--size must be between 1"),
-                      std::make_pair("spheres --receivers 0x10", "--receivers width"),
-                      std::make_pair("spheres --samples 10", "square number"),
-                      std::make_pair("spheres --light sideways", "--light must be"),
-                      std::make_pair("spheres --light-pos 1,2,3", "needs --light perspective"),
-                      std::make_pair("spheres --light-dir 0,0,0", "zero vector"),
-                      std::make_pair("spheres --light perspective --light-pos 0,1,0",
-                                     "behind the light")));
+INSTANTIATE_TEST_SUITE_P(BadArguments, SceneCliErrors,
+                         ::testing::Values(std::make_pair("nosuchscene", "unknown scene 'nosuchscene'"),
+                                           std::make_pair("@/missing.ply", "no such file"),
+                                           std::make_pair("@/garbage.obj", "cannot read mesh"),
+                                           std::make_pair("spheres --size 0", "--size must be between 1"),
+                                           std::make_pair("spheres --receivers 0x10", "--receivers width"),
+                                           std::make_pair("spheres --samples 10", "square number"),
+                                           std::make_pair("spheres --light sideways", "--light must be"),
+                                           std::make_pair("spheres --light-pos 1,2,3", "needs --light perspective"),
+                                           std::make_pair("spheres --light-dir 0,0,0", "zero vector"),
+                                           std::make_pair("spheres --light perspective --light-pos 0,1,0",
+                                                          "behind the light")));
 
 }  // namespace
 }  // namespace sf::test

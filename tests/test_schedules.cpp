@@ -69,8 +69,8 @@ struct BlurCase {
 
 std::string blur_name(const ::testing::TestParamInfo<BlurCase>& i) {
   const BlurCase& c = i.param;
-  return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) + "x" + std::to_string(c.height) +
-         "x" + std::to_string(c.channels) + "_R" + std::to_string(c.radius) + "_g" + std::to_string(c.work_group);
+  return std::string(storage_name(c.storage)) + "_" + std::to_string(c.width) + "x" + std::to_string(c.height) + "x" +
+         std::to_string(c.channels) + "_R" + std::to_string(c.radius) + "_g" + std::to_string(c.work_group);
 }
 
 class GpuBlur : public ::testing::TestWithParam<BlurCase> {};
@@ -93,8 +93,7 @@ TEST_P(GpuBlur, MatchesReferenceAndTheCpuFamily) {
   cl::Buffer gpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   const BlurOptions blur{bc.radius, 0.0f};
-  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), src, tmp, gpu, shape, nullptr,
-               bc.storage)
+  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), src, tmp, gpu, shape, nullptr, bc.storage)
       .cols.wait();
   const auto got = read_stored(gpu, n, bc.storage);
   const auto want = ref::blur(in, bc.radius, 0.0);
@@ -127,11 +126,20 @@ std::vector<BlurCase> blur_cases() {
   // Few radii per storage: a program build costs about a second on PoCL. The largest radius
   // (the halo far past the tile and the image), no blur, and smaller groups (32: a tile of 4 rows
   // under a halo of 16; 1: a single item) once each.
-  return {{Storage::F32, 1, 1, 1, 3},       {Storage::F32, 7, 5, 2, 8},         {Storage::F32, 33, 17, 3, 1},
-          {Storage::F32, 129, 257, 1, 3},   {Storage::F32, 40, 70, 2, kMaxBlurRadius},
-          {Storage::F16, 7, 5, 2, 3},       {Storage::F16, 129, 257, 1, 3},     {Storage::F16, 33, 17, 1, 0},
-          {Storage::Unorm16, 1, 1, 1, 3},   {Storage::Unorm16, 33, 17, 3, 3},   {Storage::Unorm8, 7, 5, 2, 3},
-          {Storage::Unorm8, 129, 257, 1, 3}, {Storage::F32, 33, 17, 2, 3, 64},  {Storage::Unorm8, 33, 17, 1, 8, 32},
+  return {{Storage::F32, 1, 1, 1, 3},
+          {Storage::F32, 7, 5, 2, 8},
+          {Storage::F32, 33, 17, 3, 1},
+          {Storage::F32, 129, 257, 1, 3},
+          {Storage::F32, 40, 70, 2, kMaxBlurRadius},
+          {Storage::F16, 7, 5, 2, 3},
+          {Storage::F16, 129, 257, 1, 3},
+          {Storage::F16, 33, 17, 1, 0},
+          {Storage::Unorm16, 1, 1, 1, 3},
+          {Storage::Unorm16, 33, 17, 3, 3},
+          {Storage::Unorm8, 7, 5, 2, 3},
+          {Storage::Unorm8, 129, 257, 1, 3},
+          {Storage::F32, 33, 17, 2, 3, 64},
+          {Storage::Unorm8, 33, 17, 1, 8, 32},
           {Storage::F32, 7, 5, 1, 3, 1}};
 }
 INSTANTIATE_TEST_SUITE_P(Shapes, GpuBlur, ::testing::ValuesIn(blur_cases()), blur_name);
@@ -275,10 +283,10 @@ TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
 
 std::vector<PyramidCase> pyramid_cases() {
   std::vector<PyramidCase> out;
-  for (PyramidCase c : {PyramidCase{Storage::F32, 1, 1, 1}, PyramidCase{Storage::F32, 7, 5, 1},
-                        PyramidCase{Storage::F32, 1, 9, 1}, PyramidCase{Storage::F32, 33, 17, 3},
-                        PyramidCase{Storage::F32, 129, 257, 1}, PyramidCase{Storage::F32, 517, 300, 2},
-                        PyramidCase{Storage::F32, 1000, 37, 1}})
+  for (PyramidCase c :
+       {PyramidCase{Storage::F32, 1, 1, 1}, PyramidCase{Storage::F32, 7, 5, 1}, PyramidCase{Storage::F32, 1, 9, 1},
+        PyramidCase{Storage::F32, 33, 17, 3}, PyramidCase{Storage::F32, 129, 257, 1},
+        PyramidCase{Storage::F32, 517, 300, 2}, PyramidCase{Storage::F32, 1000, 37, 1}})
     out.push_back(c);
   // Narrow storages: the mean (rounded per launch) and, in unorm8, max; groups of 64 (8x8, four
   // levels per launch). A program build costs about a second on PoCL.

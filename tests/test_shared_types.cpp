@@ -23,8 +23,12 @@ struct Layout {
   int size;
   std::vector<Member> members;
 };
-#define SF_MEMBER(T, m) Member{#m, int(offsetof(T, m))}
-#define SF_LAYOUT(T, ...) Layout{#T, int(sizeof(T)), {__VA_ARGS__}}
+#define SF_MEMBER(T, m) \
+  Member { #m, int(offsetof(T, m)) }
+#define SF_LAYOUT(T, ...)               \
+  Layout {                              \
+#T, int(sizeof(T)), { __VA_ARGS__ } \
+  }
 
 const std::vector<Layout>& host_layouts() {
   static const std::vector<Layout> all = {
@@ -51,7 +55,8 @@ const std::vector<Layout>& host_layouts() {
 
 // The probe: for each struct, its size and then each member's offset, as the device lays it out.
 std::string probe_source(const std::vector<Layout>& layouts) {
-  std::string s = kernel_source("shared_types.clh") + "\n__kernel void sf_layout_probe(__global int* out) {\n  int n = 0;\n";
+  std::string s =
+      kernel_source("shared_types.clh") + "\n__kernel void sf_layout_probe(__global int* out) {\n  int n = 0;\n";
   for (const Layout& l : layouts) {
     s += "  { " + l.type + " p; out[n++] = (int)sizeof(" + l.type + ");\n";
     for (const Member& m : l.members)

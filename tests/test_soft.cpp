@@ -133,9 +133,12 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   double mean = 0, worst = 0;
   for (int i = 0; i < rx.width; ++i) {
     double want;
-    if (c.method == SoftMethod::Pcss) want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
-    else if (c.method == SoftMethod::Cssm) want = ref::soft_cssm(*lk, depth.width, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
-    else want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    if (c.method == SoftMethod::Pcss)
+      want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    else if (c.method == SoftMethod::Cssm)
+      want = ref::soft_cssm(*lk, depth.width, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+    else
+      want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
     ASSERT_TRUE(std::isfinite(got[i])) << i;
     const double e = std::abs(got[i] - want);
     bad += e > tol;
@@ -146,30 +149,27 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   EXPECT_EQ(got[0], 1.0f);
   EXPECT_EQ(got[1], 1.0f);
   std::printf("  %s%s: %zu of %d beyond %.0e (worst %.3g, mean %.2e), %zu partial receivers\n",
-              soft_method_name(c.method), c.perspective ? " (perspective)" : "", bad, rx.width, tol, worst, mean, partial);
+              soft_method_name(c.method), c.perspective ? " (perspective)" : "", bad, rx.width, tol, worst, mean,
+              partial);
   EXPECT_LE(bad, size_t(rx.width / 200));
   EXPECT_LT(mean, 1e-5);
   EXPECT_GT(partial, size_t(50)) << "the case must exercise penumbrae";
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, SoftKernelVsReference,
-                         ::testing::Values(RefCase{SoftMethod::Pcss, Lookup::Sat, 4},
-                                           RefCase{SoftMethod::Cssm, Lookup::Sat, 4},
-                                           RefCase{SoftMethod::Cssm, Lookup::Mips, 4},
-                                           RefCase{SoftMethod::Cssm, Lookup::Sat, 16},
-                                           RefCase{SoftMethod::Cssm, Lookup::Mips, 4, true},
-                                           RefCase{SoftMethod::Cssm, Lookup::Sat, 4, true},
-                                           RefCase{SoftMethod::Ssmm, Lookup::Sat, 4},
-                                           RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4}),
-                         [](const auto& info) {
-                           std::string s = soft_method_name(info.param.method);
-                           std::replace(s.begin(), s.end(), '-', '_');
-                           if (info.param.method == SoftMethod::Cssm)
-                             s += std::string(info.param.lookup == Lookup::Sat ? "_sat" : "_mips") + "_M" +
-                                  std::to_string(info.param.order);
-                           if (info.param.perspective) s += "_persp";
-                           return s;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Methods, SoftKernelVsReference,
+    ::testing::Values(RefCase{SoftMethod::Pcss, Lookup::Sat, 4}, RefCase{SoftMethod::Cssm, Lookup::Sat, 4},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4}, RefCase{SoftMethod::Cssm, Lookup::Sat, 16},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4, true}, RefCase{SoftMethod::Cssm, Lookup::Sat, 4, true},
+                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4}, RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4}),
+    [](const auto& info) {
+      std::string s = soft_method_name(info.param.method);
+      std::replace(s.begin(), s.end(), '-', '_');
+      if (info.param.method == SoftMethod::Cssm)
+        s += std::string(info.param.lookup == Lookup::Sat ? "_sat" : "_mips") + "_M" + std::to_string(info.param.order);
+      if (info.param.perspective) s += "_persp";
+      return s;
+    });
 
 // --- cssm's average blocker depth (eq. 8.8 / (1 - s_f)) against the brute-force mean ---------
 // Same kernel (SAT box of the search width), same test (z < d - z_offset, the receiver depth
@@ -220,10 +220,11 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
       std::sort(v.begin(), v.end());
       return v[std::min(v.size() - 1, size_t(p * v.size()))];
     };
-    std::printf("  cssm M=%d z_avg vs brute force over %zu receivers: |err| median %.4f p90 %.4f p99 %.4f "
-                "max %.4f; relative to d - z_avg: median %.3f p90 %.3f p99 %.3f\n",
-                M, rel.size(), pct(absd, 0.5), pct(absd, 0.9), pct(absd, 0.99), pct(absd, 1.0),
-                pct(rel, 0.5), pct(rel, 0.9), pct(rel, 0.99));
+    std::printf(
+        "  cssm M=%d z_avg vs brute force over %zu receivers: |err| median %.4f p90 %.4f p99 %.4f "
+        "max %.4f; relative to d - z_avg: median %.3f p90 %.3f p99 %.3f\n",
+        M, rel.size(), pct(absd, 0.5), pct(absd, 0.9), pct(absd, 0.99), pct(absd, 1.0), pct(rel, 0.5), pct(rel, 0.9),
+        pct(rel, 0.99));
     // Measured (relative; stage 1 at the offset where a lit texel reconstructs to 1): M = 4
     // median 0.004, p90 0.069; M = 16 median 0.013, p90 0.074 (at offset 0.5 / M, where lit texels
     // weigh -0.09: 0.039 / 0.21 and 0.014 / 0.14). A wrong sign or a missing 1/(1 - s_f) gives
@@ -320,7 +321,11 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
     if (std::abs(depth_r - 4.0) > 0.02) continue;  // not the floor
     const double vv = vis[i];
     if (std::abs(z) < 0.6 && x > 1.0 - expected && x < 1.0 + expected && vv >= 0.1 && vv <= 0.9) {
-      n += 1; sx += x; sy += vv; sxx += x * x; sxy += x * vv;
+      n += 1;
+      sx += x;
+      sy += vv;
+      sxx += x * x;
+      sxy += x * vv;
     }
     // Umbra: under the occluder, beyond the penumbra's inner half (the camera sees the floor
     // under the occluder only near the edge x = 1).
@@ -335,21 +340,20 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
   const double measured = 1.0 / slope;
   std::printf("  %s %s%s: penumbra %.4f, formula %.4f (%+.1f%%), %d ramp receivers, umbra > 0.05: %zu of %zu\n",
               c.perspective ? "perspective" : "ortho", soft_method_name(c.method),
-              c.method == SoftMethod::Cssm ? (c.lookup == Lookup::Sat ? " sat" : " mips") : "", measured,
-              expected, 100 * (measured / expected - 1), int(n), umbra_bad, umbra);
+              c.method == SoftMethod::Cssm ? (c.lookup == Lookup::Sat ? " sat" : " mips") : "", measured, expected,
+              100 * (measured / expected - 1), int(n), umbra_bad, umbra);
   EXPECT_NEAR(measured, expected, 0.10 * expected);
   EXPECT_LE(umbra_bad, umbra / 100);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Methods, SoftParallelPlanes,
-    ::testing::Values(PlanesCase{false, SoftMethod::Pcss, Lookup::Sat}, PlanesCase{false, SoftMethod::Cssm, Lookup::Sat},
-                      PlanesCase{false, SoftMethod::Cssm, Lookup::Mips}, PlanesCase{false, SoftMethod::Ssmm, Lookup::Sat},
-                      PlanesCase{false, SoftMethod::SsmmImproved, Lookup::Sat},
-                      PlanesCase{true, SoftMethod::Pcss, Lookup::Sat}, PlanesCase{true, SoftMethod::Cssm, Lookup::Sat},
-                      PlanesCase{true, SoftMethod::Cssm, Lookup::Mips},
-                      PlanesCase{true, SoftMethod::Ssmm, Lookup::Sat},
-                      PlanesCase{true, SoftMethod::SsmmImproved, Lookup::Sat}),
+    ::testing::Values(
+        PlanesCase{false, SoftMethod::Pcss, Lookup::Sat}, PlanesCase{false, SoftMethod::Cssm, Lookup::Sat},
+        PlanesCase{false, SoftMethod::Cssm, Lookup::Mips}, PlanesCase{false, SoftMethod::Ssmm, Lookup::Sat},
+        PlanesCase{false, SoftMethod::SsmmImproved, Lookup::Sat}, PlanesCase{true, SoftMethod::Pcss, Lookup::Sat},
+        PlanesCase{true, SoftMethod::Cssm, Lookup::Sat}, PlanesCase{true, SoftMethod::Cssm, Lookup::Mips},
+        PlanesCase{true, SoftMethod::Ssmm, Lookup::Sat}, PlanesCase{true, SoftMethod::SsmmImproved, Lookup::Sat}),
     [](const auto& info) {
       std::string s = std::string(info.param.perspective ? "persp_" : "ortho_") + soft_method_name(info.param.method);
       std::replace(s.begin(), s.end(), '-', '_');

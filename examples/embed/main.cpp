@@ -26,9 +26,9 @@
 
 namespace {
 
-constexpr int kMap = 512;                      // shadow map kMap x kMap
-constexpr int kWidth = 640, kHeight = 480;     // camera image
-constexpr float kTolerance = 1e-5f;            // |own - library| visibility, same math in both
+constexpr int kMap = 512;                   // shadow map kMap x kMap
+constexpr int kWidth = 640, kHeight = 480;  // camera image
+constexpr float kTolerance = 1e-5f;         // |own - library| visibility, same math in both
 
 // The renderer's kernels. The five includes are the installed shadowfilter headers; the build
 // options (-DSF_STORAGE, -DSF_LOOKUP, the method's) come from sf::kernel_prelude().
@@ -232,9 +232,10 @@ int run(const std::string& out_path) {
     sum += e;
     shadowed += lib[i] < 0.5f;
   }
-  std::printf("visibility of the shading kernel vs shadowfilter's reconstruct: max |error| %.3g, mean %.3g "
-              "(tolerance %.0e) over %zu receivers, %.1f%% shadowed\n",
-              worst, sum / count, double(kTolerance), count, 100.0 * shadowed / count);
+  std::printf(
+      "visibility of the shading kernel vs shadowfilter's reconstruct: max |error| %.3g, mean %.3g "
+      "(tolerance %.0e) over %zu receivers, %.1f%% shadowed\n",
+      worst, sum / count, double(kTolerance), count, 100.0 * shadowed / count);
   write_png(out_path, pixels);
   std::cout << "wrote " << out_path << " (" << kWidth << "x" << kHeight << ")\n";
   if (worst > kTolerance || shadowed == 0 || shadowed == count) {

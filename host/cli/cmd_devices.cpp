@@ -23,10 +23,9 @@ int run_devices(const DevicesArgs&) {
     }
   }();
   for (const auto& d : devices) {
-    std::cout << d.platform_index << ":" << d.device_index << "  " << d.type << "  " << d.device_name
-              << "  [" << d.platform_name << ", driver " << d.driver_version << "]  "
-              << (d.global_mem_bytes >> 20) << " MiB, " << d.compute_units << " compute units"
-              << (d.device_name == chosen ? "  (default)" : "") << "\n";
+    std::cout << d.platform_index << ":" << d.device_index << "  " << d.type << "  " << d.device_name << "  ["
+              << d.platform_name << ", driver " << d.driver_version << "]  " << (d.global_mem_bytes >> 20) << " MiB, "
+              << d.compute_units << " compute units" << (d.device_name == chosen ? "  (default)" : "") << "\n";
   }
   return 0;
 }

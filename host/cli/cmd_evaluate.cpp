@@ -14,9 +14,9 @@
 namespace sf::cli {
 
 CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
-  CLI::App* c = app.add_subcommand(
-      "evaluate", "Run methods over a parameter grid on scene directories: time, memory and errors "
-                  "against s_ref and the ray-traced references; CSV, JSON and Pareto plots");
+  CLI::App* c = app.add_subcommand("evaluate",
+                                   "Run methods over a parameter grid on scene directories: time, memory and errors "
+                                   "against s_ref and the ray-traced references; CSV, JSON and Pareto plots");
   c->add_option("dirs", a.dirs, "Scene directories (shadowmap.exr, receivers.exr, reference_*.exr)")
       ->required()
       ->check(CLI::ExistingDirectory);
@@ -85,8 +85,8 @@ int run_evaluate(const EvaluateArgs& a) {
     eval::SrefCache sref(scene, a.auto_args.sref_bias);
     std::vector<eval::Row> rows;
     {
-      scene::Progress bar(scene.name + " (" + std::to_string(configs.size()) + " configurations)",
-                          configs.size(), !a.quiet);
+      scene::Progress bar(scene.name + " (" + std::to_string(configs.size()) + " configurations)", configs.size(),
+                          !a.quiet);
       for (const auto& o : configs) {
         try {
           rows.push_back(eval::evaluate_config(runtime, scene, o, sref, timing));
@@ -97,13 +97,14 @@ int run_evaluate(const EvaluateArgs& a) {
       }
     }
     if (!a.no_images && !rows.empty()) {
-      eval::write_pareto_png((fs::path(a.out_dir) / ("pareto_" + scene.name + ".png")).string(), scene.name,
-                             rows, a.pareto_metric);
+      eval::write_pareto_png((fs::path(a.out_dir) / ("pareto_" + scene.name + ".png")).string(), scene.name, rows,
+                             a.pareto_metric);
       // Error image of each method's best configuration (lowest pareto metric).
       std::map<std::string, size_t> best;
       for (size_t i = 0; i < rows.size(); ++i) {
         auto it = best.find(rows[i].method);
-        if (it == best.end() || eval::row_metric(rows[i], a.pareto_metric) < eval::row_metric(rows[it->second], a.pareto_metric))
+        if (it == best.end() ||
+            eval::row_metric(rows[i], a.pareto_metric) < eval::row_metric(rows[it->second], a.pareto_metric))
           best[rows[i].method] = i;
       }
       for (const auto& [m, i] : best)
@@ -144,8 +145,8 @@ int run_evaluate(const EvaluateArgs& a) {
   }
 
   if (!a.quiet) {
-    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max",
-                "hard_rmse", "MiB");
+    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max", "hard_rmse",
+                "MiB");
     for (const auto& r : all)
       std::printf("%-10s %-34s %9.3f %9.4f %9.4f %9.4f %9.4f %9.2f\n", r.scene.c_str(), r.label.c_str(), r.time_ms,
                   r.sref.p99, r.sref.rmse, r.sref.max, r.hard.valid ? r.hard.rmse : -1.0, r.device_bytes / 1048576.0);
@@ -154,8 +155,8 @@ int run_evaluate(const EvaluateArgs& a) {
   }
   for (const auto& l : auto_lines) std::fputs(l.c_str(), stdout);
   if (!a.quiet) {
-    std::printf("shadowfilter evaluate: %zu configurations on %zu scenes, device %s -> %s\n", all.size(),
-                scenes.size(), runtime->info().device_name.c_str(), a.out_dir.c_str());
+    std::printf("shadowfilter evaluate: %zu configurations on %zu scenes, device %s -> %s\n", all.size(), scenes.size(),
+                runtime->info().device_name.c_str(), a.out_dir.c_str());
   }
   return 0;
 }

@@ -16,9 +16,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // The output must never overwrite one of the inputs.
 void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs) {
@@ -35,12 +33,11 @@ void check_output_is_not_an_input(const std::string& out, const std::vector<std:
 
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
-  c->add_option("--shadow-map", a.shadow_map, "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel")
-      ->required();
+  c->add_option("--shadow-map", a.shadow_map, "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel")->required();
   auto* rx = c->add_option("--receivers", a.receivers,
                            "Receiver image: float EXR/TIFF/PFM with channels u v d [f] (or RGB[A])");
-  auto* rd = c->add_option("--receiver-depth", a.receiver_depth,
-                           "Planar-receiver depth image of the shadow map's size");
+  auto* rd =
+      c->add_option("--receiver-depth", a.receiver_depth, "Planar-receiver depth image of the shadow map's size");
   rx->excludes(rd);
   rd->excludes(rx);
   c->add_option("-o,--output", a.output, "Visibility image (.exr, .tif, .pfm, .png)")->required();
@@ -50,22 +47,21 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
       ->capture_default_str();
   c->add_option("--near", a.near_plane, "Near plane (perspective/reversed encodings)")->capture_default_str();
   c->add_option("--far", a.far_plane, "Far plane (perspective/reversed encodings)")->capture_default_str();
-  c->add_option("--nonfinite", a.nonfinite, "Non-finite shadow-map texels: error|far")
-      ->capture_default_str();
-  c->add_option("--device", a.device, "OpenCL device: P:D, index, gpu, cpu or a name substring "
-                                      "(default: $SHADOWFILTER_DEVICE, else first GPU, else CPU)");
-  c->add_option("--vector-width", a.options.schedule.blur_vector_width,
-                "Blur texels per work-item (4, 8, 16)")
+  c->add_option("--nonfinite", a.nonfinite, "Non-finite shadow-map texels: error|far")->capture_default_str();
+  c->add_option("--device", a.device,
+                "OpenCL device: P:D, index, gpu, cpu or a name substring "
+                "(default: $SHADOWFILTER_DEVICE, else first GPU, else CPU)");
+  c->add_option("--vector-width", a.options.schedule.blur_vector_width, "Blur texels per work-item (4, 8, 16)")
       ->capture_default_str();
   c->add_option("--schedule", a.options.schedule.family,
                 "Launch shapes of the blur, SAT and pyramid: auto (by device type), cpu or gpu")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, ScheduleFamily>{{"auto", ScheduleFamily::Auto},
-                                                                                 {"cpu", ScheduleFamily::Cpu},
-                                                                                 {"gpu", ScheduleFamily::Gpu}},
-                                          CLI::ignore_case))
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, ScheduleFamily>{
+              {"auto", ScheduleFamily::Auto}, {"cpu", ScheduleFamily::Cpu}, {"gpu", ScheduleFamily::Gpu}},
+          CLI::ignore_case))
       ->default_str("auto");
   c->add_option("--flags-out", a.flags_out,
-                 "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
+                "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
   add_auto_options(*c, a.auto_args);
   return c;
@@ -98,8 +94,7 @@ int run_filter(const FilterArgs& a) {
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);
-  const FilterOptions options =
-      a.auto_args.enabled ? choose_auto_options(a, depth, receivers, runtime) : a.options;
+  const FilterOptions options = a.auto_args.enabled ? choose_auto_options(a, depth, receivers, runtime) : a.options;
   const auto t_run = Clock::now();
   FilterResult r = filter(runtime, options, depth, receivers);
   const double run_ms = ms_since(t_run);
@@ -133,10 +128,11 @@ int run_filter(const FilterArgs& a) {
         "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside)%s | device %s | "
         "device ms: transform %.3f, blur %.3f%s, reconstruct %.3f, upload %.3f, download %.3f | "
         "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
-        (method_summary(options) + ", " + prefilter_summary(options)).c_str(), depth.width, depth.height, receivers.width, receivers.height,
-        receivers.grid ? " (planar)" : "", r.background, r.outside, flagged, runtime->info().device_name.c_str(),
-        r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(), r.times.reconstruct * 1e3, r.times.upload * 1e3,
-        r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());
+        (method_summary(options) + ", " + prefilter_summary(options)).c_str(), depth.width, depth.height,
+        receivers.width, receivers.height, receivers.grid ? " (planar)" : "", r.background, r.outside, flagged,
+        runtime->info().device_name.c_str(), r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(),
+        r.times.reconstruct * 1e3, r.times.upload * 1e3, r.times.download * 1e3, load_ms, run_ms, write_ms,
+        ms_since(t0), a.output.c_str());
   }
   return 0;
 }

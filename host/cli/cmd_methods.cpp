@@ -28,8 +28,7 @@ int run_methods(const MethodsArgs&) {
     }
     std::cout << "\n    basis: " << ch << " channel(s)";
     if (!m.channels_note.empty()) std::cout << " with the defaults (" << m.channels_note << " in general)";
-    std::cout << "; bytes per texel by --storage: " << mem.str()
-              << " (twice that while prefiltering)\n";
+    std::cout << "; bytes per texel by --storage: " << mem.str() << " (twice that while prefiltering)\n";
   }
   return 0;
 }

@@ -15,34 +15,29 @@ namespace {
 
 std::optional<scene::Vec3> parse_vector(const std::vector<double>& values, const char* option) {
   if (values.empty()) return std::nullopt;
-  if (values.size() != 3)
-    throw InputError(std::string(option) + " expects three numbers X Y Z (or X,Y,Z)");
+  if (values.size() != 3) throw InputError(std::string(option) + " expects three numbers X Y Z (or X,Y,Z)");
   return scene::Vec3{values[0], values[1], values[2]};
 }
 
 }  // namespace
 
 CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
-  CLI::App* c = app.add_subcommand(
-      "scene", "Generate a scene: shadow map, receivers, ray-traced hard and soft references");
+  CLI::App* c =
+      app.add_subcommand("scene", "Generate a scene: shadow map, receivers, ray-traced hard and soft references");
   c->add_option("scene", a.scene,
                 "Built-in scene (spheres, fence, backyard, contact, thin, terrain) or a mesh "
                 "file (OBJ, PLY, OFF, STL)")
       ->required();
-  c->add_option("-o,--out", a.out_dir, "Output directory (appears complete or not at all)")
-      ->required();
+  c->add_option("-o,--out", a.out_dir, "Output directory (appears complete or not at all)")->required();
   c->add_option("--size", a.map_size, "Shadow-map width and height in texels")->capture_default_str();
   c->add_option("--receivers", a.receivers, "Camera-view size WIDTHxHEIGHT")->capture_default_str();
   c->add_option("--light", a.light, "Light projection: ortho|perspective")->capture_default_str();
-  c->add_option("--light-dir", a.light_dir, "Light direction X Y Z (into the scene)")
-      ->expected(3)->delimiter(',');
-  c->add_option("--light-pos", a.light_pos, "Perspective light position X Y Z")
-      ->expected(3)->delimiter(',');
+  c->add_option("--light-dir", a.light_dir, "Light direction X Y Z (into the scene)")->expected(3)->delimiter(',');
+  c->add_option("--light-pos", a.light_pos, "Perspective light position X Y Z")->expected(3)->delimiter(',');
   c->add_option("--fov", a.fov, "Perspective light field of view in degrees (default: fitted)");
   c->add_option("--light-size", a.light_size,
                 "Side of the square area light in light-space units (default: the scene's)");
-  c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")
-      ->capture_default_str();
+  c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")->capture_default_str();
   c->add_option("--seed", a.seed, "Seed of the area-light sampling")->capture_default_str();
   c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")->capture_default_str();
   c->add_flag("-q,--quiet", a.quiet, "No progress bars or summary");
@@ -66,16 +61,13 @@ int run_scene(const SceneArgs& a) {
   request.threads = a.threads;
   const scene::SceneSummary s = scene::generate_scene(request);
   if (!a.quiet) {
-    std::cout << "scene '" << s.setup.geometry.name << "' written to " << a.out_dir << ": "
-              << s.setup.map_width << "x" << s.setup.map_height << " map, "
-              << s.setup.camera.width << "x" << s.setup.camera.height << " view, "
-              << s.setup.geometry.triangle_count() << " triangles, "
-              << s.setup.geometry.spheres.size() << " spheres, light "
-              << (s.setup.light.type == scene::LightType::Ortho ? "ortho" : "perspective")
+    std::cout << "scene '" << s.setup.geometry.name << "' written to " << a.out_dir << ": " << s.setup.map_width << "x"
+              << s.setup.map_height << " map, " << s.setup.camera.width << "x" << s.setup.camera.height << " view, "
+              << s.setup.geometry.triangle_count() << " triangles, " << s.setup.geometry.spheres.size()
+              << " spheres, light " << (s.setup.light.type == scene::LightType::Ortho ? "ortho" : "perspective")
               << " near/far " << scene::format_number(s.setup.light.near_plane) << "/"
-              << scene::format_number(s.setup.light.far_plane) << ", size "
-              << scene::format_number(s.setup.light_size) << ", " << s.setup.samples
-              << " samples, " << std::fixed;
+              << scene::format_number(s.setup.light.far_plane) << ", size " << scene::format_number(s.setup.light_size)
+              << ", " << s.setup.samples << " samples, " << std::fixed;
     std::cout.precision(2);
     std::cout << s.seconds << " s\n";
   }

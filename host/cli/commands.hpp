@@ -71,7 +71,7 @@ struct EvaluateArgs {
   int runs = 5, warmup = 1;
   bool quiet = false, no_images = false;
   AutoArgs auto_args;
-  int auto_radius = 3;              // --auto target: Gaussian radius
+  int auto_radius = 3;               // --auto target: Gaussian radius
   std::string auto_lookup = "auto";  // --auto target lookup: auto | bilinear | mips | sat
 };
 CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& args);

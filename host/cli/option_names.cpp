@@ -46,8 +46,7 @@ const std::vector<std::pair<std::string, std::string>>& field_flags() {
         {"SoftOptions::ssmm_n", "--ssmm-n"},
     };
     // Longest first, so that no field is rewritten through a shorter one it starts with.
-    std::stable_sort(t.begin(), t.end(),
-                     [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });
+    std::stable_sort(t.begin(), t.end(), [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });
     return t;
   }();
   return table;

@@ -30,8 +30,7 @@ void add_auto_options(CLI::App& c, AutoArgs& a) {
   c.add_option("--metric", a.metric,
                "--auto: error metric against s_ref: p99 | rmse | max | frac_1_255 | frac_005 | leak | darken")
       ->capture_default_str();
-  c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")
-      ->capture_default_str();
+  c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")->capture_default_str();
   c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")->capture_default_str();
   add_auto_choice_options(c, a);
   c.add_option("--sref-bias", a.sref_bias,

@@ -8,8 +8,8 @@ namespace sf::cli {
 void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--method", o.method, "Filtering method (see `shadowfilter methods`)")->capture_default_str();
   c.add_option_function<std::string>(
-       "--storage", [&o](const std::string& s) { o.storage = parse_storage(s); },
-       "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
+      "--storage", [&o](const std::string& s) { o.storage = parse_storage(s); },
+      "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
   c.add_option_function<float>(
       "--bias", [&o](float b) { o.depth_test.bias = b; },
       "Depth bias b for sm, pcf (H(z - d + b)) and msm (default 0; msm unorm16: measured)");

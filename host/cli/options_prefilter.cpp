@@ -12,8 +12,7 @@
 namespace sf::cli {
 
 void add_prefilter_options(CLI::App& c, FilterOptions& o) {
-  c.add_option("--blur-radius", o.blur.radius, "Gaussian prefilter radius R (taps -R..R)")
-      ->capture_default_str();
+  c.add_option("--blur-radius", o.blur.radius, "Gaussian prefilter radius R (taps -R..R)")->capture_default_str();
   // Given, sigma must be a positive finite number; not given, it is (2R+1)/6 (FilterOptions's 0).
   c.add_option("--blur-sigma", o.blur.sigma, "Gaussian sigma in texels (default (2R+1)/6)")
       ->check(CLI::Validator(
@@ -26,8 +25,7 @@ void add_prefilter_options(CLI::App& c, FilterOptions& o) {
             } catch (const std::exception&) {
               return std::string("must be a number, got '" + text + "'");
             }
-            return std::isfinite(v) && v > 0.0f ? std::string()
-                                                : "must be a positive finite number, got " + text;
+            return std::isfinite(v) && v > 0.0f ? std::string() : "must be a positive finite number, got " + text;
           },
           "POSITIVE"));
   const std::map<std::string, Lookup> lookups{
@@ -63,9 +61,15 @@ std::string prefilter_summary(const FilterOptions& o) {
     s << "no prefilter";
   }
   switch (o.lookup.kind) {
-    case Lookup::Mips: s << ", trilinear (mips) lookup"; break;
-    case Lookup::Sat: s << ", box (sat) lookup"; break;
-    default: s << ", bilinear lookup"; break;
+    case Lookup::Mips:
+      s << ", trilinear (mips) lookup";
+      break;
+    case Lookup::Sat:
+      s << ", box (sat) lookup";
+      break;
+    default:
+      s << ", bilinear lookup";
+      break;
   }
   if (o.esm_classify.mode == EsmClassify::ZMax)
     s << ", zmax classification offset=" << o.esm_classify.zmax_offset;

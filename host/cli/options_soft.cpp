@@ -73,10 +73,12 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   if (!std::isfinite(L.size)) throw InputError("'" + path + "' has no light_size attribute: give --light-size");
   if (L.perspective) {
     if (!std::isfinite(L.near_plane) || !std::isfinite(L.far_plane) || !std::isfinite(L.fov_degrees))
-      throw InputError("a perspective light needs near, far and fov (header or --light-near, --light-far, --light-fov)");
+      throw InputError(
+          "a perspective light needs near, far and fov (header or --light-near, --light-far, --light-fov)");
   } else {
     if (!std::isfinite(L.extent))
-      throw InputError("an orthographic light needs the map's width in light units (header ortho_extents or --light-extent)");
+      throw InputError(
+          "an orthographic light needs the map's width in light units (header ortho_extents or --light-extent)");
     if (!std::isfinite(L.near_plane)) L.near_plane = 0.0;
     if (!std::isfinite(L.far_plane)) L.far_plane = 1.0;
   }
@@ -101,7 +103,8 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
   c->add_option("--light-far", a.light_far, "Perspective: far plane distance (default: header far)");
   c->add_option("--light-fov", a.light_fov, "Perspective: full field of view, degrees (default: header fov_degrees)");
-  c->add_option("--light-extent", a.light_extent, "Orthographic: map width in light units (default: header ortho_extents)");
+  c->add_option("--light-extent", a.light_extent,
+                "Orthographic: map width in light units (default: header ortho_extents)");
   c->add_option("--soft-bias", a.options.bias, "Blocker test z < d - bias")->capture_default_str();
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
@@ -115,10 +118,13 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "cssm: A,B of eq. 8.9 (p = 1 + A exp(-B (d - z_avg)); default 30,10M; A = 0: off)")
       ->delimiter(',')
       ->expected(2);
-  c->add_option("--cssm-min-den", a.options.cssm_min_den, "cssm: 1 - s_f below this = no blocker")->capture_default_str();
-  c->add_option("--cssm-z-offset", a.options.cssm_z_offset, "cssm: offset of the z_avg stage (< 0: ~0.306 / M, where a lit texel reconstructs to 1)")
+  c->add_option("--cssm-min-den", a.options.cssm_min_den, "cssm: 1 - s_f below this = no blocker")
       ->capture_default_str();
-  c->add_option("--cssm-width-scale", a.options.cssm_width_scale, "cssm: stage-2 kernel width multiplier (< 0: scale x lit)")
+  c->add_option("--cssm-z-offset", a.options.cssm_z_offset,
+                "cssm: offset of the z_avg stage (< 0: ~0.306 / M, where a lit texel reconstructs to 1)")
+      ->capture_default_str();
+  c->add_option("--cssm-width-scale", a.options.cssm_width_scale,
+                "cssm: stage-2 kernel width multiplier (< 0: scale x lit)")
       ->capture_default_str();
   c->add_option("--cssm-contact", a.options.cssm_contact,
                 "cssm: 1 = receivers without a stage-1 blocker still run stage 2 at their footprint")
@@ -134,9 +140,12 @@ int run_soft(const SoftArgs& a) {
   SoftOptions opt = a.options;
   if (!parse_soft_method(a.method, &opt.method))
     throw InputError("--method must be pcss, cssm, ssmm or ssmm-improved, got '" + a.method + "'");
-  if (a.lookup == "mips") opt.cssm_lookup = Lookup::Mips;
-  else if (a.lookup == "sat") opt.cssm_lookup = Lookup::Sat;
-  else throw InputError("--lookup must be mips or sat, got '" + a.lookup + "'");
+  if (a.lookup == "mips")
+    opt.cssm_lookup = Lookup::Mips;
+  else if (a.lookup == "sat")
+    opt.cssm_lookup = Lookup::Sat;
+  else
+    throw InputError("--lookup must be mips or sat, got '" + a.lookup + "'");
   if (a.sharpen.size() == 2) {
     opt.cssm_sharpen_a = a.sharpen[0];
     opt.cssm_sharpen_b = a.sharpen[1];
@@ -170,9 +179,12 @@ int run_soft(const SoftArgs& a) {
           v = std::strtod(s, &end);
           if (end == s || *end != '\0') v = NAN;
         }
-        if (k == "weight" && std::isfinite(v)) weight = v;
-        else if (k == "size" && std::isfinite(v)) over.light_size = v;
-        else throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");
+        if (k == "weight" && std::isfinite(v))
+          weight = v;
+        else if (k == "size" && std::isfinite(v))
+          over.light_size = v;
+        else
+          throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");
       }
       const std::string mp = (dir / map).string(), rp = (dir / rxf).string();
       SoftLightInput li;
@@ -208,14 +220,13 @@ int run_soft(const SoftArgs& a) {
   const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   io::write_image(a.output, r.visibility);
   if (!a.quiet)
-    std::printf("shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
-                "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",
-                soft_method_name(opt.method), lights.size(), opt.light.size,
-                opt.light.perspective ? "perspective" : "ortho", r.visibility.width, r.visibility.height,
-                r.background, r.times.transform * 1e3, r.times.pyramid * 1e3, r.times.sat * 1e3,
-                r.times.reconstruct * 1e3, run_ms,
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
-                a.output.c_str());
+    std::printf(
+        "shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
+        "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",
+        soft_method_name(opt.method), lights.size(), opt.light.size, opt.light.perspective ? "perspective" : "ortho",
+        r.visibility.width, r.visibility.height, r.background, r.times.transform * 1e3, r.times.pyramid * 1e3,
+        r.times.sat * 1e3, r.times.reconstruct * 1e3, run_ms,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), a.output.c_str());
   return 0;
 }
 

@@ -104,8 +104,9 @@ TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, cons
   const size_t n = cost.size();
   std::vector<std::vector<double>> ratio(n);  // ratio[k]: finalist k's time over the round's fastest
   for (const auto& t : rounds) {
-    if (t.size() != n) throw InputError("choose_by_times: a round has " + std::to_string(t.size()) +
-                                        " times for " + std::to_string(n) + " finalists");
+    if (t.size() != n)
+      throw InputError("choose_by_times: a round has " + std::to_string(t.size()) + " times for " + std::to_string(n) +
+                       " finalists");
     const double best = *std::min_element(t.begin(), t.end());
     for (size_t k = 0; k < n; ++k) ratio[k].push_back(t[k] / best);
   }
@@ -138,7 +139,8 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
                             const std::vector<size_t>& hits, AutoResult& res) {
   constexpr size_t kMaxFinalists = 8;
   std::vector<size_t> fin = hits;
-  std::stable_sort(fin.begin(), fin.end(), [&](size_t a, size_t b) { return res.tried[a].min_ms < res.tried[b].min_ms; });
+  std::stable_sort(fin.begin(), fin.end(),
+                   [&](size_t a, size_t b) { return res.tried[a].min_ms < res.tried[b].min_ms; });
   const double first_best = res.tried[fin.front()].min_ms;
   while (fin.size() > kMaxFinalists || res.tried[fin.back()].min_ms > 3.0 * first_best) fin.pop_back();
   std::vector<std::vector<double>> rounds;  // the fastest run of each finalist per round
@@ -181,7 +183,8 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   check_metric(req.metric);
   if (!(req.max_error >= 0)) throw InputError("--max-error must be a non-negative number");
   if (!(req.cost_slack >= 1)) throw InputError("--auto cost slack must be >= 1");
-  if (req.final_rounds < 0 || !(req.time_tolerance >= 0)) throw InputError("--auto final rounds and tolerance must be >= 0");
+  if (req.final_rounds < 0 || !(req.time_tolerance >= 0))
+    throw InputError("--auto final rounds and tolerance must be >= 0");
   AutoResult res;
   FilterOptions target = req.target;
   if (req.lookup_from_scene) target.lookup.kind = scene.max_footprint > 1.0 ? Lookup::Mips : Lookup::Bilinear;
@@ -189,18 +192,20 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   // (= bilinear) weights: the table would only cost time.
   if (scene.max_footprint <= 1.0) {
     const bool asked = target.lookup.kind != Lookup::Bilinear;
-    res.skipped.push_back(std::string(asked && target.lookup.kind == Lookup::Sat ? "summed-area table" : "mip pyramid") +
-                          ": every footprint is <= 1 texel (max " + fmt(scene.max_footprint) +
-                          "), so the lookup equals bilinear");
+    res.skipped.push_back(
+        std::string(asked && target.lookup.kind == Lookup::Sat ? "summed-area table" : "mip pyramid") +
+        ": every footprint is <= 1 texel (max " + fmt(scene.max_footprint) + "), so the lookup equals bilinear");
     target.lookup.kind = Lookup::Bilinear;
   }
   res.target = target;
-  res.notes.push_back("target: s_ref with " +
-                      std::string(target.blur.radius > 0 ? "Gaussian R=" + std::to_string(target.blur.radius) : "no prefilter") +
-                      (target.lookup.kind == Lookup::Mips ? ", trilinear mips" : target.lookup.kind == Lookup::Sat ? ", box (sat)" : ", bilinear") +
-                      ", depth bias " + fmt(req.sref_bias) + "; " + req.metric + " <= " + fmt(req.max_error) +
-                      " over " + std::to_string(scene.valid_count) + " receivers (max footprint " +
-                      fmt(scene.max_footprint) + " texels)");
+  res.notes.push_back(
+      "target: s_ref with " +
+      std::string(target.blur.radius > 0 ? "Gaussian R=" + std::to_string(target.blur.radius) : "no prefilter") +
+      (target.lookup.kind == Lookup::Mips  ? ", trilinear mips"
+       : target.lookup.kind == Lookup::Sat ? ", box (sat)"
+                                           : ", bilinear") +
+      ", depth bias " + fmt(req.sref_bias) + "; " + req.metric + " <= " + fmt(req.max_error) + " over " +
+      std::to_string(scene.valid_count) + " receivers (max footprint " + fmt(scene.max_footprint) + " texels)");
   SrefCache cache(scene, req.sref_bias);
   const std::vector<double>& sref = cache.get(target.blur, target.lookup.kind);
 
@@ -265,8 +270,7 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
     std::string list;
     for (const auto& [m, n] : by_method) list += (list.empty() ? "" : ", ") + m + " (" + std::to_string(n) + ")";
     res.skipped.push_back(std::to_string(res.not_tried.size()) + " configurations estimated at more than " +
-                          fmt(req.cost_slack) + "x the first one under the bound (" + res.first_hit +
-                          "): " + list);
+                          fmt(req.cost_slack) + "x the first one under the bound (" + res.first_hit + "): " + list);
   }
   return res;
 }
@@ -285,10 +289,10 @@ std::string describe(const AutoResult& r, const std::string& metric) {
     s << "\n";
   } else {
     const Row& c = r.chosen_row;
-    s << "auto: chose " << c.label << ": " << fmt(c.min_ms) << " ms (fastest of " << c.runs << " runs; median of the first pass "
-      << fmt(c.time_ms) << "), " << metric << " " << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99)
-      << ", rmse " << fmt(c.sref.rmse) << ", max " << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3)
-      << " MiB\n";
+    s << "auto: chose " << c.label << ": " << fmt(c.min_ms) << " ms (fastest of " << c.runs
+      << " runs; median of the first pass " << fmt(c.time_ms) << "), " << metric << " "
+      << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99) << ", rmse " << fmt(c.sref.rmse) << ", max "
+      << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
     s << "auto: why: " << r.first_hit << " was the first configuration under the bound in estimated-cost order; "
       << "of the " << r.tried.size() << " tried up to the cost slack, the " << r.finalists.size()
       << " under the bound ran again in interleaved rounds and this one was the fastest"

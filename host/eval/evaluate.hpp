@@ -48,8 +48,8 @@ std::vector<std::string> parse_methods(const std::string& list);
 // Every configuration of the grid for these methods. Footprint lookups (mips, sat) are only
 // generated when `max_footprint` > 1 (otherwise they equal bilinear and only cost time).
 // sm and pcf get depth_test.bias = sref_bias (so that they compute s_ref itself).
-std::vector<FilterOptions> make_grid(const std::vector<std::string>& methods, Grid grid,
-                                     double max_footprint, double sref_bias = kDefaultSrefBias);
+std::vector<FilterOptions> make_grid(const std::vector<std::string>& methods, Grid grid, double max_footprint,
+                                     double sref_bias = kDefaultSrefBias);
 // One short human-readable label: "esm c=80 R=3 mips f32".
 std::string config_label(const FilterOptions& o);
 
@@ -61,8 +61,7 @@ struct ErrorStats {
   double leak = 0, darken = 0;          // v > ref + 0.05, v < ref - 0.05
   bool valid = false;
 };
-ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref,
-                       const std::vector<uint8_t>& mask);
+ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref, const std::vector<uint8_t>& mask);
 // Metric by name: rmse, p99, max, frac_1_255, frac_005, leak, darken. InputError otherwise.
 double metric_value(const ErrorStats& e, const std::string& metric);
 void check_metric(const std::string& metric);
@@ -82,15 +81,15 @@ class SrefCache {
   double bias_;
   std::map<std::string, std::vector<double>> cache_;
 };
-std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup,
-                                   const Receivers& rx, double bias = 0.0);
+std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
+                                   double bias = 0.0);
 
 // --- timing -----------------------------------------------------------------------------------
 struct Measured {
   std::vector<float> visibility;  // receivers.count()
   double median_ms = 0;           // wall: prefilter + reconstruct + finish, data on the device
   double min_ms = 0;
-  StageTimes stages;              // median per stage (device profiling)
+  StageTimes stages;  // median per stage (device profiling)
   size_t device_bytes = 0;
   int runs = 0;
 };
@@ -113,8 +112,8 @@ struct Row {
   ErrorStats sref, hard, soft;
   std::vector<float> visibility;  // kept for error images; cleared when not needed
 };
-Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
-                    SrefCache& sref, const TimingSettings& t);
+Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,
+                    const TimingSettings& t);
 // A row's identity and timings from one measurement; the caller adds the errors it needs.
 Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m);
 
@@ -124,8 +123,8 @@ struct Skipped {
 
 // --- outputs ----------------------------------------------------------------------------------
 void write_csv(const std::string& path, const std::vector<Row>& rows);
-void write_json(const std::string& path, const std::vector<Row>& rows,
-                const std::vector<Skipped>& skipped, const std::string& device);
+void write_json(const std::string& path, const std::vector<Row>& rows, const std::vector<Skipped>& skipped,
+                const std::string& device);
 // Time vs error (metric against s_ref, or "hard_<metric>" / "soft_<metric>"), one point per
 // configuration, methods coloured, the Pareto front drawn; log-scaled time axis.
 void write_pareto_png(const std::string& path, const std::string& scene, const std::vector<Row>& rows,
@@ -155,7 +154,7 @@ struct AutoRequest {
   double max_error = 0.05;
   std::string metric = "p99";  // against s_ref of the target weights
   double sref_bias = kDefaultSrefBias;
-  FilterOptions target;        // its blur and lookup define the target weights
+  FilterOptions target;  // its blur and lookup define the target weights
   // true: the target lookup is what the scene needs (trilinear mips when some footprint > 1,
   // bilinear otherwise) instead of target.lookup.
   bool lookup_from_scene = false;
@@ -177,23 +176,23 @@ struct AutoResult {
   bool found = false;
   FilterOptions chosen;
   Row chosen_row;
-  FilterOptions target;               // after the scene's needs (mips dropped when f <= 1)
-  std::string first_hit;              // label of the first candidate under the bound (cost order)
-  std::vector<std::string> skipped;   // "what: why"
-  std::vector<std::string> notes;     // what the scene needs
-  std::vector<Row> tried;             // measured, in cost order; min_ms over every run (final rounds too)
+  FilterOptions target;              // after the scene's needs (mips dropped when f <= 1)
+  std::string first_hit;             // label of the first candidate under the bound (cost order)
+  std::vector<std::string> skipped;  // "what: why"
+  std::vector<std::string> notes;    // what the scene needs
+  std::vector<Row> tried;            // measured, in cost order; min_ms over every run (final rounds too)
   struct Finalist {
     std::string label;
     double min_ms = 0;  // fastest run
     double score = 0;   // median over the final rounds of its time / the round's fastest
     double cost = 0;    // estimate
   };
-  std::vector<Finalist> finalists;     // the re-measured candidates under the bound, best score first
+  std::vector<Finalist> finalists;  // the re-measured candidates under the bound, best score first
   double chosen_score = 0;
-  std::string tie;                     // when the choice is not the fastest run: why (the tie rule)
-  double noise = 0;                    // measured: median over the finalists of median / min - 1 of their ratios
-  double tolerance = 0;                // the tie band used: max(time_tolerance, noise)
-  std::vector<double> tried_cost;     // their estimates
+  std::string tie;                       // when the choice is not the fastest run: why (the tie rule)
+  double noise = 0;                      // measured: median over the finalists of median / min - 1 of their ratios
+  double tolerance = 0;                  // the tie band used: max(time_tolerance, noise)
+  std::vector<double> tried_cost;        // their estimates
   std::vector<AutoCandidate> not_tried;  // costlier than cost_slack x the first hit
   std::vector<Skipped> refused;
 };
@@ -211,7 +210,7 @@ struct TimedChoice {
   std::vector<size_t> order;  // finalists by score, best first (stable)
   double noise = 0;           // 0 for one finalist
   double tolerance = 0;
-  size_t pick = 0;            // the chosen finalist
+  size_t pick = 0;  // the chosen finalist
 };
 // Throws InputError without rounds or finalists, or when a round's size is not cost.size().
 TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, const std::vector<double>& cost,

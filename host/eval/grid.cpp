@@ -52,20 +52,24 @@ namespace {
 
 GridSize grid_size(Grid g) {
   switch (g) {
-    case Grid::Quick: return GridSize::Quick;
-    case Grid::Wide: return GridSize::Wide;
-    case Grid::Default: break;
+    case Grid::Quick:
+      return GridSize::Quick;
+    case Grid::Wide:
+      return GridSize::Wide;
+    case Grid::Default:
+      break;
   }
   return GridSize::Default;
 }
 
 }  // namespace
 
-std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid grid,
-                                     double max_footprint, double sref_bias) {
+std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid grid, double max_footprint,
+                                     double sref_bias) {
   const bool quick = grid == Grid::Quick, wide = grid == Grid::Wide;
-  const std::vector<int> radii = quick ? std::vector<int>{1, 3} : wide ? std::vector<int>{0, 1, 3, 7, 15}
-                                                                       : std::vector<int>{0, 1, 3, 7};
+  const std::vector<int> radii = quick  ? std::vector<int>{1, 3}
+                                 : wide ? std::vector<int>{0, 1, 3, 7, 15}
+                                        : std::vector<int>{0, 1, 3, 7};
   std::vector<Lookup> lookups{Lookup::Bilinear};
   if (max_footprint > 1.0) {
     lookups.push_back(Lookup::Mips);

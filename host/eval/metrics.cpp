@@ -13,8 +13,7 @@ namespace sf::eval {
 
 // --- errors ----------------------------------------------------------------------------------------
 
-ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref,
-                       const std::vector<uint8_t>& mask) {
+ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref, const std::vector<uint8_t>& mask) {
   ErrorStats e;
   if (ref.size() != v.size() || mask.size() != v.size()) return e;
   std::vector<float> abs_err;
@@ -75,8 +74,8 @@ double row_metric(const Row& r, const std::string& metric) {
 
 // --- s_ref -----------------------------------------------------------------------------------------
 
-std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup,
-                                   const Receivers& rx, double bias) {
+std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
+                                   double bias) {
   const size_t n = rx.count();
   std::vector<double> out(n, 1.0);
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -97,8 +96,7 @@ std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& bl
 
 const std::vector<double>& SrefCache::get(const BlurOptions& blur, Lookup lookup) {
   const float sigma = blur.radius > 0 ? (blur.sigma > 0 ? blur.sigma : float((2 * blur.radius + 1) / 6.0)) : 0.0f;
-  const std::string key = std::to_string(blur.radius) + "/" + std::to_string(sigma) + "/" +
-                          std::to_string(int(lookup));
+  const std::string key = std::to_string(blur.radius) + "/" + std::to_string(sigma) + "/" + std::to_string(int(lookup));
   auto it = cache_.find(key);
   if (it != cache_.end()) return it->second;
   return cache_[key] = s_ref_parallel(scene_.depth, blur, lookup, scene_.receivers, bias_);

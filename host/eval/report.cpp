@@ -26,9 +26,7 @@ std::ofstream open_out(const std::string& path) {
 
 std::string csv_quote(const std::string& s) { return "\"" + s + "\""; }
 
-const char* lookup_name(Lookup k) {
-  return k == Lookup::Mips ? "mips" : k == Lookup::Sat ? "sat" : "bilinear";
-}
+const char* lookup_name(Lookup k) { return k == Lookup::Mips ? "mips" : k == Lookup::Sat ? "sat" : "bilinear"; }
 
 std::string json_escape(const std::string& s) {
   std::string o;
@@ -51,9 +49,9 @@ void stats_json(std::ostream& f, const char* name, const ErrorStats& e) {
     f << "null";
     return;
   }
-  f << "{\"n\": " << e.n << ", \"rmse\": " << num(e.rmse) << ", \"p99\": " << num(e.p99)
-    << ", \"max\": " << num(e.max) << ", \"frac_1_255\": " << e.frac_1_255 << ", \"frac_005\": " << e.frac_005
-    << ", \"leak\": " << e.leak << ", \"darken\": " << e.darken << "}";
+  f << "{\"n\": " << e.n << ", \"rmse\": " << num(e.rmse) << ", \"p99\": " << num(e.p99) << ", \"max\": " << num(e.max)
+    << ", \"frac_1_255\": " << e.frac_1_255 << ", \"frac_005\": " << e.frac_005 << ", \"leak\": " << e.leak
+    << ", \"darken\": " << e.darken << "}";
 }
 
 std::vector<float> method_colour(const std::string& m) {
@@ -62,8 +60,8 @@ std::vector<float> method_colour(const std::string& m) {
 }
 
 std::string font_path() {
-  for (const char* p : {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-                        "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"})
+  for (const char* p :
+       {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"})
     if (std::filesystem::exists(p)) return p;
   return "";  // OIIO's default font search
 }
@@ -97,19 +95,17 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   for (const auto& r : rows) {
     const auto& o = r.options;
     f << r.scene << "," << r.method << "," << csv_quote(r.label) << "," << o.blur.radius << ","
-      << lookup_name(o.lookup.kind) << "," << storage_name(o.storage) << ","
-      << csv_quote(parameter_text(o)) << ","
-      << r.time_ms << "," << r.min_ms << "," << r.runs << "," << r.stages.transform * 1e3 << ","
-      << r.stages.blur * 1e3 << "," << r.stages.pyramid * 1e3 << "," << r.stages.sat * 1e3 << ","
-      << r.stages.zmax * 1e3 << "," << r.stages.reconstruct * 1e3 << "," << r.stages.classify * 1e3 << ","
-      << r.device_bytes;
+      << lookup_name(o.lookup.kind) << "," << storage_name(o.storage) << "," << csv_quote(parameter_text(o)) << ","
+      << r.time_ms << "," << r.min_ms << "," << r.runs << "," << r.stages.transform * 1e3 << "," << r.stages.blur * 1e3
+      << "," << r.stages.pyramid * 1e3 << "," << r.stages.sat * 1e3 << "," << r.stages.zmax * 1e3 << ","
+      << r.stages.reconstruct * 1e3 << "," << r.stages.classify * 1e3 << "," << r.device_bytes;
     for (const ErrorStats* e : {&r.sref, &r.hard, &r.soft}) {
       if (!e->valid) {
         f << ",,,,,,,";
         continue;
       }
-      f << "," << e->rmse << "," << e->p99 << "," << e->max << "," << e->frac_1_255 << "," << e->frac_005
-        << "," << e->leak << "," << e->darken;
+      f << "," << e->rmse << "," << e->p99 << "," << e->max << "," << e->frac_1_255 << "," << e->frac_005 << ","
+        << e->leak << "," << e->darken;
     }
     f << "\n";
   }
@@ -129,9 +125,8 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     const auto& r = rows[i];
     const auto& o = r.options;
     f << "    {\"scene\": \"" << json_escape(r.scene) << "\", \"method\": \"" << r.method << "\", \"config\": \""
-      << json_escape(r.label) << "\", \"parameters\": {\"blur_radius\": " << o.blur.radius
-      << ", \"lookup\": \"" << lookup_name(o.lookup.kind) << "\", \"storage\": \"" << storage_name(o.storage)
-      << "\"";
+      << json_escape(r.label) << "\", \"parameters\": {\"blur_radius\": " << o.blur.radius << ", \"lookup\": \""
+      << lookup_name(o.lookup.kind) << "\", \"storage\": \"" << storage_name(o.storage) << "\"";
     for (const MethodParameter& p : find_method(o.method).parameter_values(o))
       f << ", \"" << json_escape(p.key) << "\": " << p.value;
     f << "}, \"time_ms\": " << r.time_ms << ", \"min_ms\": " << r.min_ms << ", \"runs\": " << r.runs
@@ -149,8 +144,7 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
   f << "  ],\n  \"skipped\": [\n";
   for (size_t i = 0; i < skipped.size(); ++i)
     f << "    {\"scene\": \"" << json_escape(skipped[i].scene) << "\", \"config\": \"" << json_escape(skipped[i].label)
-      << "\", \"reason\": \"" << json_escape(skipped[i].reason) << "\"}" << (i + 1 < skipped.size() ? "," : "")
-      << "\n";
+      << "\", \"reason\": \"" << json_escape(skipped[i].reason) << "\"}" << (i + 1 < skipped.size() ? "," : "") << "\n";
   f << "  ]\n}\n";
   if (!f) throw InputError("cannot write '" + path + "'");
 }
@@ -173,7 +167,8 @@ void write_pareto_png(const std::string& path, const std::string& scene, const s
     if (std::isfinite(e)) emax = std::max(emax, e);
   }
   tmin = std::max(tmin, 1e-3);
-  const double lt0 = std::floor(std::log10(tmin) * 4) / 4, lt1 = std::ceil(std::log10(std::max(tmax, tmin * 1.01)) * 4) / 4;
+  const double lt0 = std::floor(std::log10(tmin) * 4) / 4,
+               lt1 = std::ceil(std::log10(std::max(tmax, tmin * 1.01)) * 4) / 4;
   emax = emax > 0 ? emax * 1.08 : 1.0;
   auto px = [&](double t) {
     return int(L + (std::log10(std::max(t, 1e-3)) - lt0) / std::max(lt1 - lt0, 1e-6) * (W - L - R));
@@ -201,7 +196,8 @@ void write_pareto_png(const std::string& path, const std::string& scene, const s
     text(img, 8, y + 5, s.str(), black, 13);
   }
   IBA::render_box(img, L, T, W - R, H - B, black);
-  text(img, L, 30, scene + ": time vs " + metric + " error (" + std::to_string(rows.size()) + " configurations)", black, 18);
+  text(img, L, 30, scene + ": time vs " + metric + " error (" + std::to_string(rows.size()) + " configurations)", black,
+       18);
   text(img, (W - R) / 2 - 60, H - 15, "median time per frame, ms (log)", black, 14);
   // Pareto front.
   const auto front = pareto_front(rows, metric);

@@ -68,8 +68,7 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
   m.stages.classify = median(cls);
   m.visibility.resize(count);
   if (count) q.enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), m.visibility.data());
-  m.device_bytes = pipe.device_bytes() + scene.depth.data.size() * sizeof(float) + rx_bytes +
-                   count * sizeof(float);
+  m.device_bytes = pipe.device_bytes() + scene.depth.data.size() * sizeof(float) + rx_bytes + count * sizeof(float);
   return m;
 }
 
@@ -88,8 +87,8 @@ Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
   return row;
 }
 
-Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o,
-                    SrefCache& sref, const TimingSettings& t) {
+Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,
+                    const TimingSettings& t) {
   Measured m = measure(rt, o, scene, t);
   Row row = timed_row(scene, o, m);
   row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);

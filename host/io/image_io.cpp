@@ -38,13 +38,10 @@ struct RawImage {
   size_t texels() const { return static_cast<size_t>(width) * height; }
 };
 
-std::string size_text(int width, int height) {
-  return std::to_string(width) + "x" + std::to_string(height);
-}
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 std::string texel_text(const RawImage& img, size_t texel) {
-  return "(x=" + std::to_string(texel % img.width) + ", y=" + std::to_string(texel / img.width) +
-         ")";
+  return "(x=" + std::to_string(texel % img.width) + ", y=" + std::to_string(texel / img.width) + ")";
 }
 
 void require_existing_file(const std::string& path, const std::string& role) {
@@ -62,12 +59,11 @@ OIIO::TypeDesc stored_channel_format(const OIIO::ImageSpec& spec) {
   return spec.format;
 }
 
-void require_plain_2d(const OIIO::ImageSpec& spec, const std::string& path,
-                      const std::string& role) {
+void require_plain_2d(const OIIO::ImageSpec& spec, const std::string& path, const std::string& role) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     fail(role, path,
-         "zero size image (" + size_text(spec.width, spec.height) + ", " +
-             std::to_string(spec.nchannels) + " channels)");
+         "zero size image (" + size_text(spec.width, spec.height) + ", " + std::to_string(spec.nchannels) +
+             " channels)");
   if (spec.deep) fail(role, path, "deep images are not supported");
   if (spec.depth > 1) fail(role, path, "volume images (depth > 1) are not supported");
 }
@@ -92,8 +88,7 @@ RawImage read_raw(const std::string& path, const std::string& role) {
   img.stored_format = stored_channel_format(spec);
   img.pixels.resize(img.texels() * img.channels);
 
-  const bool read_ok =
-      input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+  const bool read_ok = input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
   const std::string read_error = input->geterror();
   const bool close_ok = input->close();
   const std::string close_error = input->geterror();
@@ -108,30 +103,27 @@ bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isna
 
 // The single depth channel of a 1-channel image, or of a 3/4-channel image whose first three
 // channels agree everywhere (RGB-only formats such as Radiance HDR; a 4th channel is ignored).
-std::vector<float> single_depth_channel(const RawImage& img, const std::string& path,
-                                        const std::string& role) {
+std::vector<float> single_depth_channel(const RawImage& img, const std::string& path, const std::string& role) {
   if (img.channels == 1) return img.pixels;
   if (img.channels != 3 && img.channels != 4)
     fail(role, path,
-         "expected 1 channel (or 3-4 channels with identical first three), found " +
-             std::to_string(img.channels) + " channels");
+         "expected 1 channel (or 3-4 channels with identical first three), found " + std::to_string(img.channels) +
+             " channels");
   std::vector<float> depth(img.texels());
   for (size_t t = 0; t < img.texels(); ++t) {
     const float first = img.at(t, 0);
     if (!same_value(first, img.at(t, 1)) || !same_value(first, img.at(t, 2)))
       fail(role, path,
-           "expected 1 channel, or 3-4 channels with identical first three; found " +
-               std::to_string(img.channels) + " channels that differ at " + texel_text(img, t));
+           "expected 1 channel, or 3-4 channels with identical first three; found " + std::to_string(img.channels) +
+               " channels that differ at " + texel_text(img, t));
     depth[t] = first;
   }
   return depth;
 }
 
-void require_valid_planes(const DepthLoadOptions& opt, const std::string& path,
-                          const std::string& role) {
+void require_valid_planes(const DepthLoadOptions& opt, const std::string& path, const std::string& role) {
   if (opt.encoding == DepthEncoding::Linear) return;
-  if (!(opt.near_plane > 0.0) || !(opt.far_plane > opt.near_plane) ||
-      !std::isfinite(opt.far_plane)) {
+  if (!(opt.near_plane > 0.0) || !(opt.far_plane > opt.near_plane) || !std::isfinite(opt.far_plane)) {
     std::ostringstream problem;
     problem << "perspective/reversed depth needs 0 < --near < --far (got near=" << opt.near_plane
             << ", far=" << opt.far_plane << ")";
@@ -143,14 +135,13 @@ double clamp01(double value) { return std::min(1.0, std::max(0.0, value)); }
 
 // Linear depth of every texel; non-finite texels stay NaN.
 std::vector<float> linearize_all(std::vector<float> stored, const DepthLoadOptions& opt) {
-  for (float& value : stored)
-    value = std::isfinite(value) ? static_cast<float>(linearize_depth(value, opt)) : kNaN;
+  for (float& value : stored) value = std::isfinite(value) ? static_cast<float>(linearize_depth(value, opt)) : kNaN;
   return stored;
 }
 
 // Shadow maps have no background: non-finite texels are an error or the far plane.
-void resolve_nonfinite_depth(std::vector<float>& depth, const RawImage& img,
-                             const DepthLoadOptions& opt, const std::string& path) {
+void resolve_nonfinite_depth(std::vector<float>& depth, const RawImage& img, const DepthLoadOptions& opt,
+                             const std::string& path) {
   size_t count = 0;
   size_t first = 0;
   for (size_t t = 0; t < depth.size(); ++t) {
@@ -160,9 +151,8 @@ void resolve_nonfinite_depth(std::vector<float>& depth, const RawImage& img,
   }
   if (count > 0 && opt.nonfinite == NonFinitePolicy::Error)
     fail(kShadowMapRole, path,
-         std::to_string(count) + " non-finite depth texel" + (count == 1 ? "" : "s") +
-             " (NaN/Inf), first at " + texel_text(img, first) +
-             "; use --nonfinite far to treat them as the far plane");
+         std::to_string(count) + " non-finite depth texel" + (count == 1 ? "" : "s") + " (NaN/Inf), first at " +
+             texel_text(img, first) + "; use --nonfinite far to treat them as the far plane");
 }
 
 // Returns the index of each wanted channel name, or an empty vector if any is missing.
@@ -179,9 +169,8 @@ std::vector<int> find_channels(const RawImage& img, const std::vector<std::strin
 // Channel indices of u, v, d[, f]: by name when the file's channels are exactly u v d [f]
 // (in any order), else positional R G B [A].
 std::vector<int> receiver_channel_order(const RawImage& img) {
-  const std::vector<std::string> names = img.channels == 4
-                                             ? std::vector<std::string>{"u", "v", "d", "f"}
-                                             : std::vector<std::string>{"u", "v", "d"};
+  const std::vector<std::string> names =
+      img.channels == 4 ? std::vector<std::string>{"u", "v", "d", "f"} : std::vector<std::string>{"u", "v", "d"};
   std::vector<int> by_name = find_channels(img, names);
   if (!by_name.empty()) return by_name;
   std::vector<int> positional(img.channels);
@@ -203,8 +192,7 @@ DepthEncoding parse_depth_encoding(const std::string& name) {
   if (name == "linear") return DepthEncoding::Linear;
   if (name == "perspective") return DepthEncoding::Perspective;
   if (name == "reversed") return DepthEncoding::Reversed;
-  throw InputError("unknown depth encoding '" + detail::one_line(name) +
-                   "'; valid: linear, perspective, reversed");
+  throw InputError("unknown depth encoding '" + detail::one_line(name) + "'; valid: linear, perspective, reversed");
 }
 
 // Assumes valid planes (0 < near < far; the loaders check them). Stored values are clamped to
@@ -250,8 +238,8 @@ Receivers load_receiver_image(const std::string& path) {
   const RawImage raw = read_raw(path, kReceiverImageRole);
   if (raw.channels != 3 && raw.channels != 4)
     fail(kReceiverImageRole, path,
-         "expected 3 or 4 channels (u v d [f], or R G B [A]), found " +
-             std::to_string(raw.channels) + " channel" + (raw.channels == 1 ? "" : "s"));
+         "expected 3 or 4 channels (u v d [f], or R G B [A]), found " + std::to_string(raw.channels) + " channel" +
+             (raw.channels == 1 ? "" : "s"));
   require_float_receivers(raw, path);
 
   const std::vector<int> order = receiver_channel_order(raw);
@@ -270,15 +258,14 @@ Receivers load_receiver_image(const std::string& path) {
     rec.v[t] = raw.at(t, order[1]);
     if (rec.has_footprint) rec.f[t] = raw.at(t, order[3]);
     const float d = raw.at(t, order[2]);
-    const bool defined = std::isfinite(rec.u[t]) && std::isfinite(rec.v[t]) &&
-                         std::isfinite(rec.f[t]) && std::isfinite(d);
+    const bool defined =
+        std::isfinite(rec.u[t]) && std::isfinite(rec.v[t]) && std::isfinite(rec.f[t]) && std::isfinite(d);
     rec.d[t] = defined ? static_cast<float>(clamp01(d)) : kNaN;
   }
   return rec;
 }
 
-Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h,
-                              const DepthLoadOptions& opt) {
+Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h, const DepthLoadOptions& opt) {
   require_valid_planes(opt, path, kReceiverDepthRole);
   const RawImage raw = read_raw(path, kReceiverDepthRole);
   if (raw.width != expected_w || raw.height != expected_h)

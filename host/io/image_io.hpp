@@ -36,8 +36,7 @@ Receivers load_receiver_image(const std::string& path);
 
 // --receiver-depth mode: one-channel image of the shadow map's size (expected_w x expected_h);
 // decoded with the same encoding as the shadow map; non-finite texels are background.
-Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h,
-                              const DepthLoadOptions& opt);
+Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h, const DepthLoadOptions& opt);
 
 // Writes an image atomically (temporary file in the same directory, then rename).
 // Format from the extension: .exr (float32), .tif/.tiff (float32), .pfm, .png (16-bit).

@@ -42,15 +42,14 @@ OutputFormat format_from_extension(const std::string& path) {
   if (ext == ".tif" || ext == ".tiff") return OutputFormat::Tiff;
   if (ext == ".pfm") return OutputFormat::Pfm;
   if (ext == ".png") return OutputFormat::Png;
-  fail(kOutputRole, path,
-       "unsupported extension '" + ext + "'; supported: .exr, .tif, .tiff, .pfm, .png");
+  fail(kOutputRole, path, "unsupported extension '" + ext + "'; supported: .exr, .tif, .tiff, .pfm, .png");
 }
 
 void require_consistent_image(const HostImage& img, const std::string& path) {
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0)
     fail(kOutputRole, path,
-         "cannot write an empty image (" + std::to_string(img.width) + "x" +
-             std::to_string(img.height) + ", " + std::to_string(img.channels) + " channels)");
+         "cannot write an empty image (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ", " +
+             std::to_string(img.channels) + " channels)");
   if (img.data.size() != img.texels() * img.channels)
     fail(kOutputRole, path,
          "image data holds " + std::to_string(img.data.size()) + " values, expected " +
@@ -58,12 +57,10 @@ void require_consistent_image(const HostImage& img, const std::string& path) {
   const size_t channels = static_cast<size_t>(img.channels);
   if (!img.channel_names.empty() && img.channel_names.size() != channels)
     fail(kOutputRole, path,
-         std::to_string(img.channel_names.size()) + " channel names for " +
-             std::to_string(channels) + " channels");
+         std::to_string(img.channel_names.size()) + " channel names for " + std::to_string(channels) + " channels");
   if (!img.channel_formats.empty() && img.channel_formats.size() != channels)
     fail(kOutputRole, path,
-         std::to_string(img.channel_formats.size()) + " channel formats for " +
-             std::to_string(channels) + " channels");
+         std::to_string(img.channel_formats.size()) + " channel formats for " + std::to_string(channels) + " channels");
 }
 
 OIIO::TypeDesc exr_channel_type(const std::string& name, const std::string& path) {
@@ -77,15 +74,13 @@ void set_exr_channel_types(OIIO::ImageSpec& spec, const HostImage& img, const st
   if (img.channel_formats.empty()) return;
   std::vector<OIIO::TypeDesc> types;
   for (const std::string& name : img.channel_formats) types.push_back(exr_channel_type(name, path));
-  const bool uniform =
-      std::all_of(types.begin(), types.end(), [&](OIIO::TypeDesc t) { return t == types[0]; });
+  const bool uniform = std::all_of(types.begin(), types.end(), [&](OIIO::TypeDesc t) { return t == types[0]; });
   spec.set_format(types[0]);
   if (!uniform) spec.channelformats = types;
 }
 
 OIIO::ImageSpec output_spec(const HostImage& img, OutputFormat format, const std::string& path) {
-  const OIIO::TypeDesc pixel_type =
-      format == OutputFormat::Png ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT;
+  const OIIO::TypeDesc pixel_type = format == OutputFormat::Png ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT;
   OIIO::ImageSpec spec(img.width, img.height, img.channels, pixel_type);
   if (!img.channel_names.empty()) spec.channelnames = img.channel_names;
   // Values are written as given: a 4th channel is data (e.g. a footprint), not alpha to
@@ -103,8 +98,7 @@ OIIO::ImageSpec output_spec(const HostImage& img, OutputFormat format, const std
       break;
     case OutputFormat::Png:
       if (img.channels > 4)
-        fail(kOutputRole, path,
-             "PNG holds 1 to 4 channels, the image has " + std::to_string(img.channels));
+        fail(kOutputRole, path, "PNG holds 1 to 4 channels, the image has " + std::to_string(img.channels));
       break;
   }
   for (const auto& [name, value] : img.attributes) spec.attribute(name, value);
@@ -124,8 +118,8 @@ std::vector<float> png_values(const std::vector<float>& data) {
 fs::path temporary_path_for(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   const fs::path target(path);
-  const std::string name = "." + target.stem().string() + ".tmp." + std::to_string(::getpid()) +
-                           "." + std::to_string(counter++) + target.extension().string();
+  const std::string name = "." + target.stem().string() + ".tmp." + std::to_string(::getpid()) + "." +
+                           std::to_string(counter++) + target.extension().string();
   return target.parent_path() / name;
 }
 
@@ -160,11 +154,9 @@ bool little_endian_host() {
 // bottom row of the image up.
 void write_pfm(const fs::path& file, const HostImage& img, const std::string& path) {
   if (img.channels != 1 && img.channels != 3)
-    fail(kOutputRole, path,
-         "PFM holds 1 or 3 channels, the image has " + std::to_string(img.channels));
+    fail(kOutputRole, path, "PFM holds 1 or 3 channels, the image has " + std::to_string(img.channels));
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out)
-    fail(kOutputRole, path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
+  if (!out) fail(kOutputRole, path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
   out << (img.channels == 1 ? "Pf" : "PF") << '\n'
       << img.width << ' ' << img.height << '\n'
       << (little_endian_host() ? "-1.0" : "1.0") << '\n';
@@ -179,34 +171,29 @@ void write_pfm(const fs::path& file, const HostImage& img, const std::string& pa
 // OIIO's messages name the temporary file; the user only knows the output path.
 std::string with_output_path(std::string message, const fs::path& file, const std::string& path) {
   const std::string temporary = file.string();
-  for (size_t at = message.find(temporary); at != std::string::npos;
-       at = message.find(temporary, at + path.size()))
+  for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
     message.replace(at, temporary.size(), path);
   return message;
 }
 
-void write_with_oiio(const fs::path& file, const HostImage& img, OutputFormat format,
-                     const std::string& path) {
+void write_with_oiio(const fs::path& file, const HostImage& img, OutputFormat format, const std::string& path) {
   const OIIO::ImageSpec spec = output_spec(img, format, path);
-  const std::vector<float> clamped =
-      format == OutputFormat::Png ? png_values(img.data) : std::vector<float>{};
+  const std::vector<float> clamped = format == OutputFormat::Png ? png_values(img.data) : std::vector<float>{};
   const float* pixels = clamped.empty() ? img.data.data() : clamped.data();
 
   auto output = OIIO::ImageOutput::create(file.string());
-  if (!output)
-    fail(kOutputRole, path, "cannot create an image writer" + details_suffix(OIIO::geterror()));
+  if (!output) fail(kOutputRole, path, "cannot create an image writer" + details_suffix(OIIO::geterror()));
   if (!output->open(file.string(), spec))
     fail(kOutputRole, path,
-         "cannot open for writing" +
-             details_suffix(with_output_path(output->geterror(), file, path)));
+         "cannot open for writing" + details_suffix(with_output_path(output->geterror(), file, path)));
   const bool write_ok = output->write_image(OIIO::TypeDesc::FLOAT, pixels);
   const std::string write_error = output->geterror();
   const bool close_ok = output->close();
   const std::string close_error = output->geterror();
   if (!write_ok || !close_ok)
-    fail(kOutputRole, path,
-         "write failed" + details_suffix(with_output_path(
-                              write_error.empty() ? close_error : write_error, file, path)));
+    fail(
+        kOutputRole, path,
+        "write failed" + details_suffix(with_output_path(write_error.empty() ? close_error : write_error, file, path)));
 }
 
 }  // namespace
@@ -221,8 +208,7 @@ void write_image(const std::string& path, const HostImage& img) {
     write_with_oiio(temporary.path(), img, format, path);
   std::error_code ec;
   fs::rename(temporary.path(), path, ec);
-  if (ec)
-    fail(kOutputRole, path, "cannot move the finished file into place (" + ec.message() + ")");
+  if (ec) fail(kOutputRole, path, "cannot move the finished file into place (" + ec.message() + ")");
   temporary.release();
 }
 

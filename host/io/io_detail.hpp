@@ -11,8 +11,7 @@ namespace sf::io::detail {
 std::string one_line(const std::string& text);
 
 // Throws InputError("<role> '<path>': <problem>") with the problem collapsed to one line.
-[[noreturn]] void fail(const std::string& role, const std::string& path,
-                       const std::string& problem);
+[[noreturn]] void fail(const std::string& role, const std::string& path, const std::string& problem);
 
 // " (<details>)" when details is non-empty, else "": appends a library message to a problem.
 std::string details_suffix(const std::string& details);

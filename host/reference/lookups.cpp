@@ -15,8 +15,7 @@ double reduce(int op, double a, double b, double c, double d) {
 }
 
 bool outside(double u, double v, double d) {
-  return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 ||
-         v > 1;
+  return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1;
 }
 
 // The kernels' texel coordinate u n - 1/2, rounded once to float32 (see reference.cpp).
@@ -26,7 +25,8 @@ double texel_coordinate(double u, int n) { return double(float(u * n - 0.5)); }
 struct Window {
   int x0 = 0, y0 = 0, w = 0, h = 0;
   std::vector<double> v;
-  Window(int x0_, int y0_, int x1, int y1) : x0(x0_), y0(y0_), w(x1 - x0_ + 1), h(y1 - y0_ + 1), v(size_t(w) * h, 0.0) {}
+  Window(int x0_, int y0_, int x1, int y1)
+      : x0(x0_), y0(y0_), w(x1 - x0_ + 1), h(y1 - y0_ + 1), v(size_t(w) * h, 0.0) {}
   double& at(int x, int y) { return v[size_t(y - y0) * w + (x - x0)]; }
 };
 
@@ -194,14 +194,16 @@ LookupRef::LookupRef(const Planes& filtered, Lookup kind, Storage storage) : kin
 
 double LookupRef::value(int c, double u, double v, double f) const {
   switch (kind_) {
-    case Lookup::Mips: return trilinear(chain_, c, u, v, f);
-    case Lookup::Sat: return box_mean(chain_[0], c, u, v, f);
-    default: return bilinear(chain_[0], c, u, v);
+    case Lookup::Mips:
+      return trilinear(chain_, c, u, v, f);
+    case Lookup::Sat:
+      return box_mean(chain_[0], c, u, v, f);
+    default:
+      return bilinear(chain_[0], c, u, v);
   }
 }
 
-std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u,
-                             double v, double f) {
+std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u, double v, double f) {
   const Window l0 = level0_window(W, H, kind, u, v, f);
   const int R = blur_opt.radius;
   const auto g = gaussian_weights(R, blur_opt.sigma);
@@ -223,8 +225,8 @@ std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup k
   return taps;
 }
 
-double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v,
-             double d, double f, double bias) {
+double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, double d, double f,
+             double bias) {
   if (outside(u, v, d)) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
   double acc = 0;
@@ -233,8 +235,7 @@ double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, d
   return acc;
 }
 
-std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind,
-                          const Receivers& rx) {
+std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, const Receivers& rx) {
   std::vector<double> out(rx.count(), 1.0);
   for (size_t i = 0; i < rx.count(); ++i) {
     const double d = rx.d[i];

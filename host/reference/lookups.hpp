@@ -45,13 +45,11 @@ struct Tap {
   int x, y;
   double w;
 };
-std::vector<Tap> lookup_taps(int width, int height, const BlurOptions& blur, Lookup kind, double u,
-                             double v, double f);
+std::vector<Tap> lookup_taps(int width, int height, const BlurOptions& blur, Lookup kind, double u, double v, double f);
 
 // s_ref under a lookup: sum_t W_x(t) H(z_t - d + bias). Background / outside = 1.
-double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v,
-             double d, double f, double bias = 0.0);
-std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind,
-                          const Receivers& rx);
+double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, double d, double f,
+             double bias = 0.0);
+std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, const Receivers& rx);
 
 }  // namespace sf::ref

@@ -48,8 +48,10 @@ double round_half(double v) {
 
 double quantise(double v, Storage s) {
   switch (s) {
-    case Storage::F32: return double(float(v));
-    case Storage::F16: return round_half(v);
+    case Storage::F32:
+      return double(float(v));
+    case Storage::F16:
+      return round_half(v);
     // The code, read back exactly as sf_load does (times the float reciprocal).
     case Storage::Unorm16:
       return float(std::nearbyint(std::clamp(double(float(v)) * 65535.0, 0.0, 65535.0))) * (1.0f / 65535.0f);

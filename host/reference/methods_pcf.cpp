@@ -8,10 +8,8 @@
 
 namespace sf::ref {
 
-double pcf(const HostImage& depth, const BlurOptions& blur_opt, double u, double v, double d,
-           double bias) {
-  if (!std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1)
-    return 1.0;
+double pcf(const HostImage& depth, const BlurOptions& blur_opt, double u, double v, double d, double bias) {
+  if (!std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
   const int R = blur_opt.radius;
   const auto w = gaussian_weights(R, blur_opt.sigma);

@@ -15,8 +15,7 @@ namespace {
 int clampi(int v, int lo, int hi) { return std::min(std::max(v, lo), hi); }
 
 bool receiver_outside(double u, double v, double d) {
-  return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 ||
-         v > 1;
+  return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1;
 }
 
 struct BilinearTaps {
@@ -64,15 +63,13 @@ Planes blur(const Planes& in, int radius, double sigma) {
     for (int y = 0; y < in.height; ++y)
       for (int x = 0; x < in.width; ++x) {
         double acc = 0;
-        for (int k = -radius; k <= radius; ++k)
-          acc += w[std::abs(k)] * in.at(c, clampi(x + k, 0, in.width - 1), y);
+        for (int k = -radius; k <= radius; ++k) acc += w[std::abs(k)] * in.at(c, clampi(x + k, 0, in.width - 1), y);
         rows.at(c, x, y) = acc;
       }
     for (int y = 0; y < in.height; ++y)
       for (int x = 0; x < in.width; ++x) {
         double acc = 0;
-        for (int k = -radius; k <= radius; ++k)
-          acc += w[std::abs(k)] * rows.at(c, x, clampi(y + k, 0, in.height - 1));
+        for (int k = -radius; k <= radius; ++k) acc += w[std::abs(k)] * rows.at(c, x, clampi(y + k, 0, in.height - 1));
         out.at(c, x, y) = acc;
       }
   }

@@ -40,7 +40,7 @@ double pcf(const HostImage& depth, const BlurOptions& blur, double u, double v, 
 
 // --- filters and lookups -----------------------------------------------------
 std::vector<double> gaussian_weights(int radius, double sigma);  // w[0..R]; sigma <= 0: default
-Planes blur(const Planes& in, int radius, double sigma);          // rows then columns, clamped
+Planes blur(const Planes& in, int radius, double sigma);         // rows then columns, clamped
 // Bilinear, clamp-to-edge, texel centres at (i + 0.5) / W.
 double bilinear(const Planes& img, int channel, double u, double v);
 

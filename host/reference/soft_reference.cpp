@@ -32,7 +32,8 @@ BoxScan box_scan(const double* img, int w, int h, double u, double v, double wid
       if (wx <= 0) continue;
       const double z = row[std::clamp(i, 0, w - 1)], wt = wx * wy;
       W += wt;
-      if (z >= d - bias) lit += wt;
+      if (z >= d - bias)
+        lit += wt;
       else {
         blk += wt;
         blkz += wt * z;
@@ -86,8 +87,10 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
           if (!(z < d - o.bias)) continue;
           const double r = soft_width(o.light, d, z);
           double wt;
-          if (r <= ri) wt = k == 0 ? 1.0 : std::max((r - rlo) / (ri - rlo), 0.0);
-          else wt = k == top ? 1.0 : std::max((rhi - r) / (rhi - ri), 0.0);
+          if (r <= ri)
+            wt = k == 0 ? 1.0 : std::max((r - rlo) / (ri - rlo), 0.0);
+          else
+            wt = k == top ? 1.0 : std::max((rhi - r) / (rhi - ri), 0.0);
           acc += wx * wy * wt;
         }
       }
@@ -146,8 +149,8 @@ double series(const std::vector<double>& b, int M, double dp, double* num) {
 }
 }  // namespace
 
-double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, double v, double d,
-                 double f, double* zavg_out) {
+double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, double v, double d, double f,
+                 double* zavg_out) {
   if (zavg_out) *zavg_out = NAN;
   if (outside(u, v, d)) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
@@ -164,10 +167,11 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   if (!blocked && !o.cssm_contact) return 1.0;
   const double zavg = blocked ? std::clamp(num / den, 0.0, d) : d;
   if (zavg_out && blocked) *zavg_out = zavg;
-  const double fw = std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0,
-                               double(o.max_width));
+  const double fw =
+      std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
   for (int c = 0; c < 2 * M; ++c) b[c] = basis.value(c, u, v, ms * fw);
-  double vis = std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm_normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
+  double vis =
+      std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm_normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
   if (P.sharpen_a > 0) vis = std::pow(vis, 1.0 + P.sharpen_a * std::exp(-P.sharpen_b * (d - zavg)));
   return vis;
 }

@@ -16,13 +16,12 @@ BoxScan box_scan(const double* plane, int w, int h, double u, double v, double w
 
 // One receiver (background / outside = 1).
 double soft_pcss(const Planes& depth, const SoftOptions& opt, double u, double v, double d, double f);
-double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, double u, double v,
-                 double d, double f);
+double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, double u, double v, double d, double f);
 // cssm: the basis (4M + 1 planes), then the lookup through LookupRef; zavg_out (may be null):
 // z_avg or NaN when no blocker.
 Planes cssm_basis(const HostImage& depth, int order);
 class LookupRef;
-double soft_cssm(const LookupRef& basis, int W, const SoftOptions& opt, double u, double v, double d,
-                 double f, double* zavg_out = nullptr);
+double soft_cssm(const LookupRef& basis, int W, const SoftOptions& opt, double u, double v, double d, double f,
+                 double* zavg_out = nullptr);
 
 }  // namespace sf::ref

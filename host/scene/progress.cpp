@@ -7,8 +7,7 @@ namespace sf::scene {
 using Clock = std::chrono::steady_clock;
 
 Progress::Progress(std::string label, size_t total, bool enabled)
-    : label_(std::move(label)), total_(total), enabled_(enabled), start_(Clock::now()),
-      last_draw_(start_) {}
+    : label_(std::move(label)), total_(total), enabled_(enabled), start_(Clock::now()), last_draw_(start_) {}
 
 Progress::~Progress() {
   if (shown_) draw(total_, true);
@@ -30,9 +29,8 @@ void Progress::draw(size_t done, bool final) {
   const double fraction = total_ ? double(done) / double(total_) : 1.0;
   const int filled = int(fraction * kWidth + 0.5);
   const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
-  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %.1f s", label_.c_str(),
-               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
-               int(fraction * 100 + 0.5), seconds);
+  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %.1f s", label_.c_str(), std::string(filled, '#').c_str(),
+               std::string(kWidth - filled, ' ').c_str(), int(fraction * 100 + 0.5), seconds);
   if (final) std::fprintf(stderr, "\n");
   std::fflush(stderr);
   shown_ = true;

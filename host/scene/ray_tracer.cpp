@@ -47,10 +47,10 @@ RayTracer::RayTracer(const SceneGeometry& geometry) : impl_(std::make_unique<Imp
   unsigned id = 0;
   for (const TriMesh& mesh : geometry.meshes) {
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
-    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), mesh.vertices.size()));
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(unsigned), mesh.triangles.size()));
     check_device(impl_->device, "allocating a mesh");
     for (size_t k = 0; k < mesh.vertices.size(); ++k) {
       v[3 * k] = float(mesh.vertices[k].x);
@@ -66,8 +66,8 @@ RayTracer::RayTracer(const SceneGeometry& geometry) : impl_(std::make_unique<Imp
   }
   for (const Sphere& sphere : geometry.spheres) {
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* p = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    auto* p = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
     check_device(impl_->device, "allocating a sphere");
     p[0] = float(sphere.center.x);
     p[1] = float(sphere.center.y);
@@ -87,8 +87,7 @@ RayTracer::~RayTracer() {
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-std::optional<Hit> RayTracer::closest(const Ray& ray, double t_min, double t_max,
-                                      unsigned mask) const {
+std::optional<Hit> RayTracer::closest(const Ray& ray, double t_min, double t_max, unsigned mask) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -99,8 +98,10 @@ std::optional<Hit> RayTracer::closest(const Ray& ray, double t_min, double t_max
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   Vec3 n{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
   const double len = length(n);
-  if (!(len > 0.0)) n = -1.0 * ray.direction;
-  else n = (1.0 / len) * n;
+  if (!(len > 0.0))
+    n = -1.0 * ray.direction;
+  else
+    n = (1.0 / len) * n;
   if (dot(n, ray.direction) > 0.0) n = -n;
   return Hit{rh.ray.tfar, n, rh.hit.geomID};
 }

@@ -15,7 +15,7 @@ inline constexpr unsigned kMaskAll = kMaskGround | kMaskOccluders;
 
 struct Hit {
   double t = 0.0;
-  Vec3 normal;  // unit geometric normal, facing the incoming ray (surfaces are two-sided)
+  Vec3 normal;          // unit geometric normal, facing the incoming ray (surfaces are two-sided)
   unsigned object = 0;  // geometry index: meshes first, then spheres
 };
 
@@ -27,8 +27,7 @@ class RayTracer {
   RayTracer& operator=(const RayTracer&) = delete;
 
   // Nearest hit with t in (t_min, t_max) on geometry whose mask shares a bit with `mask`.
-  std::optional<Hit> closest(const Ray& ray, double t_min, double t_max,
-                             unsigned mask = kMaskAll) const;
+  std::optional<Hit> closest(const Ray& ray, double t_min, double t_max, unsigned mask = kMaskAll) const;
   // True when anything with t in (t_min, t_max) blocks the ray.
   bool occluded(const Ray& ray, double t_min, double t_max, unsigned mask = kMaskAll) const;
 

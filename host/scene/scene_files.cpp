@@ -79,9 +79,8 @@ void write_camera(std::ostream& out, const PerspectiveCamera& camera) {
 void write_files(std::ostream& out, const std::vector<OutputFile>& files) {
   out << "  \"files\": [\n";
   for (size_t k = 0; k < files.size(); ++k) {
-    out << "    {\"name\": " << json_string(files[k].name)
-        << ", \"description\": " << json_string(files[k].description) << "}"
-        << (k + 1 < files.size() ? ",\n" : "\n");
+    out << "    {\"name\": " << json_string(files[k].name) << ", \"description\": " << json_string(files[k].description)
+        << "}" << (k + 1 < files.size() ? ",\n" : "\n");
   }
   out << "  ]\n";
 }
@@ -129,10 +128,8 @@ std::map<std::string, std::string> light_attributes(const SceneSetup& setup) {
   };
   if (light.type == LightType::Ortho) {
     // Light-space extents: [right_min, right_max, down_min, down_max] in world units.
-    a["ortho_extents"] = "[" + format_number(light.right_range.lo) + ", " +
-                         format_number(light.right_range.hi) + ", " +
-                         format_number(light.down_range.lo) + ", " +
-                         format_number(light.down_range.hi) + "]";
+    a["ortho_extents"] = "[" + format_number(light.right_range.lo) + ", " + format_number(light.right_range.hi) + ", " +
+                         format_number(light.down_range.lo) + ", " + format_number(light.down_range.hi) + "]";
   } else {
     a["light_position"] = json_vector(light.position);
     a["fov_degrees"] = format_number(light.fov_degrees);
@@ -149,14 +146,16 @@ void write_scene_json(const fs::path& path, const SceneSetup& setup, const Scene
       << "  \"generator\": " << json_string(kGeneratorVersion) << ",\n"
       << "  \"seed\": " << setup.seed << ",\n"
       << "  \"samples\": " << setup.samples << ",\n"
-      << "  \"sampling\": " << json_string("stratified: sqrt(samples) x sqrt(samples) cells over the area light, one jittered sample per cell, per-pixel streams from splitmix64(seed, x, y)") << ",\n"
-      << "  \"conventions\": " << json_string("methods.md section 1; world y up, units arbitrary")
-      << ",\n";
+      << "  \"sampling\": "
+      << json_string(
+             "stratified: sqrt(samples) x sqrt(samples) cells over the area light, one jittered sample per cell, "
+             "per-pixel streams from splitmix64(seed, x, y)")
+      << ",\n"
+      << "  \"conventions\": " << json_string("methods.md section 1; world y up, units arbitrary") << ",\n";
   write_geometry(out, setup.geometry);
   write_light(out, setup);
   write_camera(out, setup.camera);
-  out << "  \"min_occluder_floor_gap\": " << format_number(record.min_occluder_floor_gap)
-      << ",\n";
+  out << "  \"min_occluder_floor_gap\": " << format_number(record.min_occluder_floor_gap) << ",\n";
   write_files(out, record.files);
   out << "}\n";
 
@@ -175,8 +174,8 @@ StagingDirectory::StagingDirectory(const fs::path& destination)
   if (fs::exists(destination_) && !fs::is_directory(destination_)) {
     throw InputError(destination_.string() + " exists and is not a directory");
   }
-  staging_ = parent / ("." + destination_.filename().string() + ".partial-" +
-                       std::to_string(static_cast<long>(::getpid())));
+  staging_ =
+      parent / ("." + destination_.filename().string() + ".partial-" + std::to_string(static_cast<long>(::getpid())));
   fs::remove_all(staging_, error);
   if (!fs::create_directory(staging_, error) || error) {
     throw InputError("cannot create " + staging_.string() + ": " + error.message());
@@ -200,8 +199,7 @@ void StagingDirectory::commit(const std::vector<OutputFile>& files) {
   for (const OutputFile& output : files) {
     fs::rename(staging_ / output.name, destination_ / output.name, error);
     if (error) {
-      throw InputError("cannot write " + (destination_ / output.name).string() + ": " +
-                       error.message());
+      throw InputError("cannot write " + (destination_ / output.name).string() + ": " + error.message());
     }
   }
   fs::remove(staging_, error);

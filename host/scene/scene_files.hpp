@@ -21,7 +21,7 @@ struct OutputFile {
 
 // What scene.json records besides the scene setup.
 struct SceneRecord {
-  std::string source;   // "built-in" or the mesh file
+  std::string source;  // "built-in" or the mesh file
   std::string purpose;
   double min_occluder_floor_gap = 0.0;
   std::vector<OutputFile> files;
@@ -36,8 +36,7 @@ std::string json_vector(Vec3 v);
 // extents or position/fov (plain strings, no time stamps).
 std::map<std::string, std::string> light_attributes(const SceneSetup& setup);
 
-void write_scene_json(const std::filesystem::path& path, const SceneSetup& setup,
-                      const SceneRecord& record);
+void write_scene_json(const std::filesystem::path& path, const SceneSetup& setup, const SceneRecord& record);
 
 // A hidden directory beside the destination that collects the output files. commit() moves
 // them into place: the whole directory is renamed when the destination does not exist yet,

@@ -50,8 +50,7 @@ std::string builtin_list() {
 
 SceneDefaults load_defaults(const std::string& scene) {
   if (is_builtin_scene(scene)) return make_builtin_scene(scene);
-  const bool looks_like_file = scene.find('/') != std::string::npos ||
-                               scene.find('.') != std::string::npos;
+  const bool looks_like_file = scene.find('/') != std::string::npos || scene.find('.') != std::string::npos;
   if (!looks_like_file)
     throw InputError("unknown scene '" + scene + "' (built-in: " + builtin_list() +
                      "; or a mesh file: OBJ, PLY, OFF, STL)");
@@ -84,8 +83,7 @@ std::vector<OutputFile> output_files(bool has_ground) {
 
 // OpenImageIO stamps EXR files with the current time (capDate) unless DateTime is given: an
 // empty one keeps the files byte-identical between runs.
-void write_deterministic(const std::string& path, HostImage image,
-                         std::map<std::string, std::string> attributes) {
+void write_deterministic(const std::string& path, HostImage image, std::map<std::string, std::string> attributes) {
   attributes["DateTime"] = "";
   image.attributes = std::move(attributes);
   io::write_image(path, image);
@@ -100,18 +98,16 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
     throw InputError("--light must be ortho or perspective, got '" + request.light + "'");
   const bool ortho = request.light == "ortho";
   if (ortho && request.light_pos)
-    throw InputError("--light-pos needs --light perspective (an orthographic light has a "
-                     "direction, --light-dir)");
-  if (ortho && request.fov_degrees != 0.0)
-    throw InputError("--fov needs --light perspective");
-  if (!ortho && request.fov_degrees != 0.0 &&
-      !(request.fov_degrees > 0.0 && request.fov_degrees < 170.0))
+    throw InputError(
+        "--light-pos needs --light perspective (an orthographic light has a "
+        "direction, --light-dir)");
+  if (ortho && request.fov_degrees != 0.0) throw InputError("--fov needs --light perspective");
+  if (!ortho && request.fov_degrees != 0.0 && !(request.fov_degrees > 0.0 && request.fov_degrees < 170.0))
     throw InputError("--fov must be between 0 and 170 degrees");
   if (request.light_size && !(*request.light_size >= 0.0 && std::isfinite(*request.light_size)))
     throw InputError("--light-size must be a finite number >= 0");
   if (request.samples <= 0)
-    throw InputError("--samples must be a positive square number, got " +
-                     std::to_string(request.samples));
+    throw InputError("--samples must be a positive square number, got " + std::to_string(request.samples));
   if (request.out_dir.empty()) throw InputError("-o DIR is required");
 
   SceneDefaults defaults = load_defaults(request.scene);
@@ -131,8 +127,7 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
     const Vec3 centre{0.5 * (x.lo + x.hi), 0.5 * (y.lo + y.hi), 0.5 * (z.lo + z.hi)};
     const double radius = 0.5 * length({x.hi - x.lo, y.hi - y.lo, z.hi - z.lo});
     const Vec3 position = request.light_pos ? *request.light_pos : centre - (2.5 * radius) * dir;
-    setup.light = LightView::fit_perspective(setup.geometry, position, centre,
-                                             request.fov_degrees, kFrustumMargin);
+    setup.light = LightView::fit_perspective(setup.geometry, position, centre, request.fov_degrees, kFrustumMargin);
   }
   setup.camera = defaults.camera;
   setup.camera.width = cw;
@@ -167,25 +162,21 @@ SceneSummary generate_scene(const SceneRequest& request) {
   if (ground) {
     const HostImage receiver_depth = renderer.receiver_depth();
     record.min_occluder_floor_gap = min_occluder_floor_gap(shadow_map, receiver_depth);
-    write_deterministic(staging.file("receiver_depth.exr").string(), receiver_depth,
-                        light_attributes(setup));
+    write_deterministic(staging.file("receiver_depth.exr").string(), receiver_depth, light_attributes(setup));
   } else {
     record.min_occluder_floor_gap = std::nan("");
   }
   record.files = output_files(ground);
   CameraImages camera = renderer.camera_view(true);
-  const std::map<std::string, std::string> camera_attributes = {
-      {"scene", setup.geometry.name}, {"generator", kGeneratorVersion}};
-  write_deterministic(staging.file("receivers.exr").string(), std::move(camera.receivers),
-                      camera_attributes);
-  write_deterministic(staging.file("reference_hard.exr").string(),
-                      std::move(camera.reference_hard), camera_attributes);
+  const std::map<std::string, std::string> camera_attributes = {{"scene", setup.geometry.name},
+                                                                {"generator", kGeneratorVersion}};
+  write_deterministic(staging.file("receivers.exr").string(), std::move(camera.receivers), camera_attributes);
+  write_deterministic(staging.file("reference_hard.exr").string(), std::move(camera.reference_hard), camera_attributes);
   auto soft_attributes = camera_attributes;
   soft_attributes["light_size"] = format_number(setup.light_size);
   soft_attributes["samples"] = std::to_string(setup.samples);
   soft_attributes["seed"] = std::to_string(setup.seed);
-  write_deterministic(staging.file("reference_soft.exr").string(),
-                      std::move(camera.reference_soft), soft_attributes);
+  write_deterministic(staging.file("reference_soft.exr").string(), std::move(camera.reference_soft), soft_attributes);
   write_scene_json(staging.file("scene.json"), setup, record);
   staging.commit(record.files);
   if (!ground) {  // a stale planar-receiver file from an earlier scene would not match
@@ -193,8 +184,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
     std::filesystem::remove(std::filesystem::path(request.out_dir) / "receiver_depth.exr", ignored);
   }
   summary.min_occluder_floor_gap = record.min_occluder_floor_gap;
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

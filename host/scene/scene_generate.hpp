@@ -9,7 +9,7 @@
 namespace sf::scene {
 
 struct SceneRequest {
-  std::string scene;        // built-in name or mesh file
+  std::string scene;  // built-in name or mesh file
   std::string out_dir;
   int map_size = 2048;
   std::string receivers = "1920x1080";  // WIDTHxHEIGHT

@@ -52,25 +52,22 @@ Interval project_onto(const SceneGeometry& scene, Vec3 axis) {
 
 std::vector<Vec3> hull_points(const SceneGeometry& scene) {
   std::vector<Vec3> points;
-  for (const TriMesh& mesh : scene.meshes)
-    points.insert(points.end(), mesh.vertices.begin(), mesh.vertices.end());
+  for (const TriMesh& mesh : scene.meshes) points.insert(points.end(), mesh.vertices.begin(), mesh.vertices.end());
   for (const Sphere& s : scene.spheres)
     for (int k = 0; k < 8; ++k)
-      points.push_back(s.center + Vec3{(k & 1) ? s.radius : -s.radius,
-                                       (k & 2) ? s.radius : -s.radius,
+      points.push_back(s.center + Vec3{(k & 1) ? s.radius : -s.radius, (k & 2) ? s.radius : -s.radius,
                                        (k & 4) ? s.radius : -s.radius});
   return points;
 }
 
 void add_floor(SceneGeometry& scene, double half_size) {
-  add_quad(scene, "floor", {-half_size, 0.0, -half_size}, {2 * half_size, 0.0, 0.0},
-           {0.0, 0.0, 2 * half_size}, /*ground=*/true);
-  scene.description.back() = "{\"type\": \"floor\", \"plane\": \"y = 0\", \"half_size\": " +
-                             format_number(half_size) + "}";
+  add_quad(scene, "floor", {-half_size, 0.0, -half_size}, {2 * half_size, 0.0, 0.0}, {0.0, 0.0, 2 * half_size},
+           /*ground=*/true);
+  scene.description.back() =
+      "{\"type\": \"floor\", \"plane\": \"y = 0\", \"half_size\": " + format_number(half_size) + "}";
 }
 
-void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 edge_a,
-              Vec3 edge_b, bool ground) {
+void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 edge_a, Vec3 edge_b, bool ground) {
   TriMesh mesh;
   mesh.name = name;
   mesh.ground = ground;
@@ -78,8 +75,8 @@ void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 e
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   scene.meshes.push_back(std::move(mesh));
   scene.description.push_back("{\"type\": \"quad\", \"name\": " + json_string(name) +
-                              ", \"corner\": " + json_vector(corner) + ", \"edge_a\": " +
-                              json_vector(edge_a) + ", \"edge_b\": " + json_vector(edge_b) + "}");
+                              ", \"corner\": " + json_vector(corner) + ", \"edge_a\": " + json_vector(edge_a) +
+                              ", \"edge_b\": " + json_vector(edge_b) + "}");
 }
 
 void add_box(SceneGeometry& scene, const std::string& name, Vec3 lo, Vec3 hi) {
@@ -88,16 +85,14 @@ void add_box(SceneGeometry& scene, const std::string& name, Vec3 lo, Vec3 hi) {
   for (int k = 0; k < 8; ++k)
     mesh.vertices.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
   // Faces as quads of corner indices (outward winding).
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) {
     mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
     mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[2]), uint32_t(f[3])});
   }
   scene.meshes.push_back(std::move(mesh));
-  scene.description.push_back("{\"type\": \"box\", \"name\": " + json_string(name) +
-                              ", \"min\": " + json_vector(lo) + ", \"max\": " + json_vector(hi) +
-                              "}");
+  scene.description.push_back("{\"type\": \"box\", \"name\": " + json_string(name) + ", \"min\": " + json_vector(lo) +
+                              ", \"max\": " + json_vector(hi) + "}");
 }
 
 void add_prism(TriMesh& mesh, Vec3 a, Vec3 b, double ra, double rb, int sides) {
@@ -127,8 +122,7 @@ void add_prism(TriMesh& mesh, Vec3 a, Vec3 b, double ra, double rb, int sides) {
 void add_sphere(SceneGeometry& scene, const std::string& name, Vec3 center, double radius) {
   scene.spheres.push_back({name, center, radius});
   scene.description.push_back("{\"type\": \"sphere\", \"name\": " + json_string(name) +
-                              ", \"center\": " + json_vector(center) +
-                              ", \"radius\": " + format_number(radius) + "}");
+                              ", \"center\": " + json_vector(center) + ", \"radius\": " + format_number(radius) + "}");
 }
 
 }  // namespace sf::scene

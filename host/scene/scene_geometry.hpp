@@ -44,8 +44,8 @@ std::vector<Vec3> hull_points(const SceneGeometry& scene);
 void add_floor(SceneGeometry& scene, double half_size);  // y = 0, |x|,|z| <= half_size, ground
 void add_box(SceneGeometry& scene, const std::string& name, Vec3 min_corner, Vec3 max_corner);
 // Parallelogram corner + s*edge_a + t*edge_b, s,t in [0,1] (zero thickness, two-sided).
-void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 edge_a,
-              Vec3 edge_b, bool ground = false);
+void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 edge_a, Vec3 edge_b,
+              bool ground = false);
 // Closed n-sided prism (a cylinder approximation) from a to b with radii ra at a, rb at b.
 void add_prism(TriMesh& mesh, Vec3 a, Vec3 b, double ra, double rb, int sides);
 void add_sphere(SceneGeometry& scene, const std::string& name, Vec3 center, double radius);

@@ -61,8 +61,9 @@ SceneDefaults spheres() {
 SceneDefaults fence() {
   SceneDefaults s;
   s.geometry.name = "fence";
-  s.purpose = "thin high-frequency occluder (picket fence) in front of other objects: VSM light "
-              "bleeding (seed 000 fig. 6.9, 7.8)";
+  s.purpose =
+      "thin high-frequency occluder (picket fence) in front of other objects: VSM light "
+      "bleeding (seed 000 fig. 6.9, 7.8)";
   add_floor(s.geometry, kFloorHalfSize);
   for (int k = 0; k < 40; ++k) {
     const double x = -3.6 + 0.18 * k;
@@ -80,8 +81,7 @@ SceneDefaults fence() {
   return s;
 }
 
-void add_table(SceneGeometry& g, const std::string& name, Vec3 lo, Vec3 hi, double top,
-               double leg) {
+void add_table(SceneGeometry& g, const std::string& name, Vec3 lo, Vec3 hi, double top, double leg) {
   add_box(g, name + "_top", {lo.x, hi.y - top, lo.z}, hi);
   const double xs[2] = {lo.x, hi.x - leg}, zs[2] = {lo.z, hi.z - leg};
   for (int a = 0; a < 2; ++a)
@@ -96,8 +96,9 @@ SceneDefaults backyard() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "backyard";
-  s.purpose = "several depth layers (tree crown over table over bench over floor): ESM failure "
-              "classification (seed 000 table 7.2)";
+  s.purpose =
+      "several depth layers (tree crown over table over bench over floor): ESM failure "
+      "classification (seed 000 table 7.2)";
   add_floor(g, kFloorHalfSize);
   add_table(g, "table", {-2.6, 0.0, -2.6}, {-0.6, 1.1, -1.2}, 0.08, 0.1);
   add_table(g, "bench", {-1.2, 0.0, -0.6}, {0.6, 0.5, -0.1}, 0.06, 0.08);
@@ -106,8 +107,9 @@ SceneDefaults backyard() {
   trunk.name = "trunk";
   add_prism(trunk, {-1.0, 0.0, -2.9}, {-1.0, 2.6, -2.9}, 0.16, 0.1, 10);
   g.meshes.push_back(trunk);
-  g.description.push_back("{\"type\": \"prism\", \"name\": \"trunk\", \"from\": [-1, 0, -2.9], "
-                          "\"to\": [-1, 2.6, -2.9], \"radii\": [0.16, 0.1], \"sides\": 10}");
+  g.description.push_back(
+      "{\"type\": \"prism\", \"name\": \"trunk\", \"from\": [-1, 0, -2.9], "
+      "\"to\": [-1, 2.6, -2.9], \"radii\": [0.16, 0.1], \"sides\": 10}");
   add_sphere(g, "crown", {-1.0, 3.1, -2.6}, 0.95);
   add_box(g, "shed", {1.2, 0.0, 1.0}, {3.4, 1.5, 3.2});
   add_quad(g, "shed_roof", {1.0, 1.45, 0.8}, {2.6, 0.0, 0.0}, {0.0, 0.7, 2.6});
@@ -126,8 +128,9 @@ SceneDefaults contact() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "contact";
-  s.purpose = "slanted plane touching the floor, box and ball resting on it: contact shadows, "
-              "low-order CSM brightening (seed 000 fig. 6.5)";
+  s.purpose =
+      "slanted plane touching the floor, box and ball resting on it: contact shadows, "
+      "low-order CSM brightening (seed 000 fig. 6.5)";
   add_floor(g, kFloorHalfSize);
   add_quad(g, "ramp", {-2.8, 0.0, -2.0}, {0.0, 0.0, 3.2}, {2.6, 1.5, 0.0});
   add_box(g, "box", {0.9, 0.0, -2.6}, {2.3, 1.0, -1.2});
@@ -139,8 +142,7 @@ SceneDefaults contact() {
   return s;
 }
 
-void grow_branch(TriMesh& mesh, Rng& rng, Vec3 base, Vec3 dir, double len, double radius,
-                 int depth) {
+void grow_branch(TriMesh& mesh, Rng& rng, Vec3 base, Vec3 dir, double len, double radius, int depth) {
   const Vec3 tip = base + len * dir;
   add_prism(mesh, base, tip, radius, radius * 0.75, depth > 3 ? 6 : 4);
   if (depth == 0) return;
@@ -163,8 +165,9 @@ SceneDefaults thin() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "thin";
-  s.purpose = "tree-like branches down to sub-texel width: aliasing and minification (seed 000 "
-              "fig. 6.6, 6.10)";
+  s.purpose =
+      "tree-like branches down to sub-texel width: aliasing and minification (seed 000 "
+      "fig. 6.6, 6.10)";
   add_floor(g, kFloorHalfSize);
   Rng rng{20240601};
   const Vec3 roots[2] = {{-1.2, 0.0, -0.8}, {1.6, 0.0, -2.2}};
@@ -173,10 +176,9 @@ SceneDefaults thin() {
     TriMesh tree;
     tree.name = "tree" + std::to_string(k);
     grow_branch(tree, rng, roots[k], {0.0, 1.0, 0.0}, heights[k], 0.09, 7);
-    g.description.push_back("{\"type\": \"tree\", \"name\": " + json_string(tree.name) +
-                            ", \"root\": " + json_vector(roots[k]) + ", \"trunk_length\": " +
-                            format_number(heights[k]) + ", \"levels\": 8, \"triangles\": " +
-                            std::to_string(tree.triangles.size()) + "}");
+    g.description.push_back("{\"type\": \"tree\", \"name\": " + json_string(tree.name) + ", \"root\": " +
+                            json_vector(roots[k]) + ", \"trunk_length\": " + format_number(heights[k]) +
+                            ", \"levels\": 8, \"triangles\": " + std::to_string(tree.triangles.size()) + "}");
     g.meshes.push_back(std::move(tree));
   }
   s.light_direction = {0.3, -1.0, 0.2};
@@ -186,9 +188,9 @@ SceneDefaults thin() {
 }
 
 double terrain_height(double x, double z) {
-  return 0.9 + 0.55 * std::sin(0.8 * x + 0.4) * std::cos(0.65 * z - 0.3) +
-         0.3 * std::sin(1.7 * x + 1.3 * z + 2.0) + 0.14 * std::sin(3.1 * x - 2.6 * z + 0.7) +
-         0.07 * std::cos(5.3 * x + 4.1 * z + 1.9) + 0.035 * std::sin(9.7 * x - 7.9 * z);
+  return 0.9 + 0.55 * std::sin(0.8 * x + 0.4) * std::cos(0.65 * z - 0.3) + 0.3 * std::sin(1.7 * x + 1.3 * z + 2.0) +
+         0.14 * std::sin(3.1 * x - 2.6 * z + 0.7) + 0.07 * std::cos(5.3 * x + 4.1 * z + 1.9) +
+         0.035 * std::sin(9.7 * x - 7.9 * z);
 }
 
 // A self-shadowing height field under a low light: shadow acne and bias (the terrain is the
@@ -230,9 +232,9 @@ SceneDefaults terrain() {
 using Maker = std::function<SceneDefaults()>;
 
 const std::vector<std::pair<std::string, Maker>>& makers() {
-  static const std::vector<std::pair<std::string, Maker>> list = {
-      {"spheres", spheres}, {"fence", fence}, {"backyard", backyard},
-      {"contact", contact}, {"thin", thin},   {"terrain", terrain}};
+  static const std::vector<std::pair<std::string, Maker>> list = {{"spheres", spheres},   {"fence", fence},
+                                                                  {"backyard", backyard}, {"contact", contact},
+                                                                  {"thin", thin},         {"terrain", terrain}};
   return list;
 }
 
@@ -266,12 +268,10 @@ SceneDefaults make_builtin_scene(const std::string& name) {
 SceneDefaults load_mesh_scene(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError("cannot read mesh '" + path + "': no such file");
+  if (!fs::is_regular_file(path, ec)) throw InputError("cannot read mesh '" + path + "': no such file");
   Assimp::Importer importer;
-  const aiScene* ai = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                aiProcess_SortByPType);
+  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                  aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (!ai) throw InputError("cannot read mesh '" + path + "': " + importer.GetErrorString());
   TriMesh mesh;
   mesh.name = fs::path(path).stem().string();
@@ -283,12 +283,10 @@ SceneDefaults load_mesh_scene(const std::string& path) {
     for (unsigned f = 0; f < src->mNumFaces; ++f) {
       const aiFace& face = src->mFaces[f];
       if (face.mNumIndices != 3) continue;
-      mesh.triangles.push_back(
-          {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+      mesh.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }
   }
-  if (mesh.triangles.empty())
-    throw InputError("cannot read mesh '" + path + "': it holds no triangles");
+  if (mesh.triangles.empty()) throw InputError("cannot read mesh '" + path + "': it holds no triangles");
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (const Vec3& v : mesh.vertices) {
     lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
@@ -307,12 +305,11 @@ SceneDefaults load_mesh_scene(const std::string& path) {
   s.source = path;
   s.purpose = "real mesh on a floor";
   add_floor(s.geometry, kFloorHalfSize);
-  s.geometry.description.push_back(
-      "{\"type\": \"mesh\", \"name\": " + json_string(mesh.name) + ", \"file\": " +
-      json_string(fs::path(path).filename().string()) + ", \"vertices\": " +
-      std::to_string(mesh.vertices.size()) + ", \"triangles\": " +
-      std::to_string(mesh.triangles.size()) + ", \"scale\": " + format_number(scale) +
-      ", \"translation_before_scale\": " + json_vector(shift) + "}");
+  s.geometry.description.push_back("{\"type\": \"mesh\", \"name\": " + json_string(mesh.name) +
+                                   ", \"file\": " + json_string(fs::path(path).filename().string()) +
+                                   ", \"vertices\": " + std::to_string(mesh.vertices.size()) + ", \"triangles\": " +
+                                   std::to_string(mesh.triangles.size()) + ", \"scale\": " + format_number(scale) +
+                                   ", \"translation_before_scale\": " + json_vector(shift) + "}");
   s.geometry.meshes.push_back(std::move(mesh));
   s.light_direction = {0.35, -1.0, 0.25};
   s.camera = corner_camera();

@@ -62,8 +62,8 @@ HostImage SceneRenderer::shadow_map() const {
   for_each_row("shadow map", image.height, image.width, [&](int j) {
     for (int i = 0; i < image.width; ++i) {
       const Ray ray = setup_.light.texel_ray(i, j, image.width, image.height);
-      const auto hit = tracer_.closest(ray, setup_.light.texel_ray_start(ray),
-                                       std::numeric_limits<double>::infinity(), kMaskAll);
+      const auto hit =
+          tracer_.closest(ray, setup_.light.texel_ray_start(ray), std::numeric_limits<double>::infinity(), kMaskAll);
       image.at(i, j) = hit ? float(std::min(1.0, setup_.light.depth_at(ray, hit->t))) : 1.0f;
     }
   });
@@ -76,8 +76,8 @@ HostImage SceneRenderer::receiver_depth() const {
   for_each_row("receiver depth", image.height, image.width, [&](int j) {
     for (int i = 0; i < image.width; ++i) {
       const Ray ray = setup_.light.texel_ray(i, j, image.width, image.height);
-      const auto hit = tracer_.closest(ray, setup_.light.texel_ray_start(ray),
-                                       std::numeric_limits<double>::infinity(), kMaskGround);
+      const auto hit =
+          tracer_.closest(ray, setup_.light.texel_ray_start(ray), std::numeric_limits<double>::infinity(), kMaskGround);
       image.at(i, j) = hit ? float(setup_.light.depth_at(ray, hit->t)) : kNaN;
     }
   });
@@ -169,8 +169,7 @@ CameraImages SceneRenderer::camera_view(bool with_soft) const {
       if (with_soft) {
         const uint64_t stream = (uint64_t(setup_.seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);
         uint64_t mix = stream;
-        out.reference_soft.at(x, y) =
-            float(visible_fraction(point, hit->normal, splitmix64(mix)));
+        out.reference_soft.at(x, y) = float(visible_fraction(point, hit->normal, splitmix64(mix)));
       }
     }
   });

@@ -21,8 +21,8 @@ struct SceneSetup {
   double light_size = 0.2;  // side of the square area light (world units)
   int samples = 64;         // area-light samples per pixel, a square number
   unsigned seed = 1;
-  bool progress = true;     // progress bars on stderr for stages over a second
-  int threads = 0;          // 0 = hardware concurrency
+  bool progress = true;  // progress bars on stderr for stages over a second
+  int threads = 0;       // 0 = hardware concurrency
 };
 
 // Camera-view outputs of one pass.

@@ -51,10 +51,9 @@ LightView LightView::fit_ortho(const SceneGeometry& scene, Vec3 direction, doubl
   return light;
 }
 
-LightView LightView::fit_perspective(const SceneGeometry& scene, Vec3 position, Vec3 target,
-                                     double fov_degrees, double margin) {
-  if (!(length(target - position) > 0.0))
-    throw InputError("--light-pos must differ from the scene centre it looks at");
+LightView LightView::fit_perspective(const SceneGeometry& scene, Vec3 position, Vec3 target, double fov_degrees,
+                                     double margin) {
+  if (!(length(target - position) > 0.0)) throw InputError("--light-pos must differ from the scene centre it looks at");
   LightView light;
   light.type = LightType::Perspective;
   light.position = position;
@@ -64,8 +63,9 @@ LightView LightView::fit_perspective(const SceneGeometry& scene, Vec3 position, 
     const Vec3 q = p - position;
     const double z = dot(q, light.forward);
     if (!(z > 0.0))
-      throw InputError("the perspective light at --light-pos must see the whole scene in front "
-                       "of it (geometry lies behind the light)");
+      throw InputError(
+          "the perspective light at --light-pos must see the whole scene in front "
+          "of it (geometry lies behind the light)");
     z_min = std::min(z_min, z);
     z_max = std::max(z_max, z);
     slope = std::max({slope, std::abs(dot(q, light.right)) / z, std::abs(dot(q, light.down)) / z});
@@ -78,8 +78,9 @@ LightView LightView::fit_perspective(const SceneGeometry& scene, Vec3 position, 
   } else {
     light.fov_degrees = 2.0 * std::atan(slope * (1.0 + 2.0 * margin)) * 180.0 / kPi;
     if (!(light.fov_degrees < 170.0))
-      throw InputError("the scene needs a field of view over 170 degrees from --light-pos; move "
-                       "the light away from the scene");
+      throw InputError(
+          "the scene needs a field of view over 170 degrees from --light-pos; move "
+          "the light away from the scene");
   }
   return light;
 }
@@ -95,8 +96,7 @@ Ray LightView::texel_ray(int i, int j, int width, int height) const {
     return Ray{a * right + b * down + near_plane * forward, forward};
   }
   const double th = tan_half_fov();
-  return Ray{position, normalize(forward + ((2.0 * u - 1.0) * th) * right +
-                                 ((2.0 * v - 1.0) * th) * down)};
+  return Ray{position, normalize(forward + ((2.0 * u - 1.0) * th) * right + ((2.0 * v - 1.0) * th) * down)};
 }
 
 double LightView::texel_ray_start(const Ray& ray) const {
@@ -118,8 +118,7 @@ LightCoords LightView::project(Vec3 p) const {
   const Vec3 q = p - position;
   const double z = dot(q, forward);
   const double th = tan_half_fov();
-  return {0.5 + 0.5 * dot(q, right) / (z * th), 0.5 + 0.5 * dot(q, down) / (z * th),
-          (z - near_plane) / depth_range()};
+  return {0.5 + 0.5 * dot(q, right) / (z * th), 0.5 + 0.5 * dot(q, down) / (z * th), (z - near_plane) / depth_range()};
 }
 
 Ray LightView::towards_light(Vec3 p, double& distance) const {

@@ -40,8 +40,8 @@ struct LightView {
   static LightView fit_ortho(const SceneGeometry& scene, Vec3 direction, double margin);
   // Spot light at `position` looking at `target`; fov_degrees <= 0 fits the field of view to
   // the geometry. Throws InputError when geometry lies behind or at the light.
-  static LightView fit_perspective(const SceneGeometry& scene, Vec3 position, Vec3 target,
-                                   double fov_degrees, double margin);
+  static LightView fit_perspective(const SceneGeometry& scene, Vec3 position, Vec3 target, double fov_degrees,
+                                   double margin);
 
   // Ray through the centre of texel (i, j), and the ray parameter at which it enters the
   // frustum (the near plane).

@@ -42,7 +42,7 @@ struct BlurSchedule {
   int rows = 64;        // output rows per work-item
   bool stream = false;  // streaming stores: every row starts on a vector boundary
 };
-constexpr int kBlurStepRows = 4;     // SF_VROWS: output rows per step, sharing their ring loads
+constexpr int kBlurStepRows = 4;      // SF_VROWS: output rows per step, sharing their ring loads
 constexpr int kBlurCopyChunk = 4096;  // SF_COPY_CHUNK: floats per work-item of sf_blur_copy
 
 int floor_pow2(int n) {
@@ -57,13 +57,12 @@ int ceil_div(int a, int b) { return (a + b - 1) / b; }
 // 128 KiB). Rows: 256, fewer when needed to give every compute unit 8 work-items; long strips
 // make the 2R halo rows that two work-items both blur along x a small share (the measurement
 // against other tiles: docs/lookups.md "The blur's CPU schedule").
-BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions& sched,
-                           const ImageShape& shape) {
+BlurSchedule blur_schedule(const Runtime& rt, int radius, const ScheduleOptions& sched, const ImageShape& shape) {
   BlurSchedule s;
   s.vec = sched.blur_vector_width;
   const int span = 2 * radius + kBlurStepRows;
-  const int texels = sched.blur_strip_texels > 0 ? sched.blur_strip_texels
-                                                 : std::clamp(floor_pow2(16384 / span), 64, 128);
+  const int texels =
+      sched.blur_strip_texels > 0 ? sched.blur_strip_texels : std::clamp(floor_pow2(16384 / span), 64, 128);
   s.strip = std::max(1, texels / s.vec);
   if (sched.blur_rows > 0) {
     s.rows = sched.blur_rows;
@@ -97,9 +96,8 @@ std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, S
 }
 
 // The copy back of an in-place blur, tmp -> dst, after `blurred` (blur.cl: sf_blur_copy).
-cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer& tmp,
-                            const cl::Buffer& dst, const ImageShape& shape,
-                            const cl::Event& blurred) {
+cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer& tmp, const cl::Buffer& dst,
+                            const ImageShape& shape, const cl::Event& blurred) {
   cl::Kernel copy(p, "sf_blur_copy");
   const int count = static_cast<int>(shape.plane_texels() * shape.channels);
   copy.setArg(0, tmp);
@@ -107,8 +105,8 @@ cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer&
   copy.setArg(2, count);
   const EventList after{blurred};
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)),
-                                  cl::NDRange(1), &after, &e);
+  rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)), cl::NDRange(1),
+                                  &after, &e);
   return e;
 }
 
@@ -146,18 +144,17 @@ GpuBlurShape gpu_blur_shape(const Runtime& rt, int radius, int items) {
 
 // The Gpu family: src -> out in one launch of sf_blur_tiles, halving the group while the built
 // kernel allows fewer items.
-cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
-                             const cl::Buffer& src, const cl::Buffer& out, const ImageShape& shape,
-                             const EventList* wait, Storage storage) {
+cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, const cl::Buffer& src,
+                             const cl::Buffer& out, const ImageShape& shape, const EventList* wait, Storage storage) {
   int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).blur_group.items(), sched.gpu_work_group);
   for (;;) {
     const GpuBlurShape g = gpu_blur_shape(rt, blur.radius, items);
-    const cl::Program p = rt.program(
-        {"common.clh", "storage.clh", "blur.cl"},
-        "-cl-std=CL1.2 -DSF_BLUR_GPU -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" +
-            weight_literals(blur) + " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
-            " -DSF_BGX=" + std::to_string(g.x) + " -DSF_BGY=" + std::to_string(g.y) +
-            " -DSF_BROWS=" + std::to_string(g.rows));
+    const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"},
+                                     "-cl-std=CL1.2 -DSF_BLUR_GPU -DSF_RADIUS=" + std::to_string(blur.radius) +
+                                         " -DSF_WEIGHTS=" + weight_literals(blur) +
+                                         " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
+                                         " -DSF_BGX=" + std::to_string(g.x) + " -DSF_BGY=" + std::to_string(g.y) +
+                                         " -DSF_BROWS=" + std::to_string(g.rows));
     cl::Kernel k(p, "sf_blur_tiles");
     if (kernel_group_limit(rt, k) < size_t(g.items()) && items > 1) {
       items /= 2;
@@ -169,8 +166,8 @@ cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const Schedul
     k.setArg(3, shape.height);
     k.setArg(4, static_cast<int>(shape.plane_texels()));
     const int tile_rows = g.y * g.rows;
-    const cl::NDRange global(size_t(ceil_div(shape.width, g.x)) * g.x,
-                             size_t(ceil_div(shape.height, tile_rows)) * g.y, shape.channels);
+    const cl::NDRange global(size_t(ceil_div(shape.width, g.x)) * g.x, size_t(ceil_div(shape.height, tile_rows)) * g.y,
+                             shape.channels);
     cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(g.x, g.y, 1), wait, &e);
     return e;
@@ -179,9 +176,9 @@ cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const Schedul
 
 }  // namespace
 
-BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
-                        const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                        const ImageShape& shape, const EventList* wait, Storage storage) try {
+BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, const cl::Buffer& src,
+                        const cl::Buffer& tmp, const cl::Buffer& dst, const ImageShape& shape, const EventList* wait,
+                        Storage storage) try {
   BlurEvents ev;
   if (blur.radius == 0) {
     if (src() != dst()) {
@@ -216,16 +213,14 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
     return ev;
   }
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
-  const cl::Program p =
-      rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
+  const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
   cl::Kernel k(p, "sf_blur");
   k.setArg(0, src);
   k.setArg(1, in_place ? tmp : dst);
   k.setArg(2, shape.width);
   k.setArg(3, shape.height);
   k.setArg(4, static_cast<int>(shape.plane_texels()));
-  const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows),
-                           shape.channels);
+  const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows), shape.channels);
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
   ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
   return ev;

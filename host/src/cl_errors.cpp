@@ -53,8 +53,8 @@ std::string cl_error_name(cl_int code) {
 }
 
 void throw_device_error(const char* entry_point, const cl::Error& e) {
-  throw DeviceError(std::string(entry_point) + ": " + (e.what() ? e.what() : "OpenCL call") +
-                    " failed with " + cl_error_name(e.err()));
+  throw DeviceError(std::string(entry_point) + ": " + (e.what() ? e.what() : "OpenCL call") + " failed with " +
+                    cl_error_name(e.err()));
 }
 
 }  // namespace sf::detail

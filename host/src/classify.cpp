@@ -64,8 +64,8 @@ double esm_threshold_eps(const FilterOptions& opt) {
 
 cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                       const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                      const cl::Buffer& visibility, const cl::Buffer& flags,
-                                      size_t count, const EventList* wait) try {
+                                      const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
+                                      const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
   common_args(k, in)
@@ -79,23 +79,25 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, con
       .value(params(opt))
       .bytes(find_method(opt.method).pack_params(opt));
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
-                                  cl::NullRange, wait, &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_esm_classify_points", e);
 }
 
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
-                                    const cl::Buffer& d, const cl::Buffer& visibility,
-                                    const cl::Buffer& flags, const EventList* wait) try {
+                                    const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                    const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_grid");
-  common_args(k, in).buffer(d).buffer(visibility).buffer(flags).value(params(opt)).bytes(
-      find_method(opt.method).pack_params(opt));
+  common_args(k, in)
+      .buffer(d)
+      .buffer(visibility)
+      .buffer(flags)
+      .value(params(opt))
+      .bytes(find_method(opt.method).pack_params(opt));
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange,
-                                  wait, &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_esm_classify_grid", e);
@@ -111,12 +113,13 @@ void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int hei
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
                      options.method);
   if (options.esm_classify.mode == EsmClassify::ZMax)
-    plan.buffers.push_back({"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
+    plan.buffers.push_back(
+        {"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
   plan.bytes_per_receiver += 1;  // the flags
 }
 
-ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
-    try : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
+ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height) try
+    : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
   BufferPlan plan;
   add_to_plan(options_, width, height, plan);
   if (const size_t bytes = plan.bytes("zmax chain")) zmax_chain_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
@@ -149,9 +152,9 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
   in.lookup = lookup;
   in.width = width_;
   in.height = height_;
-  classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
-                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_,
-                                                         rx.count, wait);
+  classify_done_ =
+      rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
+              : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_, rx.count, wait);
   return classify_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::classify", e);

@@ -4,7 +4,7 @@
 
 namespace sf::detail {
 struct EmbeddedKernel {
-  const char* path;    // relative to kernels/, e.g. "methods/esm.clh"
+  const char* path;  // relative to kernels/, e.g. "methods/esm.clh"
   const char* source;
 };
 const std::vector<EmbeddedKernel>& embedded_kernels();

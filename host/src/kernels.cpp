@@ -41,8 +41,8 @@ cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
 }
 
 // A kernel of `file` built on the method's header, with the method's options and `extra`.
-cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt, const char* file,
-                         const char* name, const detail::BuildOptions& extra = detail::BuildOptions::without_standard()) {
+cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt, const char* file, const char* name,
+                         const detail::BuildOptions& extra = detail::BuildOptions::without_standard()) {
   detail::BuildOptions b;
   detail::add_method_options(b, m, opt).append(extra.str());
   cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file}, b.str());
@@ -57,9 +57,8 @@ std::vector<uint8_t> method_params(const MethodDesc& m, const FilterOptions& opt
 
 }  // namespace
 
-cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                            const cl::Buffer& depth, int width, int height, const cl::Buffer& basis,
-                            const EventList* wait) try {
+cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, const cl::Buffer& depth,
+                            int width, int height, const cl::Buffer& basis, const EventList* wait) try {
   const int texels = width * height;
   if (method.raw_depth) {  // sm, pcf: the "basis" is the depth map itself
     method.validate(opt);
@@ -75,11 +74,10 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   // Vectors per work-item of sf_transformv (SF_XREP, why in transform.cl): with more than 4
   // planes, one whole 64-byte line of every plane per item.
   const int rep = method.channels(opt) > 4 ? std::max(1, 64 / (vec * storage_bytes(opt.storage))) : 1;
-  cl::Kernel k = vec == 1 ? method_kernel(rt, method, opt, "transform.cl", "sf_transform")
-                          : method_kernel(rt, method, opt, "transform.cl", "sf_transformv",
-                                          detail::BuildOptions::without_standard()
-                                              .define("SF_XVEC", vec)
-                                              .define("SF_XREP", rep));
+  cl::Kernel k =
+      vec == 1 ? method_kernel(rt, method, opt, "transform.cl", "sf_transform")
+               : method_kernel(rt, method, opt, "transform.cl", "sf_transformv",
+                               detail::BuildOptions::without_standard().define("SF_XVEC", vec).define("SF_XREP", rep));
   detail::KernelArgs(k).buffer(depth).buffer(basis).value(texels).value(texels).bytes(method_params(method, opt));
   cl::Event e;
   // sf_transformv: work-groups of 64 items unless the schedule fixes one. PoCL gives a private
@@ -90,8 +88,7 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
   if (vec > 1 && sched.work_group_size == 0) sched.work_group_size = 64;
   const size_t per_item = size_t(vec) * (vec > 1 ? rep : 1);
   const size_t items = (size_t(texels) + per_item - 1) / per_item;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(items, sched), local_1d(sched), wait,
-                                  &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d(items, sched), local_1d(sched), wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_transform", e);
@@ -102,8 +99,7 @@ namespace {
 // The element offset of `chain` in `basis` when chain is a sub-buffer of basis (the pipeline's
 // joined mip layout: level 0 at 0, the chain after it, then one padding value that the pair
 // loads of the last texel read) and every index fits an int; else -1.
-int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, size_t bytes,
-                        size_t chain_values) {
+int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, size_t bytes, size_t chain_values) {
   if (!chain() || !basis()) return -1;
   if (chain.getInfo<CL_MEM_ASSOCIATED_MEMOBJECT>()() != basis()) return -1;
   const size_t offset = chain.getInfo<CL_MEM_OFFSET>();
@@ -117,16 +113,15 @@ int joined_chain_offset(const cl::Buffer& basis, const cl::Buffer& chain, size_t
 // Level k's element offset in the joined buffer, k = 0 .. top (the kernel's level_offsets).
 cl::Buffer level_offset_table(Runtime& rt, const MipLayout& mips, int chain_offset) {
   std::vector<cl_int> offsets{0};
-  for (int l = 1; l <= mips.top(); ++l)
-    offsets.push_back(chain_offset + static_cast<cl_int>(mips.levels[l].offset));
-  return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                    offsets.size() * sizeof(cl_int), offsets.data());
+  for (int l = 1; l <= mips.top(); ++l) offsets.push_back(chain_offset + static_cast<cl_int>(mips.levels[l].offset));
+  return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, offsets.size() * sizeof(cl_int),
+                    offsets.data());
 }
 
 }  // namespace
 
-cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis,
-                             const cl::Buffer& chain, const ImageShape& shape) try {
+cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis, const cl::Buffer& chain,
+                             const ImageShape& shape) try {
   const MipLayout mips = mip_layout(shape.width, shape.height, shape.channels);
   const int chain_offset = joined_chain_offset(basis, chain, storage_bytes(storage), mips.chain_values);
   return chain_offset >= 0 ? level_offset_table(rt, mips, chain_offset) : cl::Buffer();
@@ -135,10 +130,9 @@ cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& bas
 }
 
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                     const cl::Buffer& basis, int width, int height,
-                                     const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                     const cl::Buffer& visibility, size_t count,
-                                     const EventList* wait, const LookupBuffers* lookup) try {
+                                     const cl::Buffer& basis, int width, int height, const cl::Buffer& u,
+                                     const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& visibility,
+                                     size_t count, const EventList* wait, const LookupBuffers* lookup) try {
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait,
                               lookup ? &lookup->footprint : nullptr);
@@ -152,17 +146,17 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   // every width gives the same values (tests/test_reconstruct_vec.cpp).
   while (vec > 1 && method.channels(opt) * vec > 64) vec = vec == 4 ? 1 : vec / 2;
   const MipLayout mips = kind == Lookup::Mips ? mip_layout(width, height, method.channels(opt)) : MipLayout{};
-  const int chain_offset = kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain,
-                                                                     storage_bytes(opt.storage),
-                                                                     mips.chain_values)
-                                                : -1;
+  const int chain_offset =
+      kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain, storage_bytes(opt.storage), mips.chain_values)
+                           : -1;
   const bool joined = chain_offset >= 0;
-  cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
-                               detail::BuildOptions::without_standard()
-                                   .define("SF_RX_VEC", vec)
-                                   .append(kind == Lookup::Bilinear ? "" : detail::BuildOptions::without_standard().lookup(kind).str())
-                                   .flag_if(joined, "SF_MIPS_JOINED")
-                                   .flag_if(joined || (kind == Lookup::Bilinear && width >= 2), "SF_RX_PAIRS"));
+  cl::Kernel k = method_kernel(
+      rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
+      detail::BuildOptions::without_standard()
+          .define("SF_RX_VEC", vec)
+          .append(kind == Lookup::Bilinear ? "" : detail::BuildOptions::without_standard().lookup(kind).str())
+          .flag_if(joined, "SF_MIPS_JOINED")
+          .flag_if(joined || (kind == Lookup::Bilinear && width >= 2), "SF_RX_PAIRS"));
   // The caller's table (the pipeline builds it once with its mip chain), else one built here.
   cl::Buffer level_offsets = joined ? lookup->level_offsets : cl::Buffer();
   if (joined) {
@@ -198,9 +192,8 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
 }
 
 cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                   const cl::Buffer& basis, int width, int height,
-                                   const cl::Buffer& d, const cl::Buffer& visibility,
-                                   const EventList* wait) try {
+                                   const cl::Buffer& basis, int width, int height, const cl::Buffer& d,
+                                   const cl::Buffer& visibility, const EventList* wait) try {
   if (method.raw_depth) return enqueue_pcf_grid(rt, opt, basis, width, height, d, visibility, wait);
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_grid");
   detail::KernelArgs(k)
@@ -212,8 +205,7 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
       .buffer(visibility)
       .bytes(method_params(method, opt));
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
-                                  &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_reconstruct_grid", e);

@@ -41,10 +41,10 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
 
 }  // namespace
 
-cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
-                             int width, int height, const cl::Buffer& u, const cl::Buffer& v,
-                             const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
-                             const EventList* wait, const cl::Buffer* footprint) try {
+cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
+                             const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                             const cl::Buffer& visibility, size_t count, const EventList* wait,
+                             const cl::Buffer* footprint) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
   const Lookup lookup = find_method(opt.method).filtered ? opt.lookup.kind : Lookup::Bilinear;
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
@@ -70,15 +70,21 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
   detail::throw_device_error("enqueue_pcf_points", e);
 }
 
-cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
-                           int height, const cl::Buffer& d, const cl::Buffer& visibility,
-                           const EventList* wait) try {
+cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
+                           const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait) try {
   PcfSetup s = pcf_setup(rt, opt, "sf_pcf_grid");
   cl::Kernel& k = s.kernel;
-  detail::KernelArgs(k).buffer(depth).value(width).value(height).buffer(d).buffer(visibility).value(s.bias).value(s.radius).value(s.weights);
+  detail::KernelArgs(k)
+      .buffer(depth)
+      .value(width)
+      .value(height)
+      .buffer(d)
+      .buffer(visibility)
+      .value(s.bias)
+      .value(s.radius)
+      .value(s.weights);
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait,
-                                  &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_pcf_grid", e);

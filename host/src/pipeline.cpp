@@ -16,9 +16,9 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
   auto mib = [](size_t b) { return std::to_string((b + (1 << 20) - 1) >> 20) + " MiB"; };
   if (largest_buffer > info.max_alloc_bytes || total > info.global_mem_bytes) {
     std::ostringstream s;
-    s << what << " needs " << mib(total) << " (largest buffer " << mib(largest_buffer)
-      << ") but device '" << info.device_name << "' allows " << mib(info.max_alloc_bytes)
-      << " per buffer and " << mib(info.global_mem_bytes) << " in all";
+    s << what << " needs " << mib(total) << " (largest buffer " << mib(largest_buffer) << ") but device '"
+      << info.device_name << "' allows " << mib(info.max_alloc_bytes) << " per buffer and "
+      << mib(info.global_mem_bytes) << " in all";
     throw InputError(s.str());
   }
 }
@@ -57,21 +57,17 @@ size_t joined_level0_bytes(const Runtime& rt, const ImageShape& shape) {
 // blur's scratch only where a basis is blurred.
 BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int width, int height) try {
   if (width <= 0 || height <= 0)
-    throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" +
-                     std::to_string(height));
+    throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" + std::to_string(height));
   const MethodDesc& method = find_method(options.method);
   method.validate(options);
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
   BufferPlan plan;
-  plan.shape = {width, height, method.channels(options),
-                method.raw_depth ? 4 : storage_bytes(options.storage)};
+  plan.shape = {width, height, method.channels(options), method.raw_depth ? 4 : storage_bytes(options.storage)};
   const ImageShape& shape = plan.shape;
   if (shape.plane_texels() * shape.channels > size_t(1) << 31)
     throw InputError("shadow map " + std::to_string(width) + "x" + std::to_string(height) +
                      " is too large (more than 2^31 basis values)");
-  auto add = [&plan](const char* name, size_t bytes) {
-    plan.buffers.push_back({name, std::max<size_t>(bytes, 4)});
-  };
+  auto add = [&plan](const char* name, size_t bytes) { plan.buffers.push_back({name, std::max<size_t>(bytes, 4)}); };
   const Lookup lookup = method.raw_depth ? Lookup::Bilinear : options.lookup.kind;
   if (lookup == Lookup::Mips) {
     // Level 0 (the basis) and the chain in one buffer, one padding value after the chain.
@@ -93,14 +89,12 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
   detail::throw_device_error("Pipeline::plan", e);
 }
 
-Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
-    try : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
+Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height) try
+    : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
   plan_ = plan(*rt_, options_, width, height);
   shape_ = plan_.shape;
   check_fits_device(*rt_, plan_.largest(), plan_.total(), "the pipeline's buffers");
-  auto alloc = [this](const char* name) {
-    return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, plan_.bytes(name));
-  };
+  auto alloc = [this](const char* name) { return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, plan_.bytes(name)); };
   if (plan_.bytes("basis+mips")) {
     // The reconstruction addresses every level from one base (kernels.cpp, SF_MIPS_JOINED):
     // basis_ and chain_ are sub-buffers of mips_.
@@ -126,22 +120,22 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
-  transform_done_ = enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height,
-                                      blur ? scratch_ : basis_, wait);
+  transform_done_ =
+      enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height, blur ? scratch_ : basis_, wait);
   blur_done_ = BlurEvents{};
   pyramid_done_ = sat_done_ = PassEvents{};
   cl::Event filtered = transform_done_;
   if (blur) {  // out of place, scratch_ -> basis_: no copy back
     EventList after{transform_done_};
-    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, scratch_, basis_, basis_,
-                              shape_, &after, options_.storage);
+    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, scratch_, basis_, basis_, shape_, &after,
+                              options_.storage);
     filtered = blur_done_.cols;
   }
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.
   EventList done{filtered}, after_filter{filtered};
   if (chain_()) {
-    pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_,
-                                    &after_filter, pyramid_build(options_.schedule));
+    pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_, &after_filter,
+                                    pyramid_build(options_.schedule));
     done.push_back(pyramid_done_.last);
   }
   if (sat_()) {
@@ -161,8 +155,7 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   detail::throw_device_error("Pipeline::prefilter", e);
 }
 
-cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility,
-                                const EventList* wait) try {
+cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) try {
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
   // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).
@@ -172,12 +165,11 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
   lookup.sat = sat_;
   lookup.footprint = rx.f;
   if (rx.grid) {  // footprint 1 at texel centres: every lookup reads the texel itself
-    reconstruct_done_ = enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width,
-                                                 shape_.height, rx.d, visibility, wait);
+    reconstruct_done_ =
+        enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width, shape_.height, rx.d, visibility, wait);
   } else {
-    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, rx_basis, shape_.width,
-                                                   shape_.height, rx.u, rx.v, rx.d, visibility,
-                                                   rx.count, wait, &lookup);
+    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, rx_basis, shape_.width, shape_.height,
+                                                   rx.u, rx.v, rx.d, visibility, rx.count, wait, &lookup);
   }
   if (!classify_) return reconstruct_done_;
   EventList after{reconstruct_done_};
@@ -225,8 +217,8 @@ cl::Buffer upload(Runtime& rt, const std::vector<float>& host, EventList& events
 
 }  // namespace
 
-FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options,
-                    const HostImage& depth, const Receivers& receivers) try {
+FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
+                    const Receivers& receivers) try {
   Runtime& rt = *runtime;
   if (depth.channels != 1) throw InputError("depth map must have one channel");
   Pipeline pipe(runtime, options, depth.width, depth.height);
@@ -235,13 +227,12 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   const size_t count = receivers.count();
   const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
   check_fits_device(rt, std::max(pipe.basis_shape().bytes(), count * sizeof(float)),
-                    pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes,
-                    "this run");
+                    pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes, "this run");
   for (size_t i = 0; i < count; ++i) {
     if (!std::isfinite(receivers.d[i])) {
       ++result.background;
-    } else if (!receivers.grid && !(receivers.u[i] >= 0.0f && receivers.u[i] <= 1.0f &&
-                                    receivers.v[i] >= 0.0f && receivers.v[i] <= 1.0f)) {
+    } else if (!receivers.grid && !(receivers.u[i] >= 0.0f && receivers.u[i] <= 1.0f && receivers.v[i] >= 0.0f &&
+                                    receivers.v[i] <= 1.0f)) {
       ++result.outside;
     }
   }
@@ -255,8 +246,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   if (!receivers.grid) {
     rx.u = upload(rt, receivers.u, uploads);
     rx.v = upload(rt, receivers.v, uploads);
-    if (receivers.has_footprint && options.lookup.kind != Lookup::Bilinear)
-      rx.f = upload(rt, receivers.f, uploads);
+    if (receivers.has_footprint && options.lookup.kind != Lookup::Bilinear) rx.f = upload(rt, receivers.f, uploads);
   }
   cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, count * sizeof(float));
   cl::Event filtered = pipe.prefilter(depth_buf, &uploads);
@@ -266,8 +256,8 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   result.visibility = HostImage(receivers.width, receivers.height, 1);
   EventList after_rec{rec};
   cl::Event download;
-  rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(),
-                               &after_rec, &download);
+  rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(), &after_rec,
+                               &download);
   if (options.esm_classify.mode != EsmClassify::None) {
     std::vector<unsigned char> flags(count);
     if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data(), &after_rec);
@@ -281,8 +271,8 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   result.times = pipe.times();
   result.times.upload = event_seconds(uploads.front(), uploads.back());
   result.times.download = event_seconds(download);
-  result.device_bytes = pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes +
-                        count * sizeof(float);
+  result.device_bytes =
+      pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes + count * sizeof(float);
   return result;
 } catch (const cl::Error& e) {
   detail::throw_device_error("filter", e);

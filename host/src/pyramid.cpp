@@ -50,17 +50,17 @@ namespace {
 PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
                                   const cl::Buffer& chain, const ImageShape& shape, const MipLayout& L,
                                   const EventList* wait, int work_group) {
-  const int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).pyramid_group *
-                                            launch_defaults(ScheduleFamily::Gpu).pyramid_group,
-                                    work_group);
+  const int items = gpu_group_items(
+      rt, launch_defaults(ScheduleFamily::Gpu).pyramid_group * launch_defaults(ScheduleFamily::Gpu).pyramid_group,
+      work_group);
   int side = 1;
   while (side * side * 4 <= items) side *= 2;
   cl::Kernel k;
   for (;;) {
-    cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
-                               "-cl-std=CL1.2" + storage_define(storage) +
-                                   " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
-                                   " -DSF_PYRAMID_GPU -DSF_PG=" + std::to_string(side));
+    cl::Program p =
+        rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+                   "-cl-std=CL1.2" + storage_define(storage) + " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
+                       " -DSF_PYRAMID_GPU -DSF_PG=" + std::to_string(side));
     k = cl::Kernel(p, "sf_pyramid_groups");
     if (side == 1 || kernel_group_limit(rt, k) >= size_t(side) * side) break;
     side /= 2;
@@ -83,8 +83,8 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
     const size_t gw = size_t((L.levels[s + 1].width + side - 1) / side) * side;
     const size_t gh = size_t((L.levels[s + 1].height + side - 1) / side) * side;
     cl::Event e;
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(gw, gh, shape.channels),
-                                    cl::NDRange(side, side, 1), deps, &e);
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(gw, gh, shape.channels), cl::NDRange(side, side, 1),
+                                    deps, &e);
     if (!ev.first()) ev.first = e;
     ev.last = e;
     after = {e};
@@ -96,9 +96,8 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
 
 }  // namespace
 
-PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
-                           const cl::Buffer& chain, const ImageShape& shape, const EventList* wait,
-                           const PyramidBuild& build) try {
+PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
+                           const ImageShape& shape, const EventList* wait, const PyramidBuild& build) try {
   const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
   PassEvents ev;
   if (L.top() == 0) {  // 1x1: nothing to build
@@ -108,10 +107,10 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
   }
   if (resolve_family(rt, build.family) == ScheduleFamily::Gpu)
     return enqueue_pyramid_groups(rt, op, storage, level0, chain, shape, L, wait, build.work_group);
-  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
-                             "-cl-std=CL1.2" + storage_define(storage) +
-                                 " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
-                                 " -DSF_WIDE=" + std::to_string(kWide));
+  cl::Program p =
+      rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+                 "-cl-std=CL1.2" + storage_define(storage) + " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
+                     " -DSF_WIDE=" + std::to_string(kWide));
   const int W = shape.width, H = shape.height, N = shape.channels;
   const cl::Buffer* src = &level0;
   int s = 0, src_off = 0;
@@ -170,14 +169,13 @@ void set_buffer_or_null(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
 
 }  // namespace
 
-cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup,
-                                const cl::Buffer& level0, const ImageShape& shape,
-                                const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
-                                size_t count, const EventList* wait) try {
-  cl::Program p = rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
-                             "-cl-std=CL1.2" + storage_define(storage) +
-                                 " -DSF_CHANNELS=" + std::to_string(shape.channels) +
-                                 " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lookup.kind)));
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup, const cl::Buffer& level0,
+                                const ImageShape& shape, const cl::Buffer& u, const cl::Buffer& v,
+                                const cl::Buffer& out, size_t count, const EventList* wait) try {
+  cl::Program p =
+      rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
+                 "-cl-std=CL1.2" + storage_define(storage) + " -DSF_CHANNELS=" + std::to_string(shape.channels) +
+                     " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lookup.kind)));
   cl::Kernel k(p, "sf_lookup_points");
   k.setArg(0, level0);
   set_buffer_or_null(k, 1, lookup.chain);
@@ -190,8 +188,7 @@ cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffer
   k.setArg(8, out);
   k.setArg(9, static_cast<int>(count));
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
-                                  cl::NullRange, wait, &e);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_lookup_points", e);

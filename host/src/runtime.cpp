@@ -165,8 +165,7 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) try {
     if (const char* env = std::getenv("SHADOWFILTER_DEVICE")) selector = env;
   }
   auto all = enumerate();
-  if (all.empty())
-    throw InputError("no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+  if (all.empty()) throw InputError("no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
   const FoundDevice* f = select(all, selector);
   if (!f) throw InputError("no OpenCL device matches '" + selector + "' (see `shadowfilter devices`)");
   cl::Context ctx(f->device);
@@ -176,8 +175,8 @@ std::shared_ptr<Runtime> Runtime::create(const std::string& selector_arg) try {
   detail::throw_device_error("Runtime::create", e);
 }
 
-Runtime::Runtime(cl::Context context, cl::CommandQueue queue)
-    try : context_(std::move(context)), queue_(std::move(queue)) {
+Runtime::Runtime(cl::Context context, cl::CommandQueue queue) try
+    : context_(std::move(context)), queue_(std::move(queue)) {
   device_ = queue_.getInfo<CL_QUEUE_DEVICE>();
   profiling_ = (queue_.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
   for (const auto& f : enumerate()) {
@@ -220,8 +219,8 @@ const std::string& kernel_source(const std::string& file) {
 }
 
 cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) try {
-  const std::string options = base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "") +
-                              (compiler_warnings_ ? "" : " -w");
+  const std::string options =
+      base_options + (device_fp64_ && !info_.fp64 ? " -DSF_NO_FP64" : "") + (compiler_warnings_ ? "" : " -w");
   // Built programs are keyed by their file names and options, before any source is assembled:
   // the embedded sources cannot change within a process, so a hit costs one map lookup.
   std::string names;
@@ -238,10 +237,11 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     source += "\n";
   }
   // The binary cache outlives the process: its key is the source itself and the device.
-  const std::string key = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' +
-                                      info_.device_name + '\0' + info_.driver_version));
+  const std::string key = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' + info_.device_name +
+                                      '\0' + info_.driver_version));
   const std::string dir = cache_dir();
-  const std::filesystem::path cached = dir.empty() ? std::filesystem::path() : std::filesystem::path(dir) / (key + ".bin");
+  const std::filesystem::path cached =
+      dir.empty() ? std::filesystem::path() : std::filesystem::path(dir) / (key + ".bin");
   if (!dir.empty()) {
     std::string bin = read_file(cached);
     if (!bin.empty()) {
@@ -262,16 +262,17 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     p.build({device_}, options.c_str());
   } catch (const cl::Error&) {
     std::string log = p.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
-    throw DeviceError("OpenCL build of [" + [&] {
-      std::string n;
-      for (const auto& f : files) n += (n.empty() ? "" : " ") + f;
-      return n;
-    }() + "] with '" + options + "' failed:\n" + one_line(log));
+    throw DeviceError("OpenCL build of [" +
+                      [&] {
+                        std::string n;
+                        for (const auto& f : files) n += (n.empty() ? "" : " ") + f;
+                        return n;
+                      }() +
+                      "] with '" + options + "' failed:\n" + one_line(log));
   }
   if (!dir.empty()) {
     auto bins = p.getInfo<CL_PROGRAM_BINARIES>();
-    if (!bins.empty() && !bins[0].empty())
-      write_file_atomic(cached, std::string(bins[0].begin(), bins[0].end()));
+    if (!bins.empty() && !bins[0].empty()) write_file_atomic(cached, std::string(bins[0].begin(), bins[0].end()));
   }
   programs_[program_key] = p;
   return p;
@@ -279,16 +280,15 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
   detail::throw_device_error("Runtime::program", e);
 }
 
-cl::Buffer sub_buffer(const Runtime& rt, const cl::Buffer& parent, size_t origin, size_t size,
-                      cl_mem_flags flags) try {
+cl::Buffer sub_buffer(const Runtime& rt, const cl::Buffer& parent, size_t origin, size_t size, cl_mem_flags flags) try {
   const size_t parent_size = parent.getInfo<CL_MEM_SIZE>();
   if (size == 0 || origin > parent_size || size > parent_size - origin)
     throw InputError("sub_buffer: bytes [" + std::to_string(origin) + ", " + std::to_string(origin + size) +
                      ") do not lie in a buffer of " + std::to_string(parent_size) + " bytes");
   const size_t align = rt.device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8;
   if (align > 0 && origin % align != 0)
-    throw InputError("sub_buffer: origin " + std::to_string(origin) + " is not a multiple of " +
-                     std::to_string(align) + " bytes, the device's CL_DEVICE_MEM_BASE_ADDR_ALIGN");
+    throw InputError("sub_buffer: origin " + std::to_string(origin) + " is not a multiple of " + std::to_string(align) +
+                     " bytes, the device's CL_DEVICE_MEM_BASE_ADDR_ALIGN");
   cl_buffer_region region{origin, size};
   cl::Buffer p = parent;  // createSubBuffer is not const in opencl.hpp
   return p.createSubBuffer(flags, CL_BUFFER_CREATE_TYPE_REGION, &region);

@@ -68,9 +68,9 @@ namespace {
 
 // SatSchedule::WorkGroupScan (sat.cl, SF_SAT_GPU): the rows' scan, the bands' column sums, the
 // columns; bands of the two-launch layout (their scratch holds the band sums: N nb W entries).
-PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::Buffer& src,
-                            const cl::Buffer& table, const cl::Buffer& band_scratch, const ImageShape& shape,
-                            const SatLayout& L, const EventList* wait, int work_group) {
+PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::Buffer& src, const cl::Buffer& table,
+                            const cl::Buffer& band_scratch, const ImageShape& shape, const SatLayout& L,
+                            const EventList* wait, int work_group) {
   int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).sat_group, work_group);
   // Two rows of sf_acc (8 bytes) per item in local memory.
   while (items > 1 && size_t(items) * 16 > local_mem_bytes(rt)) items /= 2;
@@ -98,8 +98,8 @@ PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::B
     }
     const size_t columns = size_t((W + items - 1) / items) * items;
     PassEvents ev;
-    rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(items, size_t(H) + 1, N),
-                                    cl::NDRange(items, 1, 1), wait, &ev.first);
+    rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(items, size_t(H) + 1, N), cl::NDRange(items, 1, 1),
+                                    wait, &ev.first);
     EventList after{ev.first};
     if (L.bands > 1) {
       cl::Event e;
@@ -123,22 +123,22 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   SatSchedule schedule = build.schedule;
   const bool fp64 = accumulator == SatAccumulator::Auto ? rt.info().fp64 : accumulator == SatAccumulator::Double;
   if (fp64 && !rt.info().fp64)
-    throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" +
-                     rt.info().device_name + "' does not support");
+    throw InputError("SAT: the double accumulator needs cl_khr_fp64, which '" + rt.info().device_name +
+                     "' does not support");
   if (schedule == SatSchedule::Auto)
-    schedule = resolve_family(rt, build.family) == ScheduleFamily::Gpu ? SatSchedule::WorkGroupScan
-                                                                        : sat_schedule(rt, shape);
+    schedule =
+        resolve_family(rt, build.family) == ScheduleFamily::Gpu ? SatSchedule::WorkGroupScan : sat_schedule(rt, shape);
   if (schedule == SatSchedule::WorkGroupScan)
     return enqueue_sat_scan(rt,
                             "-cl-std=CL1.2 -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
                                 " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"),
                             src, table, band_scratch, shape, L, wait, build.work_group);
-  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
-                             "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
-                                 " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
-                                 " -DSF_SAT_FP64=" + (fp64 ? "1" : "0") +
-                                 (build.chain_polls >= 0 ? " -DSF_SAT_POLLS=" + std::to_string(build.chain_polls) : "") +
-                                 (build.chain_sum_all ? " -DSF_SAT_SUM_ALL=1" : ""));
+  cl::Program p = rt.program(
+      {"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
+      "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
+          " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + " -DSF_SAT_FP64=" + (fp64 ? "1" : "0") +
+          (build.chain_polls >= 0 ? " -DSF_SAT_POLLS=" + std::to_string(build.chain_polls) : "") +
+          (build.chain_sum_all ? " -DSF_SAT_SUM_ALL=1" : ""));
   // Every SAT kernel takes (src, W, H, band_rows, bands, scratch[, table]).
   auto kernel = [&](const char* name, int band_rows, int bands, bool with_table) {
     cl::Kernel k(p, name);
@@ -173,8 +173,8 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                                     cl::NDRange(1, 1, 1), wait, &ev.first);
   EventList after{ev.first};
   rt.queue().enqueueNDRangeKernel(kernel("sf_sat_rows", L.band_rows, L.bands, true), cl::NullRange,
-                                  cl::NDRange(L.bands, shape.channels), cl::NDRange(1, 1),
-                                  L.bands > 1 ? &after : wait, &ev.last);
+                                  cl::NDRange(L.bands, shape.channels), cl::NDRange(1, 1), L.bands > 1 ? &after : wait,
+                                  &ev.last);
   if (L.bands == 1) ev.first = ev.last;
   return ev;
 } catch (const cl::Error& e) {

@@ -7,9 +7,12 @@ namespace sf {
 
 const char* schedule_family_name(ScheduleFamily f) {
   switch (f) {
-    case ScheduleFamily::Auto: return "auto";
-    case ScheduleFamily::Cpu: return "cpu";
-    case ScheduleFamily::Gpu: return "gpu";
+    case ScheduleFamily::Auto:
+      return "auto";
+    case ScheduleFamily::Cpu:
+      return "cpu";
+    case ScheduleFamily::Gpu:
+      return "gpu";
   }
   return "?";
 }

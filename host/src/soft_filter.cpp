@@ -36,8 +36,7 @@ ClSoftLight cl_light(const SoftOptions& o) {
   return c;
 }
 
-const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh",
-                                               "soft/soft_common.clh"};
+const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh", "soft/soft_common.clh"};
 
 cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
   const int M = o.cssm_order;
@@ -52,10 +51,14 @@ cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
 
 const char* soft_method_name(SoftMethod m) {
   switch (m) {
-    case SoftMethod::Pcss: return "pcss";
-    case SoftMethod::Cssm: return "cssm";
-    case SoftMethod::Ssmm: return "ssmm";
-    case SoftMethod::SsmmImproved: return "ssmm-improved";
+    case SoftMethod::Pcss:
+      return "pcss";
+    case SoftMethod::Cssm:
+      return "cssm";
+    case SoftMethod::Ssmm:
+      return "ssmm";
+    case SoftMethod::SsmmImproved:
+      return "ssmm-improved";
   }
   return "?";
 }
@@ -118,7 +121,8 @@ float cssm_z_offset(const SoftOptions& o) {
 
 void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
-  if (!(L.size >= 0.0) || !std::isfinite(L.size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
+  if (!(L.size >= 0.0) || !std::isfinite(L.size))
+    throw InputError("SoftOptions::light.size must be a finite number >= 0");
   if (!(L.far_plane > L.near_plane)) throw InputError("the light's far plane must lie beyond its near plane");
   if (L.perspective) {
     if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs SoftOptions::light.near_plane > 0");
@@ -137,9 +141,12 @@ void validate(const SoftOptions& o) {
   if (!std::isfinite(o.cssm_scale) || o.cssm_scale == 0.0f || o.cssm_scale > 64.0f)
     throw InputError("SoftOptions::cssm_scale must be in (0, 64] (< 0: default)");
   if (!(o.cssm_sharpen_a >= 0.0f) || !std::isfinite(o.cssm_sharpen_a) || !std::isfinite(o.cssm_sharpen_b))
-    throw InputError("SoftOptions::cssm_sharpen_a must be >= 0 (0: off) and SoftOptions::cssm_sharpen_b finite (< 0: default 10 M)");
-  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f)) throw InputError("SoftOptions::cssm_min_den must be in (0, 1)");
-  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f) throw InputError("SoftOptions::cssm_z_offset must be < 1");
+    throw InputError(
+        "SoftOptions::cssm_sharpen_a must be >= 0 (0: off) and SoftOptions::cssm_sharpen_b finite (< 0: default 10 M)");
+  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f))
+    throw InputError("SoftOptions::cssm_min_den must be in (0, 1)");
+  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f)
+    throw InputError("SoftOptions::cssm_z_offset must be < 1");
   if (!std::isfinite(o.cssm_width_scale) || o.cssm_width_scale == 0.0f || o.cssm_width_scale > 64.0f)
     throw InputError("SoftOptions::cssm_width_scale must be in (0, 64] (< 0: the scale)");
   if (!(cssm_series(o.cssm_order, cssm_params(o).offset) > 0.05))
@@ -149,14 +156,15 @@ void validate(const SoftOptions& o) {
     const double lit = 0.5 + c.scale * ((o.cssm_normalise ? 1.0 : c.lit) - 0.5);
     if (lit < 0.999)
       throw InputError("cssm: a lit receiver reconstructs to " + std::to_string(lit).substr(0, 5) +
-                       " < 1 with this SoftOptions::cssm_offset / SoftOptions::cssm_scale, which SoftOptions::cssm_sharpen_a would darken; "
+                       " < 1 with this SoftOptions::cssm_offset / SoftOptions::cssm_scale, which "
+                       "SoftOptions::cssm_sharpen_a would darken; "
                        "raise the offset or the scale, or give SoftOptions::cssm_sharpen_a = 0");
   }
   if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("SoftOptions::ssmm_n must be 1..64");
 }
 
-SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height)
-    try : rt_(std::move(rt)), opt_(std::move(opt)), W_(width), H_(height) {
+SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height) try
+    : rt_(std::move(rt)), opt_(std::move(opt)), W_(width), H_(height) {
   validate(opt_);
   if (W_ <= 0 || H_ <= 0) throw InputError("empty shadow map");
   auto alloc = [this](size_t bytes) {
@@ -192,8 +200,8 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
     k.setArg(0, depth);
     k.setArg(1, basis_);
     k.setArg(2, texels);
-    rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(texels)), cl::NullRange,
-                                      wait, &transform_done_);
+    rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(texels)), cl::NullRange, wait,
+                                      &transform_done_);
     have_transform_ = true;
     EventList after{transform_done_};
     ImageShape s{W_, H_, 4 * M + 1, 4};
@@ -227,9 +235,9 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
   detail::throw_device_error("SoftFilter::prepare", e);
 }
 
-cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                          const cl::Buffer& f, const cl::Buffer& visibility, size_t count,
-                          const EventList* wait, const cl::Buffer* zavg) try {
+cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
+                          const cl::Buffer& visibility, size_t count, const EventList* wait,
+                          const cl::Buffer* zavg) try {
   const ClSoftLight L = cl_light(opt_);
   cl::Kernel k;
   int a = 0;
@@ -274,15 +282,22 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   k.setArg(a++, sizeof(ClSoftLight), &L);
   if (opt_.method == SoftMethod::Cssm) {
     const CssmParams c = cssm_params(opt_);
-    const ClCssmParams P{c.offset,   c.scale,       c.sharpen_a, c.sharpen_b,         opt_.cssm_min_den,
-                         c.z_offset, c.width_scale, opt_.cssm_normalise ? 1.0f / c.lit : 1.0f, opt_.cssm_contact ? 1 : 0};
+    const ClCssmParams P{c.offset,
+                         c.scale,
+                         c.sharpen_a,
+                         c.sharpen_b,
+                         opt_.cssm_min_den,
+                         c.z_offset,
+                         c.width_scale,
+                         opt_.cssm_normalise ? 1.0f / c.lit : 1.0f,
+                         opt_.cssm_contact ? 1 : 0};
     k.setArg(a++, sizeof(ClCssmParams), &P);
   } else if (opt_.method != SoftMethod::Pcss) {
     k.setArg(a++, opt_.ssmm_n);
     k.setArg(a++, opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
   }
-  rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)),
-                                    cl::NullRange, wait, &run_done_);
+  rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait,
+                                    &run_done_);
   return run_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("SoftFilter::run", e);
@@ -371,7 +386,8 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     if (&in == &lights.front())
       for (size_t i = 0; i < n; ++i) {
         const float di = p.d[i];
-        if (!std::isfinite(di)) ++r.background;
+        if (!std::isfinite(di))
+          ++r.background;
         else if (!in.receivers.grid && (!(p.u[i] >= 0 && p.u[i] <= 1) || !(p.v[i] >= 0 && p.v[i] <= 1)))
           ++r.outside;
       }

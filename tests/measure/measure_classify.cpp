@@ -54,8 +54,8 @@ TEST(Classify, ZMaxOffsetOnBundledScenes) {
         n_fail += fails[i];
         err_plain += e;
       }
-      std::printf("%s R=%d: %zu in-map receivers, ESM fails (|err| > 0.1) on %.2f%%, mean |err| %.4f\n",
-                  scene.c_str(), radius, n_in, 100.0 * n_fail / n_in, err_plain / n_in);
+      std::printf("%s R=%d: %zu in-map receivers, ESM fails (|err| > 0.1) on %.2f%%, mean |err| %.4f\n", scene.c_str(),
+                  radius, n_in, 100.0 * n_fail / n_in, err_plain / n_in);
       for (EsmClassify mode : {EsmClassify::ZMax, EsmClassify::Threshold})
         for (float offset : {0.002f, 0.005f, 0.01f, 0.02f, 0.03f, 0.05f}) {
           FilterOptions copt = opt;

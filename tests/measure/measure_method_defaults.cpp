@@ -14,12 +14,12 @@ namespace {
 // from each order to the next, with the least sum of their logarithms.
 TEST(MethodDefaults, CsmOffsetAndScale) {
   for (int k = 0; k < 2; ++k)
-    std::printf("%s: planar receivers %zu lit, %zu scored, %zu next to empty map\n", kScenes[k],
-                csm_scene(k).n_lit, csm_scene(k).n_scored, csm_scene(k).n_edge);
+    std::printf("%s: planar receivers %zu lit, %zu scored, %zu next to empty map\n", kScenes[k], csm_scene(k).n_lit,
+                csm_scene(k).n_scored, csm_scene(k).n_edge);
   std::vector<float> offsets;
-  for (int i = 0; i <= 40; ++i) offsets.push_back(0.0025f * i);        // 0 .. 0.1
-  for (int i = 1; i <= 20; ++i) offsets.push_back(0.1f + 0.01f * i);    // .. 0.3
-  for (int i = 1; i <= 8; ++i) offsets.push_back(0.3f + 0.025f * i);    // .. 0.5
+  for (int i = 0; i <= 40; ++i) offsets.push_back(0.0025f * i);       // 0 .. 0.1
+  for (int i = 1; i <= 20; ++i) offsets.push_back(0.1f + 0.01f * i);  // .. 0.3
+  for (int i = 1; i <= 8; ++i) offsets.push_back(0.3f + 0.025f * i);  // .. 0.5
   const float scales[] = {1.0f, 1.025f, 1.05f, 1.075f, 1.1f, 1.125f, 1.15f, 1.2f, 1.25f, 1.3f, 1.4f, 1.5f, 1.75f, 2.0f};
   for (int M : kOrders) {
     CsmRun runs[] = {CsmRun(csm_scene(0), M), CsmRun(csm_scene(1), M)};
@@ -31,10 +31,11 @@ TEST(MethodDefaults, CsmOffsetAndScale) {
       for (size_t j = 0; j < offsets.size(); ++j) {
         const CsmScore a = score(csm_scene(0), f[0][j], sc), b = score(csm_scene(1), f[1][j], sc);
         if (!a.lit_ok() || !b.lit_ok()) continue;
-        std::printf("M=%2d scale %.2f offset %.4f | %s rmse %.4f p99 %.4f mean %.4f lit %.4f | "
-                    "%s rmse %.4f p99 %.4f mean %.4f lit %.4f\n",
-                    M, sc, offsets[j], kScenes[0], a.rmse, a.p99, a.mean, a.min_lit, kScenes[1],
-                    b.rmse, b.p99, b.mean, b.min_lit);
+        std::printf(
+            "M=%2d scale %.2f offset %.4f | %s rmse %.4f p99 %.4f mean %.4f lit %.4f | "
+            "%s rmse %.4f p99 %.4f mean %.4f lit %.4f\n",
+            M, sc, offsets[j], kScenes[0], a.rmse, a.p99, a.mean, a.min_lit, kScenes[1], b.rmse, b.p99, b.mean,
+            b.min_lit);
         break;  // the least offset that keeps both scenes lit
       }
     }

@@ -97,9 +97,12 @@ struct Variant {
   Lookup lookup;
 };
 const Variant kVariants[] = {
-    {"pcss", SoftMethod::Pcss, 4, Lookup::Sat},          {"cssm M=4 mips", SoftMethod::Cssm, 4, Lookup::Mips},
-    {"cssm M=4 sat", SoftMethod::Cssm, 4, Lookup::Sat},  {"cssm M=16 mips", SoftMethod::Cssm, 16, Lookup::Mips},
-    {"cssm M=16 sat", SoftMethod::Cssm, 16, Lookup::Sat}, {"ssmm", SoftMethod::Ssmm, 4, Lookup::Sat},
+    {"pcss", SoftMethod::Pcss, 4, Lookup::Sat},
+    {"cssm M=4 mips", SoftMethod::Cssm, 4, Lookup::Mips},
+    {"cssm M=4 sat", SoftMethod::Cssm, 4, Lookup::Sat},
+    {"cssm M=16 mips", SoftMethod::Cssm, 16, Lookup::Mips},
+    {"cssm M=16 sat", SoftMethod::Cssm, 16, Lookup::Sat},
+    {"ssmm", SoftMethod::Ssmm, 4, Lookup::Sat},
     {"ssmm-improved", SoftMethod::SsmmImproved, 4, Lookup::Sat},
 };
 
@@ -238,8 +241,10 @@ TEST(SoftFigures, CostAgainstLightSize) {
   const Device D = upload(s);
   size_t fg = 0;
   for (float d : s.rx.d) fg += std::isfinite(d);
-  std::printf("| method | L = 0.05 | 0.1 | 0.2 | 0.4 | 0.8 | (reconstruction ns per receiver, %s, %zu receivers) |\n|---|---|---|---|---|---|---|\n",
-              s.name.c_str(), fg);
+  std::printf(
+      "| method | L = 0.05 | 0.1 | 0.2 | 0.4 | 0.8 | (reconstruction ns per receiver, %s, %zu receivers) "
+      "|\n|---|---|---|---|---|---|---|\n",
+      s.name.c_str(), fg);
   for (const Variant& V : kVariants) {
     std::printf("| %s |", V.label);
     std::vector<double> t;

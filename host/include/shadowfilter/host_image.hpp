@@ -25,16 +25,14 @@ struct HostImage {
       : width(w), height(h), channels(c), data(static_cast<size_t>(w) * h * c, fill) {}
   size_t texels() const { return static_cast<size_t>(width) * height; }
   float& at(int x, int y, int c = 0) { return data[(static_cast<size_t>(y) * width + x) * channels + c]; }
-  float at(int x, int y, int c = 0) const {
-    return data[(static_cast<size_t>(y) * width + x) * channels + c];
-  }
+  float at(int x, int y, int c = 0) const { return data[(static_cast<size_t>(y) * width + x) * channels + c]; }
 };
 
 // Receiver samples as structure-of-arrays (what the reconstruction kernels read).
 // u, v: shadow-map texture coordinates; d: light-space depth (linear, [0,1]; NaN = background);
 // f: footprint in level-0 texels (1 when the input has none).
 struct Receivers {
-  int width = 0;   // output image size (receiver image size, or shadow-map size)
+  int width = 0;  // output image size (receiver image size, or shadow-map size)
   int height = 0;
   bool grid = false;  // true: --receiver-depth mode, u/v are the texel centres of a WxH grid
   bool has_footprint = false;

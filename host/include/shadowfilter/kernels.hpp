@@ -29,9 +29,8 @@ float default_blur_sigma(int radius);
 constexpr int kMaxBlurRadius = 64;
 
 // depth (W*H floats) -> basis (method.channels planes).
-cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                            const cl::Buffer& depth, int width, int height,
-                            const cl::Buffer& basis, const EventList* wait = nullptr);
+cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, const cl::Buffer& depth,
+                            int width, int height, const cl::Buffer& basis, const EventList* wait = nullptr);
 
 // Separable Gaussian (rows then columns, clamp-to-edge) of planes in `storage` (shape.value_bytes
 // must match), fused in one kernel (kernels/blur.cl): computed in float, rounded once on store.
@@ -41,42 +40,38 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
 struct BlurEvents {
   cl::Event rows, cols;
 };
-BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched,
-                        const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                        const ImageShape& shape, const EventList* wait = nullptr,
-                        Storage storage = Storage::F32);
+BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, const cl::Buffer& src,
+                        const cl::Buffer& tmp, const cl::Buffer& dst, const ImageShape& shape,
+                        const EventList* wait = nullptr, Storage storage = Storage::F32);
 
 // Visibility of `count` receivers given as (u, v, d) arrays, bilinear lookup of the filtered basis,
 // or the footprint lookup of `lookup` (pyramids.hpp: trilinear over a mip chain, box via a SAT).
 struct LookupBuffers;
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                     const cl::Buffer& basis, int width, int height,
-                                     const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                     const cl::Buffer& visibility, size_t count,
-                                     const EventList* wait = nullptr,
+                                     const cl::Buffer& basis, int width, int height, const cl::Buffer& u,
+                                     const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& visibility,
+                                     size_t count, const EventList* wait = nullptr,
                                      const LookupBuffers* lookup = nullptr);
 // LookupBuffers::level_offsets for a joined mip layout (chain a sub-buffer of basis, the
 // pipeline's); empty when the layout is not joined. Built once, it spares a table per call.
-cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis,
-                             const cl::Buffer& chain, const ImageShape& shape);
+cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis, const cl::Buffer& chain,
+                             const ImageShape& shape);
 
 // Visibility of one receiver per shadow-map texel (depth image d of the map's size).
 cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                   const cl::Buffer& basis, int width, int height,
-                                   const cl::Buffer& d, const cl::Buffer& visibility,
-                                   const EventList* wait = nullptr);
+                                   const cl::Buffer& basis, int width, int height, const cl::Buffer& d,
+                                   const cl::Buffer& visibility, const EventList* wait = nullptr);
 
 // sm and pcf (kernels/pcf.cl): H(z - d + bias) per depth texel, weighted by the composite
 // Gaussian(opt.blur) (x) bilinear weights of s_ref (methods.md sec. 2), brute force. sm uses the
 // bilinear weights only (the prefilter radius does not apply to it). opt.method picks which.
 // pcf with opt.lookup mips|sat weights the tests by that lookup's composite weights at the
 // receivers' footprints (`footprint`: one f per receiver; null or empty = 1); sm ignores them.
-cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth,
-                             int width, int height, const cl::Buffer& u, const cl::Buffer& v,
-                             const cl::Buffer& d, const cl::Buffer& visibility, size_t count,
-                             const EventList* wait = nullptr, const cl::Buffer* footprint = nullptr);
-cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width,
-                           int height, const cl::Buffer& d, const cl::Buffer& visibility,
-                           const EventList* wait = nullptr);
+cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
+                             const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
+                             const cl::Buffer& visibility, size_t count, const EventList* wait = nullptr,
+                             const cl::Buffer* footprint = nullptr);
+cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
+                           const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait = nullptr);
 
 }  // namespace sf

@@ -94,7 +94,7 @@ struct MethodDesc {
   std::array<float, 3> colour{0.3f, 0.3f, 0.3f};  // plot colour (fixed: every plot reads the same)
 
   bool accepts(Storage s) const;
-  std::string storage_list() const;  // "f32 f16"
+  std::string storage_list() const;                    // "f32 f16"
   const StorageLimit& storage_limit(Storage s) const;  // throws InputError when not accepted
   // o with the storage's fit applied (o.storage must be accepted).
   FilterOptions fitted(FilterOptions o) const;

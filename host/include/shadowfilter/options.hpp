@@ -51,8 +51,8 @@ struct MsmOptions {
 };
 
 struct CsmOptions {
-  int order = 8;          // M: 2M basis planes (sin, cos of (2k - 1) pi z), 1..32
-  float alpha = 0.0f;     // ringing attenuation g_k = exp(-alpha (k/M)^2); 0 = none
+  int order = 8;       // M: 2M basis planes (sin, cos of (2k - 1) pi z), 1..32
+  float alpha = 0.0f;  // ringing attenuation g_k = exp(-alpha (k/M)^2); 0 = none
   // Offset and scale of the reconstruction (v = clamp(scale f(d - offset), 0, 1)). Negative =
   // the measured default for the order (docs/methods.md: lit receivers reconstruct to
   // >= 1 - 1/255 with the least error against s_ref on the bundled scene).

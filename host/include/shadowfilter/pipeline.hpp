@@ -59,8 +59,8 @@ struct BufferPlan {
                        // "sat bands", "zmax chain"
     size_t bytes = 0;
   };
-  ImageShape shape;              // the basis images: width x height x channels of value_bytes
-  std::vector<Buffer> buffers;   // allocated by the constructor, in this order
+  ImageShape shape;               // the basis images: width x height x channels of value_bytes
+  std::vector<Buffer> buffers;    // allocated by the constructor, in this order
   size_t bytes_per_receiver = 0;  // allocated by reconstruct() per receiver (ESM flags: 1)
   size_t total() const;
   size_t largest() const;
@@ -113,7 +113,7 @@ class Pipeline {
   cl::Event reconstruct_done_;
   // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
   BufferPlan plan_;
-  cl::Buffer mips_;  // mips: level 0 (basis_) and the chain (chain_) in one buffer
+  cl::Buffer mips_;           // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_;
   PassEvents pyramid_done_, sat_done_;
@@ -136,7 +136,7 @@ struct FilterResult {
   size_t flagged = 0;
   size_t device_bytes = 0;
 };
-FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options,
-                    const HostImage& depth, const Receivers& receivers);
+FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
+                    const Receivers& receivers);
 
 }  // namespace sf

@@ -45,23 +45,22 @@ struct PyramidBuild {
   int work_group = 0;
 };
 PyramidBuild pyramid_build(const ScheduleOptions& sched);  // family and gpu_work_group
-PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0,
-                           const cl::Buffer& chain, const ImageShape& shape,
-                           const EventList* wait = nullptr, const PyramidBuild& build = {});
+PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
+                           const ImageShape& shape, const EventList* wait = nullptr, const PyramidBuild& build = {});
 
 // --- summed-area tables -------------------------------------------------------
 // Float-float table (hi + lo planes per channel) of (W+1) x (H+1) entries with zero first row
 // and column; rows padded so that entries x >= 1 start on 64-byte lines (kernels/common.clh).
 struct SatLayout {
-  static constexpr int x0 = 15;  // SF_SAT_X0: where entry x = 0 lies in a row
-  int bands = 1, band_rows = 1;  // row bands of the two-launch build
+  static constexpr int x0 = 15;              // SF_SAT_X0: where entry x = 0 lies in a row
+  int bands = 1, band_rows = 1;              // row bands of the two-launch build
   int chain_bands = 1, chain_band_rows = 1;  // row bands of the one-launch build, per channel
-  size_t chain_ctl_offset = 0;   // floats into the scratch: the one-launch build's control ints
+  size_t chain_ctl_offset = 0;               // floats into the scratch: the one-launch build's control ints
   size_t chain_ctl_ints = 0;
-  size_t pitch = 0;              // floats per table row: sf_sat_pitch(W), a multiple of 16 >= W + 16
-  size_t plane_floats = 0;       // pitch (H+1)
-  size_t table_floats = 0;       // 2 channels plane_floats
-  size_t band_floats = 0;        // scratch for any schedule: up to 4 rows of W 8-byte entries per band
+  size_t pitch = 0;         // floats per table row: sf_sat_pitch(W), a multiple of 16 >= W + 16
+  size_t plane_floats = 0;  // pitch (H+1)
+  size_t table_floats = 0;  // 2 channels plane_floats
+  size_t band_floats = 0;   // scratch for any schedule: up to 4 rows of W 8-byte entries per band
   // Index of S[y][x] of channel c in the table: hi plane, or lo with `lo`.
   size_t at(int c, bool lo, int x, int y) const {
     return (2 * size_t(c) + (lo ? 1 : 0)) * plane_floats + size_t(y) * pitch + x0 + size_t(x);
@@ -99,24 +98,23 @@ struct SatBuild {
 };
 SatBuild sat_build(const ScheduleOptions& sched);  // family and gpu_work_group, the rest default
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
-                       const cl::Buffer& band_scratch, const ImageShape& shape,
-                       const EventList* wait = nullptr, const SatBuild& build = {});
+                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait = nullptr,
+                       const SatBuild& build = {});
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).
 struct LookupBuffers {
   Lookup kind = Lookup::Bilinear;
-  cl::Buffer chain;      // mips: the mip chain of the filtered basis
-  cl::Buffer sat;        // sat: the summed-area table of the filtered basis
-  cl::Buffer footprint;  // per receiver f in level-0 texels; empty = 1 everywhere
+  cl::Buffer chain;          // mips: the mip chain of the filtered basis
+  cl::Buffer sat;            // sat: the summed-area table of the filtered basis
+  cl::Buffer footprint;      // per receiver f in level-0 texels; empty = 1 everywhere
   cl::Buffer level_offsets;  // joined mips: mip_level_offsets (kernels.hpp); empty = built per call
 };
 // The shape.channels filtered values of `count` receivers (method-agnostic): out holds
 // shape.channels planes of count floats. Used by tests and by callers with their own methods.
-cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup,
-                                const cl::Buffer& level0, const ImageShape& shape,
-                                const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& out,
-                                size_t count, const EventList* wait = nullptr);
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup, const cl::Buffer& level0,
+                                const ImageShape& shape, const cl::Buffer& u, const cl::Buffer& v,
+                                const cl::Buffer& out, size_t count, const EventList* wait = nullptr);
 
 // --- ESM failure classification (seed 000 ch. 7.3) ---------------------------
 // Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
@@ -131,11 +129,11 @@ struct ClassifyInputs {
 };
 cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                       const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                      const cl::Buffer& visibility, const cl::Buffer& flags,
-                                      size_t count, const EventList* wait = nullptr);
+                                      const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
+                                      const EventList* wait = nullptr);
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
-                                    const cl::Buffer& d, const cl::Buffer& visibility,
-                                    const cl::Buffer& flags, const EventList* wait = nullptr);
+                                    const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                    const EventList* wait = nullptr);
 // The threshold eps in effect: opt.esm_classify.threshold_eps, or when negative the automatic
 // exp(c offset)(1 + 1e-5) - 1, which makes threshold flag a subset of zmax (docs/lookups.md).
 double esm_threshold_eps(const FilterOptions& opt);

@@ -12,7 +12,7 @@
 namespace sf {
 
 enum class SoftMethod { Pcss, Cssm, Ssmm, SsmmImproved };
-const char* soft_method_name(SoftMethod m);               // "pcss", "cssm", "ssmm", "ssmm-improved"
+const char* soft_method_name(SoftMethod m);                   // "pcss", "cssm", "ssmm", "ssmm-improved"
 bool parse_soft_method(const std::string& s, SoftMethod* m);  // false for other names
 
 // The light (scene generator conventions, docs/scenes.md). Depth d in [0,1] is the linear light
@@ -48,7 +48,7 @@ struct SoftOptions {
   float cssm_sharpen_b = -1.0f;      // default 10 M
   float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
   float cssm_z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
-  bool cssm_contact = true;  // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
+  bool cssm_contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
   // ssmm
   int ssmm_n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
 };

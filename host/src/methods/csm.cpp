@@ -102,9 +102,9 @@ MethodDesc csm_method() {
   };
   m.label = [](const FilterOptions& o) { return " M=" + std::to_string(o.csm.order); };
   m.variants = [](const FilterOptions& base, GridSize g) {
-    const std::vector<int> orders = g == GridSize::Quick  ? std::vector<int>{4, 8}
+    const std::vector<int> orders = g == GridSize::Quick                         ? std::vector<int>{4, 8}
                                     : g == GridSize::Wide || g == GridSize::Auto ? std::vector<int>{1, 2, 4, 8, 16, 32}
-                                                                                  : std::vector<int>{2, 4, 8, 16};
+                                                                                 : std::vector<int>{2, 4, 8, 16};
     return variants_of(base, orders, [](FilterOptions& o, int M) { o.csm.order = M; });
   };
   m.quick_footprints = true;

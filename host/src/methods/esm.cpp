@@ -36,8 +36,8 @@ MethodDesc esm_method() {
     if (o.esm.c > limit) {
       std::ostringstream s;
       s << "FilterOptions::esm.c " << o.esm.c << " exceeds the " << (half ? "float16" : "float32") << " limit of "
-        << limit << (half ? " (exp(c/2) must stay below 65504, the largest half)"
-                          : " (exp(c/2) must stay a normal float)");
+        << limit
+        << (half ? " (exp(c/2) must stay below 65504, the largest half)" : " (exp(c/2) must stay a normal float)");
       throw InputError(s.str());
     }
   };

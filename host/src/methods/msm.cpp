@@ -110,8 +110,9 @@ MethodDesc msm_method(bool hausdorff) {
                         : "moment shadow maps, 4 moments, Hamburger (Peters & Klein 2015)";
   m.header = "methods/msm.clh";
   m.channel_count = [](const FilterOptions&) { return 4; };
-  m.parameters = "--msm-bias A (default 3e-6 f32, 6e-5 unorm16), --bias B (default 0 f32, "
-                 "measured for unorm16)";
+  m.parameters =
+      "--msm-bias A (default 3e-6 f32, 6e-5 unorm16), --bias B (default 0 f32, "
+      "measured for unorm16)";
   m.storages = {{Storage::F32, "", {}}, {Storage::Unorm16, "optimised moment quantisation", {}}};
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o,

@@ -19,9 +19,7 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(depth_bias(o)); };
   m.defines = [](const FilterOptions&) { return std::string(); };
-  m.parameter_values = [](const FilterOptions& o) {
-    return std::vector<MethodParameter>{{"bias", depth_bias(o)}};
-  };
+  m.parameter_values = [](const FilterOptions& o) { return std::vector<MethodParameter>{{"bias", depth_bias(o)}}; };
   m.label = [](const FilterOptions&) { return std::string(); };
   m.variants = [](const FilterOptions& base, GridSize) { return std::vector<FilterOptions>{base}; };
   // sm: one fetch and test per bilinear tap; pcf: every texel of the (2R + 2)^2 support.

@@ -8,10 +8,14 @@ namespace sf {
 
 const char* storage_name(Storage s) {
   switch (s) {
-    case Storage::F32: return "f32";
-    case Storage::F16: return "f16";
-    case Storage::Unorm16: return "unorm16";
-    case Storage::Unorm8: return "unorm8";
+    case Storage::F32:
+      return "f32";
+    case Storage::F16:
+      return "f16";
+    case Storage::Unorm16:
+      return "unorm16";
+    case Storage::Unorm8:
+      return "unorm8";
   }
   return "?";
 }
@@ -24,10 +28,13 @@ Storage parse_storage(const std::string& name) {
 
 int storage_bytes(Storage s) {
   switch (s) {
-    case Storage::F32: return 4;
+    case Storage::F32:
+      return 4;
     case Storage::F16:
-    case Storage::Unorm16: return 2;
-    case Storage::Unorm8: return 1;
+    case Storage::Unorm16:
+      return 2;
+    case Storage::Unorm8:
+      return 1;
   }
   return 4;
 }
@@ -59,8 +66,8 @@ namespace registration {
 
 void check_storage(const MethodDesc& m, const FilterOptions& o, const std::string& why) {
   if (m.accepts(o.storage)) return;
-  throw InputError(std::string("FilterOptions::storage ") + storage_name(o.storage) + " does not work with " +
-                   m.name + " (it accepts " + m.storage_list() + ")" + (why.empty() ? "" : ": " + why));
+  throw InputError(std::string("FilterOptions::storage ") + storage_name(o.storage) + " does not work with " + m.name +
+                   " (it accepts " + m.storage_list() + ")" + (why.empty() ? "" : ": " + why));
 }
 
 std::vector<StorageLimit> plain_storages(std::initializer_list<Storage> list) {

@@ -78,7 +78,8 @@ MethodDesc vsm_method() {
   };
   m.label = lbr_label;
   m.variants = [](const FilterOptions& base, GridSize g) {
-    const std::vector<float> a = g == GridSize::Quick ? std::vector<float>{0.0f, 0.2f} : std::vector<float>{0.0f, 0.2f, 0.4f};
+    const std::vector<float> a =
+        g == GridSize::Quick ? std::vector<float>{0.0f, 0.2f} : std::vector<float>{0.0f, 0.2f, 0.4f};
     return variants_of(base, a, [](FilterOptions& o, float v) { o.vsm.lbr = v; });
   };
   m.colour = {0.1f, 0.35f, 0.9f};

@@ -221,7 +221,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
                     const Receivers& receivers) try {
   Runtime& rt = *runtime;
   if (depth.channels != 1) throw InputError("depth map must have one channel");
-  Pipeline pipe(runtime, options, depth.width, depth.height);
+  Pipeline pipe(std::move(runtime), options, depth.width, depth.height);  // keeps the runtime alive
 
   FilterResult result;
   const size_t count = receivers.count();

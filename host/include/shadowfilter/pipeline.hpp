@@ -71,7 +71,7 @@ class Pipeline {
  public:
   // What the constructor would allocate, without allocating: validates the options like the
   // constructor (InputError) but does not check that they fit the device.
-  static BufferPlan plan(const Runtime& runtime, const FilterOptions& options, int width, int height);
+  static BufferPlan plan(const Runtime& rt, const FilterOptions& options, int width, int height);
 
   // Allocates plan(runtime, options, width, height) for a width x height shadow map. Throws
   // InputError when the options are invalid or the buffers do not fit the device.
@@ -79,9 +79,8 @@ class Pipeline {
 
   // Transform + blur of a depth map (width*height floats, linear [0,1]).
   cl::Event prefilter(const cl::Buffer& depth, const EventList* wait = nullptr);
-  // Visibility per receiver into `visibility` (receivers.count floats).
-  cl::Event reconstruct(const DeviceReceivers& receivers, const cl::Buffer& visibility,
-                        const EventList* wait = nullptr);
+  // Visibility per receiver into `visibility` (rx.count floats).
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
 
   // The filtered basis of the last prefilter (always the same buffer; with mips a sub-buffer
   // of the one that holds the mip chain too).

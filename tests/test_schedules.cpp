@@ -173,10 +173,13 @@ TEST_P(GpuSat, TableMatchesTheReference) {
   const SatLayout L = sat_layout(shape);
   cl::Buffer table(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
-  SatBuild build = sat_build(family(ScheduleFamily::Gpu, sc.work_group));
+  SatBuild build;
   build.accumulator = sc.accumulator;
   cl::Buffer src = stored_buffer(img);
-  for (int i = 0; i < 2; ++i) enqueue_sat(runtime(), sc.storage, src, table, bands, shape, nullptr, build).last.wait();
+  for (int i = 0; i < 2; ++i)
+    enqueue_sat(runtime(), sc.storage, src, table, bands, shape, nullptr, build,
+                family(ScheduleFamily::Gpu, sc.work_group))
+        .last.wait();
   // The table's entries (not the rows' padding, which no build writes).
   auto entries = [&](const cl::Buffer& t) {
     const auto all = from_device(t, L.table_floats);
@@ -199,9 +202,10 @@ TEST_P(GpuSat, TableMatchesTheReference) {
   SatBuild expl;
   expl.accumulator = sc.accumulator;
   expl.schedule = SatSchedule::WorkGroupScan;
-  expl.work_group = sc.work_group;
   cl::Buffer table2(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
-  enqueue_sat(runtime(), sc.storage, src, table2, bands, shape, nullptr, expl).last.wait();
+  enqueue_sat(runtime(), sc.storage, src, table2, bands, shape, nullptr, expl,
+              family(ScheduleFamily::Auto, sc.work_group))
+      .last.wait();
   EXPECT_EQ(entries(table2), got);
 }
 
@@ -253,7 +257,7 @@ TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
     if (!(pc.ops >> op & 1)) continue;
     cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE, values * storage_bytes(pc.storage));
     enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, chain, shape, nullptr,
-                    pyramid_build(family(ScheduleFamily::Gpu, pc.work_group)))
+                    family(ScheduleFamily::Gpu, pc.work_group))
         .last.wait();
     const auto got = read_stored(chain, values, pc.storage);
     const auto want = ref::mip_chain(in, op);
@@ -274,7 +278,7 @@ TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
     if (pc.storage == Storage::F32 && L.top() > 0) {
       cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, values * sizeof(float));
       enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, cpu, shape, nullptr,
-                      pyramid_build(family(ScheduleFamily::Cpu)))
+                      family(ScheduleFamily::Cpu))
           .last.wait();
       EXPECT_EQ(from_device(cpu, values), got) << "op " << op << ": Gpu and Cpu families differ";
     }

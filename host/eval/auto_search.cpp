@@ -253,8 +253,8 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   if (res.found && res.chosen.lookup.kind == Lookup::Bilinear && target.lookup.kind != Lookup::Bilinear)
     res.skipped.push_back(std::string(target.lookup.kind == Lookup::Mips ? "mip pyramid" : "summed-area table") +
                           ": bilinear already meets the bound at the scene's footprints");
-  // A method whose channel count follows a parameter (csm's order): say when smaller ones miss.
-  if (res.found && !find_method(res.chosen.method).channels_note.empty()) {
+  // A method whose channel count follows its order (csm): say when smaller orders miss.
+  if (res.found && find_method(res.chosen.method).order_sets_channels) {
     const MethodDesc& m = find_method(res.chosen.method);
     for (const auto& row : res.tried)
       if (row.method == res.chosen.method && m.channels(row.options) < m.channels(res.chosen) &&

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "launch.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -89,10 +90,16 @@ std::string weight_literals(const BlurOptions& blur) {
 
 // The blur's compile-time constants: radius, the weights, schedule.
 std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
-  return "-cl-std=CL1.2 -DSF_RADIUS=" + std::to_string(blur.radius) + " -DSF_WEIGHTS=" + weight_literals(blur) +
-         " -DSF_VEC=" + std::to_string(s.vec) + " -DSF_STRIP=" + std::to_string(s.strip) +
-         " -DSF_ROWS=" + std::to_string(s.rows) + " -DSF_VROWS=" + std::to_string(kBlurStepRows) +
-         " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + (s.stream ? " -DSF_STREAM" : "");
+  return detail::BuildOptions()
+      .define("SF_RADIUS", blur.radius)
+      .define("SF_WEIGHTS", weight_literals(blur))
+      .define("SF_VEC", s.vec)
+      .define("SF_STRIP", s.strip)
+      .define("SF_ROWS", s.rows)
+      .define("SF_VROWS", kBlurStepRows)
+      .storage(storage)
+      .flag_if(s.stream, "SF_STREAM")
+      .str();
 }
 
 // The copy back of an in-place blur, tmp -> dst, after `blurred` (blur.cl: sf_blur_copy).
@@ -100,9 +107,7 @@ cl::Event enqueue_copy_back(Runtime& rt, const cl::Program& p, const cl::Buffer&
                             const ImageShape& shape, const cl::Event& blurred) {
   cl::Kernel copy(p, "sf_blur_copy");
   const int count = static_cast<int>(shape.plane_texels() * shape.channels);
-  copy.setArg(0, tmp);
-  copy.setArg(1, dst);
-  copy.setArg(2, count);
+  detail::KernelArgs(copy).buffer(tmp).buffer(dst).value(count);
   const EventList after{blurred};
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(ceil_div(count, kBlurCopyChunk)), cl::NDRange(1),
@@ -149,22 +154,27 @@ cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const Schedul
   int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).blur_group.items(), sched.gpu_work_group);
   for (;;) {
     const GpuBlurShape g = gpu_blur_shape(rt, blur.radius, items);
-    const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"},
-                                     "-cl-std=CL1.2 -DSF_BLUR_GPU -DSF_RADIUS=" + std::to_string(blur.radius) +
-                                         " -DSF_WEIGHTS=" + weight_literals(blur) +
-                                         " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
-                                         " -DSF_BGX=" + std::to_string(g.x) + " -DSF_BGY=" + std::to_string(g.y) +
-                                         " -DSF_BROWS=" + std::to_string(g.rows));
+    const cl::Program p =
+        rt.program({"common.clh", "storage.clh", "blur.cl"}, detail::BuildOptions()
+                                                                 .flag("SF_BLUR_GPU")
+                                                                 .define("SF_RADIUS", blur.radius)
+                                                                 .define("SF_WEIGHTS", weight_literals(blur))
+                                                                 .storage(storage)
+                                                                 .define("SF_BGX", g.x)
+                                                                 .define("SF_BGY", g.y)
+                                                                 .define("SF_BROWS", g.rows)
+                                                                 .str());
     cl::Kernel k(p, "sf_blur_tiles");
     if (kernel_group_limit(rt, k) < size_t(g.items()) && items > 1) {
       items /= 2;
       continue;
     }
-    k.setArg(0, src);
-    k.setArg(1, out);
-    k.setArg(2, shape.width);
-    k.setArg(3, shape.height);
-    k.setArg(4, static_cast<int>(shape.plane_texels()));
+    detail::KernelArgs(k)
+        .buffer(src)
+        .buffer(out)
+        .value(shape.width)
+        .value(shape.height)
+        .value(static_cast<int>(shape.plane_texels()));
     const int tile_rows = g.y * g.rows;
     const cl::NDRange global(size_t(ceil_div(shape.width, g.x)) * g.x, size_t(ceil_div(shape.height, tile_rows)) * g.y,
                              shape.channels);
@@ -215,11 +225,12 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
   const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
   cl::Kernel k(p, "sf_blur");
-  k.setArg(0, src);
-  k.setArg(1, in_place ? tmp : dst);
-  k.setArg(2, shape.width);
-  k.setArg(3, shape.height);
-  k.setArg(4, static_cast<int>(shape.plane_texels()));
+  detail::KernelArgs(k)
+      .buffer(src)
+      .buffer(in_place ? tmp : dst)
+      .value(shape.width)
+      .value(shape.height)
+      .value(static_cast<int>(shape.plane_texels()));
   const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows), shape.channels);
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
   ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;

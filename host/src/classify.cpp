@@ -118,10 +118,20 @@ void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int hei
   plan.bytes_per_receiver += 1;  // the flags
 }
 
-ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height) try
-    : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
+namespace {
+BufferPlan stage_plan(const FilterOptions& options, int width, int height) {
   BufferPlan plan;
-  add_to_plan(options_, width, height, plan);
+  ClassifyStage::add_to_plan(options, width, height, plan);
+  return plan;
+}
+}  // namespace
+
+ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height)
+    : ClassifyStage(runtime, options, width, height, stage_plan(options, width, height)) {}
+
+ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height,
+                             const BufferPlan& plan) try
+    : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
   if (const size_t bytes = plan.bytes("zmax chain")) zmax_chain_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::ClassifyStage", e);
@@ -133,7 +143,7 @@ PassEvents ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait
   classify_done_ = cl::Event();
   if (zmax_chain_())
     zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_, {width_, height_, 1, 4}, wait,
-                                 pyramid_build(options_.schedule));
+                                 options_.schedule);
   return zmax_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::prepare", e);

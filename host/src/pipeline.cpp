@@ -112,7 +112,7 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
     sat_bands_ = alloc("sat bands");
   }
   if (options_.esm_classify.mode != EsmClassify::None)
-    classify_ = std::make_shared<ClassifyStage>(rt_, options_, width, height);
+    classify_ = std::make_shared<ClassifyStage>(rt_, options_, width, height, plan_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::Pipeline", e);
 }
@@ -134,13 +134,13 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.
   EventList done{filtered}, after_filter{filtered};
   if (chain_()) {
-    pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_, &after_filter,
-                                    pyramid_build(options_.schedule));
+    pyramid_done_ =
+        enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_, &after_filter, options_.schedule);
     done.push_back(pyramid_done_.last);
   }
   if (sat_()) {
-    sat_done_ = enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter,
-                            sat_build(options_.schedule));
+    sat_done_ =
+        enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter, {}, options_.schedule);
     done.push_back(sat_done_.last);
   }
   if (classify_) {  // the stage's own pass over the raw depth (z-max pyramid)

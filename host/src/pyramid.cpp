@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "launch.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -14,8 +15,6 @@ constexpr int kTile = 32;          // pyramid.cl SF_TILE
 constexpr int kTileLevels = 5;     // levels per tile launch
 constexpr int kWide = 4;           // pyramid.cl SF_WIDE: tiles side by side per work-item
 constexpr int kTailMaxSide = 128;  // levels this small are finished by one work-item per channel
-
-std::string storage_define(Storage s) { return " -DSF_STORAGE=" + std::to_string(static_cast<int>(s)); }
 
 }  // namespace
 
@@ -36,13 +35,6 @@ MipLayout mip_layout(int width, int height, int channels) {
   return L;
 }
 
-PyramidBuild pyramid_build(const ScheduleOptions& sched) {
-  PyramidBuild b;
-  b.family = sched.family;
-  b.work_group = sched.gpu_work_group;
-  return b;
-}
-
 namespace {
 
 // The Gpu family (pyramid.cl, SF_PYRAMID_GPU): square groups of side g, log2(g) + 1 levels per
@@ -57,10 +49,13 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
   while (side * side * 4 <= items) side *= 2;
   cl::Kernel k;
   for (;;) {
-    cl::Program p =
-        rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
-                   "-cl-std=CL1.2" + storage_define(storage) + " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
-                       " -DSF_PYRAMID_GPU -DSF_PG=" + std::to_string(side));
+    cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+                               detail::BuildOptions()
+                                   .storage(storage)
+                                   .define("SF_REDUCE", static_cast<int>(op))
+                                   .flag("SF_PYRAMID_GPU")
+                                   .define("SF_PG", side)
+                                   .str());
     k = cl::Kernel(p, "sf_pyramid_groups");
     if (side == 1 || kernel_group_limit(rt, k) >= size_t(side) * side) break;
     side /= 2;
@@ -72,14 +67,15 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
   const EventList* deps = wait;
   for (int s = 0; s < L.top();) {
     const int m = std::min(levels, L.top() - s);
-    k.setArg(0, s == 0 ? level0 : chain);
-    k.setArg(1, static_cast<int>(L.levels[s].offset));
-    k.setArg(2, chain);
-    k.setArg(3, shape.width);
-    k.setArg(4, shape.height);
-    k.setArg(5, shape.channels);
-    k.setArg(6, s);
-    k.setArg(7, m);
+    detail::KernelArgs(k)
+        .buffer(s == 0 ? level0 : chain)
+        .value(static_cast<int>(L.levels[s].offset))
+        .buffer(chain)
+        .value(shape.width)
+        .value(shape.height)
+        .value(shape.channels)
+        .value(s)
+        .value(m);
     const size_t gw = size_t((L.levels[s + 1].width + side - 1) / side) * side;
     const size_t gh = size_t((L.levels[s + 1].height + side - 1) / side) * side;
     cl::Event e;
@@ -97,7 +93,7 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
 }  // namespace
 
 PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
-                           const ImageShape& shape, const EventList* wait, const PyramidBuild& build) try {
+                           const ImageShape& shape, const EventList* wait, const ScheduleOptions& schedule) try {
   const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
   PassEvents ev;
   if (L.top() == 0) {  // 1x1: nothing to build
@@ -105,12 +101,11 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     ev.last = ev.first;
     return ev;
   }
-  if (resolve_family(rt, build.family) == ScheduleFamily::Gpu)
-    return enqueue_pyramid_groups(rt, op, storage, level0, chain, shape, L, wait, build.work_group);
-  cl::Program p =
-      rt.program({"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
-                 "-cl-std=CL1.2" + storage_define(storage) + " -DSF_REDUCE=" + std::to_string(static_cast<int>(op)) +
-                     " -DSF_WIDE=" + std::to_string(kWide));
+  if (resolve_family(rt, schedule.family) == ScheduleFamily::Gpu)
+    return enqueue_pyramid_groups(rt, op, storage, level0, chain, shape, L, wait, schedule.gpu_work_group);
+  cl::Program p = rt.program(
+      {"common.clh", "storage.clh", "vecio.clh", "pyramid.cl"},
+      detail::BuildOptions().storage(storage).define("SF_REDUCE", static_cast<int>(op)).define("SF_WIDE", kWide).str());
   const int W = shape.width, H = shape.height, N = shape.channels;
   const cl::Buffer* src = &level0;
   int s = 0, src_off = 0;
@@ -122,22 +117,15 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     after = {e};
     deps = &after;
   };
-  // Both kernels read level s of *src (at src_off) and write the levels after it into chain.
-  auto level_kernel = [&](const char* name) {
-    cl::Kernel k(p, name);
-    k.setArg(0, *src);
-    k.setArg(1, src_off);
-    k.setArg(2, chain);
-    k.setArg(3, W);
-    k.setArg(4, H);
-    k.setArg(5, N);
-    k.setArg(6, s);
-    return k;
+  // Both kernels read level s of *src (at src_off) and write the levels after it into chain; the
+  // tiles kernel takes the number of levels after these.
+  auto level_args = [&](cl::Kernel& k) {
+    return detail::KernelArgs(k).buffer(*src).value(src_off).buffer(chain).value(W).value(H).value(N).value(s);
   };
   while (s < L.top() && std::max(L.levels[s].width, L.levels[s].height) > kTailMaxSide) {
     const int m = std::min(kTileLevels, L.top() - s);
-    cl::Kernel k = level_kernel("sf_pyramid_tiles");
-    k.setArg(7, m);
+    cl::Kernel k(p, "sf_pyramid_tiles");
+    level_args(k).value(m);
     const cl::NDRange global((L.levels[s].width + kTile * kWide - 1) / (kTile * kWide),
                              (L.levels[s].height + kTile - 1) / kTile, N);
     cl::Event e;
@@ -148,7 +136,8 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
     src_off = static_cast<int>(L.levels[s].offset);
   }
   if (s < L.top()) {
-    cl::Kernel k = level_kernel("sf_pyramid_tail");
+    cl::Kernel k(p, "sf_pyramid_tail");
+    level_args(k);
     cl::Event e;
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(N), cl::NullRange, deps, &e);
     launched(e);
@@ -158,35 +147,24 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
   detail::throw_device_error("enqueue_pyramid", e);
 }
 
-namespace {
-
-void set_buffer_or_null(cl::Kernel& k, cl_uint index, const cl::Buffer& b) {
-  if (b())
-    k.setArg(index, b);
-  else
-    k.setArg(index, sizeof(cl_mem), nullptr);
-}
-
-}  // namespace
-
 cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup, const cl::Buffer& level0,
                                 const ImageShape& shape, const cl::Buffer& u, const cl::Buffer& v,
                                 const cl::Buffer& out, size_t count, const EventList* wait) try {
-  cl::Program p =
-      rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
-                 "-cl-std=CL1.2" + storage_define(storage) + " -DSF_CHANNELS=" + std::to_string(shape.channels) +
-                     " -DSF_LOOKUP=" + std::to_string(static_cast<int>(lookup.kind)));
+  cl::Program p = rt.program(
+      {"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
+      detail::BuildOptions().storage(storage).define("SF_CHANNELS", shape.channels).lookup(lookup.kind).str());
   cl::Kernel k(p, "sf_lookup_points");
-  k.setArg(0, level0);
-  set_buffer_or_null(k, 1, lookup.chain);
-  set_buffer_or_null(k, 2, lookup.sat);
-  k.setArg(3, shape.width);
-  k.setArg(4, shape.height);
-  k.setArg(5, u);
-  k.setArg(6, v);
-  set_buffer_or_null(k, 7, lookup.footprint);
-  k.setArg(8, out);
-  k.setArg(9, static_cast<int>(count));
+  detail::KernelArgs(k)
+      .buffer(level0)
+      .optional(lookup.chain)
+      .optional(lookup.sat)
+      .value(shape.width)
+      .value(shape.height)
+      .buffer(u)
+      .buffer(v)
+      .optional(lookup.footprint)
+      .buffer(out)
+      .value(static_cast<int>(count));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
   return e;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "launch.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -57,26 +58,19 @@ SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
   return rt.info().type == "CPU" ? SatSchedule::Chained : SatSchedule::TwoLaunch;
 }
 
-SatBuild sat_build(const ScheduleOptions& sched) {
-  SatBuild b;
-  b.family = sched.family;
-  b.work_group = sched.gpu_work_group;
-  return b;
-}
-
 namespace {
 
 // SatSchedule::WorkGroupScan (sat.cl, SF_SAT_GPU): the rows' scan, the bands' column sums, the
 // columns; bands of the two-launch layout (their scratch holds the band sums: N nb W entries).
-PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::Buffer& src, const cl::Buffer& table,
-                            const cl::Buffer& band_scratch, const ImageShape& shape, const SatLayout& L,
-                            const EventList* wait, int work_group) {
+PassEvents enqueue_sat_scan(Runtime& rt, const detail::BuildOptions& options, const cl::Buffer& src,
+                            const cl::Buffer& table, const cl::Buffer& band_scratch, const ImageShape& shape,
+                            const SatLayout& L, const EventList* wait, int work_group) {
   int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).sat_group, work_group);
   // Two rows of sf_acc (8 bytes) per item in local memory.
   while (items > 1 && size_t(items) * 16 > local_mem_bytes(rt)) items /= 2;
   for (;;) {
     const cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
-                                     options + " -DSF_SAT_GPU -DSF_SAT_WG=" + std::to_string(items));
+                                     detail::BuildOptions(options).flag("SF_SAT_GPU").define("SF_SAT_WG", items).str());
     cl::Kernel rows(p, "sf_sat_scan_rows"), bands(p, "sf_sat_scan_bands"), cols(p, "sf_sat_scan_cols");
     if (items > 1 && (kernel_group_limit(rt, rows) < size_t(items) || kernel_group_limit(rt, bands) < size_t(items) ||
                       kernel_group_limit(rt, cols) < size_t(items))) {
@@ -84,18 +78,9 @@ PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::B
       continue;
     }
     const int W = shape.width, H = shape.height, N = shape.channels;
-    rows.setArg(0, src);
-    rows.setArg(1, W);
-    rows.setArg(2, H);
-    rows.setArg(3, table);
-    for (cl::Kernel* k : {&bands, &cols}) {
-      k->setArg(0, W);
-      k->setArg(1, H);
-      k->setArg(2, L.band_rows);
-      k->setArg(3, L.bands);
-      k->setArg(4, band_scratch);
-      k->setArg(5, table);
-    }
+    detail::KernelArgs(rows).buffer(src).value(W).value(H).buffer(table);
+    for (cl::Kernel* k : {&bands, &cols})
+      detail::KernelArgs(*k).value(W).value(H).value(L.band_rows).value(L.bands).buffer(band_scratch).buffer(table);
     const size_t columns = size_t((W + items - 1) / items) * items;
     PassEvents ev;
     rt.queue().enqueueNDRangeKernel(rows, cl::NullRange, cl::NDRange(items, size_t(H) + 1, N), cl::NDRange(items, 1, 1),
@@ -117,7 +102,7 @@ PassEvents enqueue_sat_scan(Runtime& rt, const std::string& options, const cl::B
 
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
-                       const SatBuild& build) try {
+                       const SatBuild& build, const ScheduleOptions& sched) try {
   SatLayout L = sat_layout(shape);
   const SatAccumulator accumulator = build.accumulator;
   SatSchedule schedule = build.schedule;
@@ -127,28 +112,21 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
                      "' does not support");
   if (schedule == SatSchedule::Auto)
     schedule =
-        resolve_family(rt, build.family) == ScheduleFamily::Gpu ? SatSchedule::WorkGroupScan : sat_schedule(rt, shape);
+        resolve_family(rt, sched.family) == ScheduleFamily::Gpu ? SatSchedule::WorkGroupScan : sat_schedule(rt, shape);
   if (schedule == SatSchedule::WorkGroupScan)
-    return enqueue_sat_scan(rt,
-                            "-cl-std=CL1.2 -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) +
-                                " -DSF_SAT_FP64=" + (fp64 ? "1" : "0"),
-                            src, table, band_scratch, shape, L, wait, build.work_group);
-  cl::Program p = rt.program(
-      {"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"},
-      "-cl-std=CL1.2 -DSF_SAT_STRIP=" + std::to_string(kStrip) +
-          " -DSF_STORAGE=" + std::to_string(static_cast<int>(storage)) + " -DSF_SAT_FP64=" + (fp64 ? "1" : "0") +
-          (build.chain_polls >= 0 ? " -DSF_SAT_POLLS=" + std::to_string(build.chain_polls) : "") +
-          (build.chain_sum_all ? " -DSF_SAT_SUM_ALL=1" : ""));
+    return enqueue_sat_scan(rt, detail::BuildOptions().storage(storage).define("SF_SAT_FP64", fp64 ? 1 : 0), src, table,
+                            band_scratch, shape, L, wait, sched.gpu_work_group);
+  detail::BuildOptions options;
+  options.define("SF_SAT_STRIP", kStrip).storage(storage).define("SF_SAT_FP64", fp64 ? 1 : 0);
+  if (build.chain_polls >= 0) options.define("SF_SAT_POLLS", build.chain_polls);
+  if (build.chain_sum_all) options.define("SF_SAT_SUM_ALL", 1);
+  cl::Program p = rt.program({"common.clh", "storage.clh", "vecio.clh", "sat_accum.clh", "sat.cl"}, options.str());
   // Every SAT kernel takes (src, W, H, band_rows, bands, scratch[, table]).
   auto kernel = [&](const char* name, int band_rows, int bands, bool with_table) {
     cl::Kernel k(p, name);
-    k.setArg(0, src);
-    k.setArg(1, shape.width);
-    k.setArg(2, shape.height);
-    k.setArg(3, band_rows);
-    k.setArg(4, bands);
-    k.setArg(5, band_scratch);
-    if (with_table) k.setArg(6, table);
+    detail::KernelArgs args(k);
+    args.buffer(src).value(shape.width).value(shape.height).value(band_rows).value(bands).buffer(band_scratch);
+    if (with_table) args.buffer(table);
     return k;
   };
   PassEvents ev;

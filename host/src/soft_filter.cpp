@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cl_errors.hpp"
+#include "launch.hpp"
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -42,9 +43,9 @@ cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
   const int M = o.cssm_order;
   std::vector<std::string> files = kSoftHeaders;
   files.push_back("soft/cssm.cl");
-  return rt.program(files, "-cl-std=CL1.2 -DSF_CSSM_ORDER=" + std::to_string(M) +
-                               " -DSF_CHANNELS=" + std::to_string(4 * M + 1) +
-                               " -DSF_LOOKUP=" + std::to_string(static_cast<int>(o.cssm_lookup)));
+  return rt.program(
+      files,
+      detail::BuildOptions().define("SF_CSSM_ORDER", M).define("SF_CHANNELS", 4 * M + 1).lookup(o.cssm_lookup).str());
 }
 
 }  // namespace
@@ -197,9 +198,7 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
     const int M = opt_.cssm_order;
     cl::Kernel k(cssm_program(*rt_, opt_), "sf_cssm_basis");
     const int texels = W_ * H_;
-    k.setArg(0, depth);
-    k.setArg(1, basis_);
-    k.setArg(2, texels);
+    detail::KernelArgs(k).buffer(depth).buffer(basis_).value(texels);
     rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(texels)), cl::NullRange, wait,
                                       &transform_done_);
     have_transform_ = true;
@@ -214,10 +213,7 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
     have_sat_ = true;
     cl::Kernel pk(cssm_program(*rt_, opt_), "sf_cssm_sat_pack");
     const int entries = (W_ + 1) * (H_ + 1);
-    pk.setArg(0, sat_);
-    pk.setArg(1, packed_);
-    pk.setArg(2, W_);
-    pk.setArg(3, H_);
+    detail::KernelArgs(pk).buffer(sat_).buffer(packed_).value(W_).value(H_);
     EventList after_sat{sat_done_.last};
     rt_->queue().enqueueNDRangeKernel(pk, cl::NullRange, cl::NDRange(size_t(entries)), cl::NullRange, &after_sat,
                                       &pack_done_);
@@ -239,47 +235,30 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
                           const cl::Buffer& visibility, size_t count, const EventList* wait,
                           const cl::Buffer* zavg) try {
   const ClSoftLight L = cl_light(opt_);
+  // Every points kernel takes (its maps, W, H in its order), then (u, v, d, f, visibility
+  // [, zavg], count, light [, its parameters]).
   cl::Kernel k;
-  int a = 0;
-  auto arg_buf = [&](const cl::Buffer& b) {
-    if (b() == nullptr) {
-      cl_mem none = nullptr;
-      k.setArg(a++, sizeof(cl_mem), &none);
-    } else {
-      k.setArg(a++, b);
-    }
-  };
   if (opt_.method == SoftMethod::Pcss) {
     std::vector<std::string> files = kSoftHeaders;
     files.push_back("soft/pcss.cl");
-    k = cl::Kernel(rt_->program(files, "-cl-std=CL1.2 -DSF_CHANNELS=1"), "sf_pcss_points");
-    arg_buf(depth_);
-    k.setArg(a++, W_);
-    k.setArg(a++, H_);
+    k = cl::Kernel(rt_->program(files, detail::BuildOptions().define("SF_CHANNELS", 1).str()), "sf_pcss_points");
   } else if (opt_.method == SoftMethod::Cssm) {
     k = cl::Kernel(cssm_program(*rt_, opt_), "sf_cssm_points");
-    arg_buf(basis_);
-    k.setArg(a++, W_);
-    k.setArg(a++, H_);
-    arg_buf(chain_);
-    arg_buf(packed_);
   } else {
     std::vector<std::string> files = kSoftHeaders;
     files.push_back("soft/ssmm.cl");
-    k = cl::Kernel(rt_->program(files, "-cl-std=CL1.2 -DSF_CHANNELS=1"), "sf_ssmm_points");
-    arg_buf(depth_);
-    arg_buf(chain_);
-    k.setArg(a++, W_);
-    k.setArg(a++, H_);
+    k = cl::Kernel(rt_->program(files, detail::BuildOptions().define("SF_CHANNELS", 1).str()), "sf_ssmm_points");
   }
-  arg_buf(u);
-  arg_buf(v);
-  arg_buf(d);
-  arg_buf(f);
-  arg_buf(visibility);
-  if (opt_.method == SoftMethod::Cssm) arg_buf(zavg ? *zavg : cl::Buffer());
-  k.setArg(a++, static_cast<int>(count));
-  k.setArg(a++, sizeof(ClSoftLight), &L);
+  detail::KernelArgs args(k);
+  if (opt_.method == SoftMethod::Pcss)
+    args.optional(depth_).value(W_).value(H_);
+  else if (opt_.method == SoftMethod::Cssm)
+    args.optional(basis_).value(W_).value(H_).optional(chain_).optional(packed_);
+  else
+    args.optional(depth_).optional(chain_).value(W_).value(H_);
+  args.optional(u).optional(v).optional(d).optional(f).optional(visibility);
+  if (opt_.method == SoftMethod::Cssm) args.optional(zavg ? *zavg : cl::Buffer());
+  args.value(static_cast<int>(count)).value(L);
   if (opt_.method == SoftMethod::Cssm) {
     const CssmParams c = cssm_params(opt_);
     const ClCssmParams P{c.offset,
@@ -291,10 +270,9 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
                          c.width_scale,
                          opt_.cssm_normalise ? 1.0f / c.lit : 1.0f,
                          opt_.cssm_contact ? 1 : 0};
-    k.setArg(a++, sizeof(ClCssmParams), &P);
+    args.value(P);
   } else if (opt_.method != SoftMethod::Pcss) {
-    k.setArg(a++, opt_.ssmm_n);
-    k.setArg(a++, opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
+    args.value(opt_.ssmm_n).value(opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
   }
   rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait,
                                     &run_done_);

@@ -17,6 +17,8 @@ class ClassifyStage {
   static void add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan);
 
   ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height);
+  // Allocates what `plan` holds for the stage (a plan add_to_plan filled, e.g. the Pipeline's).
+  ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height, const BufferPlan& plan);
 
   // Before reconstruction: the z-max pyramid of the raw depth (zmax mode), after `wait`. Returns
   // the pyramid's events (empty when the mode needs none). Keeps `depth` for classify().

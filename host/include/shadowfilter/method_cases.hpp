@@ -22,7 +22,7 @@ struct MethodCase {
   }
   std::string label() const {
     std::string s = method + "_" + storage_name(storage);
-    if (!find_method(method).channels_note.empty()) s += "_M" + std::to_string(csm_order);
+    if (find_method(method).order_sets_channels) s += "_M" + std::to_string(csm_order);
     for (char& c : s)
       if (c == '-') c = '_';
     return s;
@@ -37,7 +37,7 @@ inline std::vector<MethodCase> method_storage_cases(const std::vector<int>& csm_
     if (m.raw_depth) continue;
     for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
       if (!m.accepts(s)) continue;
-      if (m.channels_note.empty()) {  // a fixed channel count: one case
+      if (!m.order_sets_channels) {  // a fixed channel count: one case
         out.push_back({m.name, s, 8});
         continue;
       }

@@ -60,8 +60,11 @@ struct MethodDesc {
   // Basis planes for these options (csm: 2M); raw-depth methods: 1, the depth itself.
   std::function<int(const FilterOptions&)> channel_count;
   int channels(const FilterOptions& o) const { return channel_count(o); }
-  std::string channels_note;  // how the channel count varies ("2M", "" when fixed)
-  std::string parameters;     // one line: CLI parameters and their defaults
+  std::string channels_note;  // how the channel count varies ("2M", "" when fixed), for summaries
+  // Whether the channel count follows the method's order (FilterOptions::csm.order): test and
+  // bench cases walk the orders, --auto notes when smaller orders miss the bound.
+  bool order_sets_channels = false;
+  std::string parameters;  // one line: CLI parameters and their defaults
   std::vector<StorageLimit> storages;
   // sm and pcf test the depth map itself (kernels/pcf.cl): no basis transform and no prefilter;
   // the reconstruction evaluates H(z - d + b) per texel under the lookup's weights.

@@ -38,15 +38,12 @@ struct PassEvents {
 // How the chain is built (docs/gpu.md, "Launch shapes"); every build gives the same max / min
 // chains and mean chains within the storage's rounding. family Cpu: the 32x32 tiles (one item
 // per four) and the per-channel tail; Gpu: work-groups of 16x16 items, one per texel of the next
-// level, five levels per launch through local memory; Auto: by device type. work_group: items
-// per Gpu group (0: the table's 256; a power of two: the square below it, 8x8 for 64 or 128).
-struct PyramidBuild {
-  ScheduleFamily family = ScheduleFamily::Auto;
-  int work_group = 0;
-};
-PyramidBuild pyramid_build(const ScheduleOptions& sched);  // family and gpu_work_group
+// level, five levels per launch through local memory; Auto: by device type. The family and the
+// items per Gpu group are ScheduleOptions::family and gpu_work_group (0: the table's 256; a power
+// of two: the square below it, 8x8 for 64 or 128), as the blur and the SAT take them.
 PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
-                           const ImageShape& shape, const EventList* wait = nullptr, const PyramidBuild& build = {});
+                           const ImageShape& shape, const EventList* wait = nullptr,
+                           const ScheduleOptions& schedule = {});
 
 // --- summed-area tables -------------------------------------------------------
 // Float-float table (hi + lo planes per channel) of (W+1) x (H+1) entries with zero first row
@@ -78,7 +75,7 @@ enum class SatAccumulator { Auto, Double, FloatFloat };
 //   WorkGroupScan (the Gpu family): a work-group per row scans it in blocks of its size in
 //     local memory (the row prefixes, held in the table), then one work-item per column and
 //     band adds them down, from the column sums of the bands above; the image read once.
-// Auto: the family's default (SatBuild::family, Auto = by device type): Gpu takes
+// Auto: the family's default (ScheduleOptions::family, Auto = by device type): Gpu takes
 // WorkGroupScan; Cpu takes PerChannel when the channels alone fill the compute units, else
 // Chained on CPU devices and TwoLaunch elsewhere (sat_schedule).
 enum class SatSchedule { Auto, PerChannel, Chained, TwoLaunch, WorkGroupScan };
@@ -91,15 +88,12 @@ struct SatBuild {
   // (< 0: the kernel's ~1 ms); chain_sum_all: every band sums all the rows above it (tests).
   int chain_polls = -1;
   bool chain_sum_all = false;
-  // Which family Auto takes, and WorkGroupScan's items per group (0: the table's 256; a power
-  // of two; smaller where the device allows fewer).
-  ScheduleFamily family = ScheduleFamily::Auto;
-  int work_group = 0;
 };
-SatBuild sat_build(const ScheduleOptions& sched);  // family and gpu_work_group, the rest default
+// schedule: which family Auto takes (family) and WorkGroupScan's items per group
+// (gpu_work_group: 0 for the table's 256; a power of two; smaller where the device allows fewer).
 PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
                        const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait = nullptr,
-                       const SatBuild& build = {});
+                       const SatBuild& build = {}, const ScheduleOptions& schedule = {});
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).

@@ -46,6 +46,7 @@ MethodDesc csm_method() {
   m.header = "methods/csm.clh";
   m.channel_count = [](const FilterOptions& o) { return 2 * o.csm.order; };
   m.channels_note = "2M";
+  m.order_sets_channels = true;
   m.parameters =
       "--csm-order M (1..32, default 8), --csm-alpha A (default 0), --csm-offset O and "
       "--csm-scale S (default: measured per order, docs/methods.md)";

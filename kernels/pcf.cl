@@ -1,7 +1,9 @@
 // sm and pcf: the shadow test evaluated per depth texel, then weighted (methods.md sec. 2-3):
-//   v = sum_t W_x(t) H(z_t - d + bias)
+//   v = sum_t W_x(t) H(z_t - d_t + bias)
 // with W_x the composite Gaussian (x) bilinear weights of the prefilter lookup (sm: radius 0,
-// the bilinear weights alone). Needs common.clh before it. Reads the raw float32 depth map.
+// the bilinear weights alone) and d_t the receiver's depth at texel t: its plane
+// (receiver_plane.clh), or d itself with the plane off. Needs common.clh and
+// receiver_plane.clh before it. Reads the raw float32 depth map.
 //
 // Both factors are separable and so are the clamp-to-edge rules, so W_x(t) = wx(i) wy(j) over
 // a (2R+2)^2 window: with the bilinear taps x0 <= x1 (clamped, x1 - x0 = dx in {0, 1}) and
@@ -15,9 +17,10 @@ inline float sf_pcf_g(const sf_pcf_weights* g, int radius, int o) {
   return o <= radius ? g->w[o] : 0.0f;
 }
 
-// Texel-space coordinates (x, y) = (u W - 1/2, v H - 1/2), as in sf_lookup_bilinear.
-inline float sf_pcf(__global const float* restrict depth, int width, int height, float x, float y,
-                    float d, float bias, int radius, const sf_pcf_weights* g) {
+// The receiver at texel-space (p->x, p->y) = (u W - 1/2, v H - 1/2), as in sf_lookup_bilinear.
+inline float sf_pcf(__global const float* restrict depth, int width, int height, const sf_plane* p,
+                    float bias, int radius, const sf_pcf_weights* g) {
+  const float x = p->x, y = p->y;
   const float xf = floor(x), yf = floor(y);
   const float ax = x - xf, ay = y - yf;
   const int x0 = sf_clampi((int)xf, 0, width - 1), x1 = sf_clampi((int)xf + 1, 0, width - 1);
@@ -27,12 +30,15 @@ inline float sf_pcf(__global const float* restrict depth, int width, int height,
   for (int oy = -radius; oy <= radius + 1; ++oy) {
     const float wy = (1.0f - ay) * sf_pcf_g(g, radius, oy) + ay * sf_pcf_g(g, radius, oy - dy);
     if (wy == 0.0f) continue;
-    __global const float* row = depth + (size_t)sf_clampi(y0 + oy, 0, height - 1) * width;
+    const int ty = sf_clampi(y0 + oy, 0, height - 1);
+    __global const float* row = depth + (size_t)ty * width;
+    const float row_d = fma(p->gy, (float)ty - y, p->d);  // the plane along this row
     float racc = 0.0f;
     for (int ox = -radius; ox <= radius + 1; ++ox) {
       const float wx = (1.0f - ax) * sf_pcf_g(g, radius, ox) + ax * sf_pcf_g(g, radius, ox - dx);
-      const float z = row[sf_clampi(x0 + ox, 0, width - 1)];
-      racc += (z - d) + bias >= 0.0f ? wx : 0.0f;
+      const int tx = sf_clampi(x0 + ox, 0, width - 1);
+      const float z = row[tx];
+      racc += (z - fma(p->gx, (float)tx - x, row_d)) + bias >= 0.0f ? wx : 0.0f;
     }
     acc = fma(wy, racc, acc);
   }
@@ -106,7 +112,8 @@ inline void sf_pcf_span(const sf_pcf_axis* A, int n, int radius, int* lo, int* h
 #define SF_PCF_CHUNK 32
 
 inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H, float u, float v,
-                              float f, float d, float bias, int radius, const sf_pcf_weights* g) {
+                              float f, const sf_plane* p, float bias, int radius,
+                              const sf_pcf_weights* g) {
   sf_pcf_axis ax[2], ay[2];
   float t = 0.0f;
 #if SF_LOOKUP == SF_LOOKUP_MIPS
@@ -148,9 +155,10 @@ inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H
       const float wy1 = wb > 0.0f ? wb * sf_pcf_axis_weight(&ay[1], H, y, radius, g) : 0.0f;
       if (wy0 == 0.0f && wy1 == 0.0f) continue;
       __global const float* row = depth + (size_t)y * W + xc;
+      const float row_d = fma(p->gy, (float)y - p->y, p->d);
       float r0 = 0.0f, r1 = 0.0f;
       for (int i = 0; i < nc; ++i) {
-        const bool lit = (row[i] - d) + bias >= 0.0f;
+        const bool lit = (row[i] - fma(p->gx, (float)(xc + i) - p->x, row_d)) + bias >= 0.0f;
         r0 += lit ? cx0[i] : 0.0f;
         r1 += lit ? cx1[i] : 0.0f;
       }
@@ -166,12 +174,14 @@ __kernel void sf_pcf_points_footprint(__global const float* restrict depth, cons
                                       __global const float* restrict v,
                                       __global const float* restrict d, __global float* restrict out,
                                       const int count, const float bias, const int radius,
-                                      const sf_pcf_weights g, __global const float* restrict f) {
+                                      const sf_pcf_weights g, __global const float* restrict f,
+                                      const sf_plane_params P) {
   const int i = get_global_id(0);
   float ui, vi, di;
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
-  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, clamp(di, 0.0f, 1.0f),
-                            bias, radius, &g);
+  const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, width, height, ui, vi,
+                                              clamp(di, 0.0f, 1.0f), P);
+  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, &p, bias, radius, &g);
 }
 #endif
 
@@ -179,18 +189,20 @@ __kernel void sf_pcf_points(__global const float* restrict depth, const int widt
                             __global const float* restrict u, __global const float* restrict v,
                             __global const float* restrict d, __global float* restrict out,
                             const int count, const float bias, const int radius,
-                            const sf_pcf_weights g) {
+                            const sf_pcf_weights g, const sf_plane_params P) {
   const int i = get_global_id(0);
   float ui, vi, di;
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
-  const float x = fma(ui, (float)width, -0.5f), y = fma(vi, (float)height, -0.5f);
-  out[i] = sf_pcf(depth, width, height, x, y, clamp(di, 0.0f, 1.0f), bias, radius, &g);
+  const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, width, height, ui, vi,
+                                              clamp(di, 0.0f, 1.0f), P);
+  out[i] = sf_pcf(depth, width, height, &p, bias, radius, &g);
 }
 
 // --receiver-depth mode: the receiver sits at the texel centre (bilinear weights (1, 0)).
 __kernel void sf_pcf_grid(__global const float* restrict depth, const int width, const int height,
                           __global const float* restrict d, __global float* restrict out,
-                          const float bias, const int radius, const sf_pcf_weights g) {
+                          const float bias, const int radius, const sf_pcf_weights g,
+                          const sf_plane_params P) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= width || y >= height) return;
   const size_t i = (size_t)y * width + x;
@@ -199,5 +211,6 @@ __kernel void sf_pcf_grid(__global const float* restrict depth, const int width,
     out[i] = 1.0f;
     return;
   }
-  out[i] = sf_pcf(depth, width, height, (float)x, (float)y, clamp(di, 0.0f, 1.0f), bias, radius, &g);
+  const sf_plane p = sf_receiver_plane_grid(d, depth, width, height, x, y, clamp(di, 0.0f, 1.0f), P);
+  out[i] = sf_pcf(depth, width, height, &p, bias, radius, &g);
 }

@@ -40,6 +40,8 @@ const std::vector<Layout>& host_layouts() {
       SF_LAYOUT(sf_csm_params, SF_MEMBER(sf_csm_params, alpha), SF_MEMBER(sf_csm_params, offset),
                 SF_MEMBER(sf_csm_params, scale)),
       SF_LAYOUT(sf_pcf_weights, SF_MEMBER(sf_pcf_weights, w)),
+      SF_LAYOUT(sf_plane_params, SF_MEMBER(sf_plane_params, on), SF_MEMBER(sf_plane_params, row),
+                SF_MEMBER(sf_plane_params, max_slope), SF_MEMBER(sf_plane_params, pad)),
       SF_LAYOUT(sf_classify_params, SF_MEMBER(sf_classify_params, mode), SF_MEMBER(sf_classify_params, radius),
                 SF_MEMBER(sf_classify_params, offset), SF_MEMBER(sf_classify_params, log_thresh)),
       SF_LAYOUT(sf_soft_light, SF_MEMBER(sf_soft_light, k), SF_MEMBER(sf_soft_light, a), SF_MEMBER(sf_soft_light, b),

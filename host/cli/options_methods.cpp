@@ -1,6 +1,7 @@
 #include <sstream>
 
 #include "filter_options.hpp"
+#include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
 namespace sf::cli {
@@ -12,7 +13,18 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
       "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
   c.add_option_function<float>(
       "--bias", [&o](float b) { o.depth_test.bias = b; },
-      "Depth bias b for sm, pcf (H(z - d + b)) and msm (default 0; msm unorm16: measured)");
+      "Depth bias b for sm, pcf (H(z - d_t + b)) and msm (default: sm, pcf 2^-15 with the receiver plane, "
+      "0 without; msm 0, unorm16: measured)");
+  c.add_option_function<std::string>(
+      "--receiver-plane",
+      [&o](const std::string& s) {
+        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
+        o.receiver_plane.enabled = s == "on";
+      },
+      "sm, pcf: test each texel against the receiver's plane (on, default) or its depth d (off)");
+  c.add_option("--receiver-plane-max-slope", o.receiver_plane.max_slope,
+               "Largest receiver-plane slope in depth per shadow-map texel (steeper is clamped)")
+      ->capture_default_str();
   c.add_option("--esm-c", o.esm.c, "ESM exponent c")->capture_default_str();
   c.add_option("--vsm-min-variance", o.vsm.min_variance,
                "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");

@@ -1,5 +1,7 @@
 #include "lookups.hpp"
 
+#include "receiver_plane.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -232,6 +234,15 @@ double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, d
   double acc = 0;
   for (const Tap& t : lookup_taps(depth.width, depth.height, blur_opt, kind, u, v, f))
     if (depth.at(t.x, t.y) - d + bias >= 0) acc += t.w;
+  return acc;
+}
+
+double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, const Plane& plane,
+             double f, double bias) {
+  if (outside(u, v, plane.d)) return 1.0;
+  double acc = 0;
+  for (const Tap& t : lookup_taps(depth.width, depth.height, blur_opt, kind, u, v, f))
+    if (depth.at(t.x, t.y) - plane.at(t.x, t.y) + bias >= 0) acc += t.w;
   return acc;
 }
 

@@ -50,6 +50,10 @@ std::vector<Tap> lookup_taps(int width, int height, const BlurOptions& blur, Loo
 // s_ref under a lookup: sum_t W_x(t) H(z_t - d + bias). Background / outside = 1.
 double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, double d, double f,
              double bias = 0.0);
+// The same against a receiver's plane (receiver_plane.hpp): sum_t W_x(t) H(z_t - plane(t) + bias).
+struct Plane;
+double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, const Plane& plane,
+             double f, double bias = 0.0);
 std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, const Receivers& rx);
 
 }  // namespace sf::ref

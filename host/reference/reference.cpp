@@ -3,6 +3,7 @@
 #include "shadowfilter/methods.hpp"
 
 #include "lookups.hpp"
+#include "receiver_plane.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -110,8 +111,10 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
     for (size_t i = 0; i < rx.count(); ++i) {
       double u, v, d;
       receiver_at(rx, i, u, v, d);
-      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, d, footprint_at(rx, i), depth_bias(opt))
-                          : pcf(depth, weights, u, v, d, depth_bias(opt));
+      if (receiver_outside(u, v, d)) continue;
+      const Plane plane = receiver_plane(depth, rx, i, opt.receiver_plane);
+      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane, footprint_at(rx, i), depth_bias(opt))
+                          : pcf(depth, weights, plane, depth_bias(opt));
     }
     return out;
   }

@@ -37,6 +37,9 @@ void quantise(Planes& p, Storage s);
 // sm and pcf (methods_pcf.cpp): sum_t W_x(t) H(z_t - d + bias) under the composite weights of
 // `blur` (sm: pass radius 0), brute force. Background / outside = 1. bias 0 gives s_ref.
 double pcf(const HostImage& depth, const BlurOptions& blur, double u, double v, double d, double bias);
+// The same against a receiver's plane (receiver_plane.hpp): H(z_t - plane(t) + bias).
+struct Plane;
+double pcf(const HostImage& depth, const BlurOptions& blur, const Plane& plane, double bias);
 
 // --- filters and lookups -----------------------------------------------------
 std::vector<double> gaussian_weights(int radius, double sigma);  // w[0..R]; sigma <= 0: default

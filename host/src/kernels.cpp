@@ -132,10 +132,11 @@ cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& bas
 cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
                                      const cl::Buffer& basis, int width, int height, const cl::Buffer& u,
                                      const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& visibility,
-                                     size_t count, const EventList* wait, const LookupBuffers* lookup) try {
+                                     size_t count, const EventList* wait, const LookupBuffers* lookup,
+                                     int receiver_row) try {
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait,
-                              lookup ? &lookup->footprint : nullptr);
+                              lookup ? &lookup->footprint : nullptr, receiver_row);
   // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
   int vec = opt.schedule.reconstruct_vector_width;

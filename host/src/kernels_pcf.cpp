@@ -18,6 +18,7 @@ struct PcfSetup {
   int radius = 0;
   float bias = 0;
   sf_pcf_weights weights{};
+  sf_plane_params plane{};
 };
 
 PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear) {
@@ -28,14 +29,16 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
   // Footprint lookups reuse lookup.clh's level-of-detail rule (one float channel).
   const cl::Program p =
       lookup == Lookup::Bilinear
-          ? rt.program({"common.clh", "pcf.cl"}, detail::BuildOptions().str())
-          : rt.program({"common.clh", "storage.clh", "lookup.clh", "pcf.cl"},
+          ? rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, detail::BuildOptions().str())
+          : rt.program({"common.clh", "storage.clh", "lookup.clh", "receiver_plane.clh", "pcf.cl"},
                        detail::BuildOptions().storage(Storage::F32).define("SF_CHANNELS", 1).lookup(lookup).str());
   s.kernel = cl::Kernel(p, name);
   s.radius = m.filtered ? opt.blur.radius : 0;
   s.bias = depth_bias(opt);
   const auto w = gaussian_weights(s.radius, opt.blur.sigma);
   std::copy(w.begin(), w.end(), s.weights.w);
+  s.plane.on = opt.receiver_plane.enabled ? 1 : 0;
+  s.plane.max_slope = opt.receiver_plane.max_slope;
   return s;
 }
 
@@ -44,7 +47,7 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
                              const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                              const cl::Buffer& visibility, size_t count, const EventList* wait,
-                             const cl::Buffer* footprint) try {
+                             const cl::Buffer* footprint, int receiver_row) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
   const Lookup lookup = find_method(opt.method).filtered ? opt.lookup.kind : Lookup::Bilinear;
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
@@ -62,6 +65,8 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
       .value(s.radius)
       .value(s.weights);
   if (lookup != Lookup::Bilinear) args.optional(footprint ? *footprint : cl::Buffer());
+  s.plane.row = receiver_row;
+  args.value(s.plane);
   cl::Kernel& k = s.kernel;
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), cl::NullRange, wait, &e);
@@ -82,7 +87,8 @@ cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buff
       .buffer(visibility)
       .value(s.bias)
       .value(s.radius)
-      .value(s.weights);
+      .value(s.weights)
+      .value(s.plane);
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(width, height), cl::NullRange, wait, &e);
   return e;

@@ -169,7 +169,7 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
         enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width, shape_.height, rx.d, visibility, wait);
   } else {
     reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, rx_basis, shape_.width, shape_.height,
-                                                   rx.u, rx.v, rx.d, visibility, rx.count, wait, &lookup);
+                                                   rx.u, rx.v, rx.d, visibility, rx.count, wait, &lookup, rx.row);
   }
   if (!classify_) return reconstruct_done_;
   EventList after{reconstruct_done_};
@@ -242,6 +242,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   DeviceReceivers rx;
   rx.grid = receivers.grid;
   rx.count = count;
+  rx.row = receivers.grid ? 0 : receivers.width;
   rx.d = upload(rt, receivers.d, uploads);
   if (!receivers.grid) {
     rx.u = upload(rt, receivers.u, uploads);

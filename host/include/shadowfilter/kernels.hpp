@@ -51,7 +51,7 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& basis, int width, int height, const cl::Buffer& u,
                                      const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& visibility,
                                      size_t count, const EventList* wait = nullptr,
-                                     const LookupBuffers* lookup = nullptr);
+                                     const LookupBuffers* lookup = nullptr, int receiver_row = 0);
 // LookupBuffers::level_offsets for a joined mip layout (chain a sub-buffer of basis, the
 // pipeline's); empty when the layout is not joined. Built once, it spares a table per call.
 cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& basis, const cl::Buffer& chain,
@@ -67,10 +67,12 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
 // bilinear weights only (the prefilter radius does not apply to it). opt.method picks which.
 // pcf with opt.lookup mips|sat weights the tests by that lookup's composite weights at the
 // receivers' footprints (`footprint`: one f per receiver; null or empty = 1); sm ignores them.
+// With opt.receiver_plane, d is each receiver's plane; receiver_row: receivers per row of the
+// receiver image (DeviceReceivers::row), 0 for unstructured points.
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
                              const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                              const cl::Buffer& visibility, size_t count, const EventList* wait = nullptr,
-                             const cl::Buffer* footprint = nullptr);
+                             const cl::Buffer* footprint = nullptr, int receiver_row = 0);
 cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
                            const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait = nullptr);
 

@@ -27,6 +27,17 @@ struct DepthTestOptions {
   std::optional<float> bias;
 };
 
+// Receiver-plane depth of the depth tests (sm, pcf; docs/receiver_plane.md): each texel t of a
+// receiver's support is tested against the receiver's plane at t, d + (dd/dx, dd/dy) . (t - x),
+// the gradient from the receiver's neighbours (receiver image or receiver-depth map), else from
+// the depth map's slope, so tilted receivers do not shadow themselves and need no large bias.
+struct ReceiverPlaneOptions {
+  bool enabled = true;
+  // Largest |dd/dx|, |dd/dy| in depth per level-0 texel (steeper is clamped): 0.1 is 88.9 degrees
+  // on a 512-texel map of a scene as deep as it is wide; a steeper gradient is a wrong neighbour.
+  float max_slope = 0.1f;
+};
+
 struct VsmOptions {
   // Minimum variance v_min; negative = the method's default for the storage (docs/methods.md).
   // vsm: absolute floor of bar(z^2) - bar(z)^2, default 2e-5 (a flat receiver stays lit when
@@ -129,6 +140,7 @@ struct FilterOptions {
   std::string method = "esm";  // see `shadowfilter methods`
   EsmOptions esm;
   DepthTestOptions depth_test;
+  ReceiverPlaneOptions receiver_plane;
   VsmOptions vsm;
   EvsmOptions evsm;
   MsmOptions msm;

@@ -50,6 +50,9 @@ struct DeviceReceivers {
   size_t count = 0;
   cl::Buffer u, v, d;
   cl::Buffer f;  // footprints in level-0 texels (points mode); empty = 1 for every receiver
+  // Points mode: receivers per row of the receiver image, whose neighbours give each receiver's
+  // plane (FilterOptions::receiver_plane); 0 = unstructured points.
+  int row = 0;
 };
 
 // The device buffers a Pipeline allocates for one set of options and map size.

@@ -4,6 +4,13 @@
 
 namespace sf::registration {
 
+namespace {
+// The default bias against the receiver plane: the plane and the texel depth agree up to the
+// inputs' rounding (float32 depths and texture coordinates, a 16-bit depth map's half step of
+// 7.6e-6), so 2^-15 keeps exact ties lit and is 300x below the depth step a 0.01 bias cost.
+constexpr float kPlaneBias = 1.0f / 32768.0f;
+}  // namespace
+
 MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered) {
   MethodDesc m;
   m.name = name;
@@ -11,13 +18,18 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
   m.raw_depth = true;
   m.filtered = filtered;
   m.channel_count = [](const FilterOptions&) { return 1; };
-  m.parameters = "--bias B (default 0)";
+  m.parameters = "--bias B (default 2^-15 with the receiver plane, 0 without), --receiver-plane on|off (default on)";
   m.storages = plain_storages({Storage::F32});
   m.validate = [m](const FilterOptions& o) {
     require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
+    if (!(o.receiver_plane.max_slope > 0.0f) || !std::isfinite(o.receiver_plane.max_slope))
+      throw InputError("FilterOptions::receiver_plane.max_slope must be a positive number, got " +
+                       std::to_string(o.receiver_plane.max_slope));
     check_storage(m, o, "it tests the float32 depth map itself and has no basis images");
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(depth_bias(o)); };
+  // Without the plane the test is s_ref of the constant d (bias 0), with it the plane's tie bias.
+  m.default_depth_bias = [](const FilterOptions& o) { return o.receiver_plane.enabled ? kPlaneBias : 0.0f; };
   m.defines = [](const FilterOptions&) { return std::string(); };
   m.parameter_values = [](const FilterOptions& o) { return std::vector<MethodParameter>{{"bias", depth_bias(o)}}; };
   m.label = [](const FilterOptions&) { return std::string(); };

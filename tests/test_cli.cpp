@@ -104,6 +104,30 @@ TEST_F(Cli, WrongChannelCount) {
   expect_input_error("filter --shadow-map " + path("two.exr") + " --receivers " + path("rx.exr"), "2 channels");
 }
 
+// A fifth channel ndl is read and ignored by the filter: the output equals the 4-channel one's.
+TEST_F(Cli, FiveChannelReceiversFilterLikeFourAndSixAreRefused) {
+  HostImage rx(5, 4, 5);
+  rx.channel_names = {"u", "v", "d", "f", "ndl"};
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 5; ++x) {
+      rx.at(x, y, 0) = (x + 0.5f) / 5;
+      rx.at(x, y, 1) = (y + 0.5f) / 4;
+      rx.at(x, y, 2) = 0.7f;
+      rx.at(x, y, 3) = 1.0f;
+      rx.at(x, y, 4) = x == 2 ? -0.5f : 0.8f;
+    }
+  io::write_image(path("rx5.exr"), rx);
+  const std::string args = "filter --shadow-map " + path("sm.exr") + " --method esm --blur-radius 2 --receivers ";
+  ASSERT_EQ(run_cli(args + path("rx.exr") + " -o " + path("vis4.exr"), dir_).exit_code, 0);
+  RunResult r = run_cli(args + path("rx5.exr") + " -o " + path("vis5.exr"), dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(io::load_depth_map(path("vis5.exr"), {}).data, io::load_depth_map(path("vis4.exr"), {}).data);
+
+  io::write_image(path("rx6.exr"), HostImage(5, 4, 6, 0.5f));
+  expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx6.exr"),
+                     "expected 3, 4 or 5 channels");
+}
+
 TEST_F(Cli, NonFiniteDepthIsAnErrorUnlessAskedFar) {
   HostImage depth(8, 8, 1, 0.5f);
   depth.at(3, 2) = std::nanf("");

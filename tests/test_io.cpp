@@ -453,13 +453,61 @@ TEST_F(ImageIoTest, IntegerReceiverImageIsRejected) {
   expect_input_error([&] { sf::io::load_receiver_image(file("rec8.png")); }, {"rec8.png", "uint8", "float"});
 }
 
+TEST_F(ImageIoTest, FiveChannelReceiversCarryNdlByName) {
+  HostImage img(3, 1, 5);  // file order ndl, d, u, v, f
+  for (int x = 0; x < 3; ++x) {
+    img.at(x, 0, 0) = 0.5f - 0.5f * x;  // ndl: 0.5, 0 (facing away), -0.5
+    img.at(x, 0, 1) = 0.4f;             // d
+    img.at(x, 0, 2) = 0.1f * x;         // u
+    img.at(x, 0, 3) = 0.2f;             // v
+    img.at(x, 0, 4) = 3.0f;             // f
+  }
+  img.at(2, 0, 0) = kNaN;  // ndl unknown: the receiver stays defined
+  img.channel_names = {"ndl", "d", "u", "v", "f"};
+  img.channel_formats = {"half", "float", "float", "float", "half"};
+  sf::io::write_image(file("rec5.exr"), img);
+  const Receivers rec = sf::io::load_receiver_image(file("rec5.exr"));
+  EXPECT_TRUE(rec.has_footprint);
+  ASSERT_TRUE(rec.has_ndl);
+  ASSERT_EQ(rec.ndl.size(), 3u);
+  EXPECT_EQ(rec.ndl[0], 0.5f);
+  EXPECT_EQ(rec.ndl[1], 0.0f);
+  EXPECT_TRUE(std::isnan(rec.ndl[2]));
+  EXPECT_EQ(rec.d, (std::vector<float>(3, 0.4f)));
+  EXPECT_EQ(rec.u, (std::vector<float>{0.0f, 0.1f, 0.2f}));
+  EXPECT_EQ(rec.f, (std::vector<float>(3, 3.0f)));
+}
+
+TEST_F(ImageIoTest, FiveChannelReceiversArePositionalWithoutNames) {
+  HostImage img(2, 1, 5);
+  img.data = {0.1f, 0.2f, 0.3f, 2.0f, -0.25f, 0.4f, 0.5f, 0.6f, 4.0f, 0.75f};
+  sf::io::write_image(file("rec5.tif"), img);
+  const Receivers rec = sf::io::load_receiver_image(file("rec5.tif"));
+  ASSERT_TRUE(rec.has_ndl);
+  EXPECT_EQ(rec.u, (std::vector<float>{0.1f, 0.4f}));
+  EXPECT_EQ(rec.d, (std::vector<float>{0.3f, 0.6f}));
+  EXPECT_EQ(rec.f, (std::vector<float>{2.0f, 4.0f}));
+  EXPECT_EQ(rec.ndl, (std::vector<float>{-0.25f, 0.75f}));
+}
+
+TEST_F(ImageIoTest, FourChannelReceiversHaveNoNdl) {
+  sf::io::write_image(file("rec4.exr"), ramp(3, 2, 4));
+  const Receivers rec = sf::io::load_receiver_image(file("rec4.exr"));
+  EXPECT_TRUE(rec.has_footprint);
+  EXPECT_FALSE(rec.has_ndl);
+  EXPECT_TRUE(rec.ndl.empty());
+}
+
 TEST_F(ImageIoTest, WrongReceiverChannelCountIsRejected) {
   sf::io::write_image(file("one.exr"), ramp(3, 3, 1));
   expect_input_error([&] { sf::io::load_receiver_image(file("one.exr")); },
-                     {"one.exr", "expected 3 or 4 channels", "found 1 channel"});
-  sf::io::write_image(file("five.exr"), ramp(3, 3, 5));
-  expect_input_error([&] { sf::io::load_receiver_image(file("five.exr")); },
-                     {"five.exr", "expected 3 or 4 channels", "found 5 channels"});
+                     {"one.exr", "expected 3, 4 or 5 channels", "found 1 channel"});
+  sf::io::write_image(file("two.exr"), ramp(3, 3, 2));
+  expect_input_error([&] { sf::io::load_receiver_image(file("two.exr")); },
+                     {"two.exr", "expected 3, 4 or 5 channels", "found 2 channels"});
+  sf::io::write_image(file("six.exr"), ramp(3, 3, 6));
+  expect_input_error([&] { sf::io::load_receiver_image(file("six.exr")); },
+                     {"six.exr", "expected 3, 4 or 5 channels", "found 6 channels"});
 }
 
 TEST_F(ImageIoTest, ReceiverDepthIsDecodedOnTheShadowMapGrid) {

@@ -92,6 +92,36 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
       if (std::abs(dist - r) > texel && sphere != (dist < r)) ++sm_wrong;
     }
   EXPECT_EQ(sm_wrong, 0u);
+
+  // ndl (5th channel): the camera-facing normal against the light direction (straight down, so
+  // ndl = n.y): 1 on the floor, (p - centre).y / r on the sphere, whose lower part the camera
+  // sees facing away (ndl <= 0), and the hard reference is 0 wherever ndl <= 0.
+  ASSERT_EQ(view.receivers.channels, 5);
+  size_t facing_away = 0, ndl_wrong = 0, lit_facing_away = 0;
+  double worst_ndl_error = 0.0;
+  for (int y = 0; y < setup.camera.height; ++y)
+    for (int x = 0; x < setup.camera.width; ++x) {
+      const float d = view.receivers.at(x, y, 2);
+      const float ndl = view.receivers.at(x, y, 4);
+      if (!std::isfinite(d)) {
+        EXPECT_TRUE(std::isnan(ndl));  // background
+        continue;
+      }
+      Vec3 p = world_on_floor(setup.light, view.receivers.at(x, y, 0), view.receivers.at(x, y, 1));
+      p.y = -(setup.light.near_plane + d * setup.light.depth_range());
+      const double on_sphere = std::abs(length(p - centre) - r);
+      const double expected = p.y < 1e-4 ? 1.0 : (p.y - centre.y) / r;
+      if (p.y >= 1e-4 && on_sphere > 1e-3) continue;  // neither floor nor sphere (cannot happen)
+      const double err = std::abs(ndl - expected);
+      worst_ndl_error = std::max(worst_ndl_error, err);
+      ndl_wrong += err > 2e-3;  // half precision and the sphere point from float u, v, d
+      facing_away += ndl <= 0.0f;
+      lit_facing_away += ndl <= 0.0f && view.reference_hard.at(x, y) != 0.0f;
+    }
+  std::printf("  ndl: %zu facing-away pixels, worst |ndl - n.l| %.5f\n", facing_away, worst_ndl_error);
+  EXPECT_EQ(ndl_wrong, 0u);
+  EXPECT_GT(facing_away, 100u);
+  EXPECT_EQ(lit_facing_away, 0u);
 }
 
 // Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L

@@ -4,11 +4,13 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
 
+#include "image_io.hpp"
 #include "sf_test_env.hpp"
 
 namespace sf::test {
@@ -54,6 +56,20 @@ TEST(SceneCli, SameArgumentsAndSeedGiveIdenticalFiles) {
   // The seed reaches the soft reference (and only the sampled outputs).
   EXPECT_NE(read_all(fs::path(dir) / "a/reference_soft.exr"), read_all(fs::path(dir) / "c/reference_soft.exr"));
   EXPECT_EQ(read_all(fs::path(dir) / "a/shadowmap.exr"), read_all(fs::path(dir) / "c/shadowmap.exr"));
+  // The receivers carry ndl (u v d f ndl): finite on every hit, and the hard reference is 0
+  // wherever it is <= 0 (facing away from the light).
+  const Receivers rx = io::load_receiver_image(dir + "/a/receivers.exr");
+  ASSERT_TRUE(rx.has_ndl);
+  const HostImage hard = io::load_depth_map(dir + "/a/reference_hard.exr", {});
+  size_t hits = 0, lit_facing_away = 0;
+  for (size_t i = 0; i < rx.count(); ++i) {
+    if (!std::isfinite(rx.d[i])) continue;
+    ++hits;
+    EXPECT_TRUE(rx.ndl[i] >= -1.0f && rx.ndl[i] <= 1.0f) << i;
+    lit_facing_away += rx.ndl[i] <= 0.0f && hard.data[i] != 0.0f;
+  }
+  EXPECT_GT(hits, 1000u);
+  EXPECT_EQ(lit_facing_away, 0u);
 }
 
 TEST(SceneCli, MeshFileOnAFloor) {

@@ -35,7 +35,7 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
   c->add_option("--shadow-map", a.shadow_map, "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel")->required();
   auto* rx = c->add_option("--receivers", a.receivers,
-                           "Receiver image: float EXR/TIFF/PFM with channels u v d [f] (or RGB[A])");
+                           "Receiver image: float EXR/TIFF/PFM with channels u v d [f [ndl]] (or RGB[A[5th]])");
   auto* rd =
       c->add_option("--receiver-depth", a.receiver_depth, "Planar-receiver depth image of the shadow map's size");
   rx->excludes(rd);

@@ -90,7 +90,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
       "soft", "Soft shadows from square area lights: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)");
   c->add_option("--method", a.method, "pcss | cssm | ssmm | ssmm-improved")->capture_default_str();
   c->add_option("--shadow-map", a.shadow_map, "Depth map of one light (linear depth; the light from its header)");
-  auto* rx = c->add_option("--receivers", a.receivers, "Receiver image u v d [f] of that light");
+  auto* rx = c->add_option("--receivers", a.receivers, "Receiver image u v d [f [ndl]] of that light");
   auto* rd = c->add_option("--receiver-depth", a.receiver_depth, "Planar receivers of the map's size");
   rx->excludes(rd);
   rd->excludes(rx);

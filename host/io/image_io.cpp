@@ -166,11 +166,11 @@ std::vector<int> find_channels(const RawImage& img, const std::vector<std::strin
   return indices;
 }
 
-// Channel indices of u, v, d[, f]: by name when the file's channels are exactly u v d [f]
-// (in any order), else positional R G B [A].
+// Channel indices of u, v, d[, f[, ndl]]: by name when the file's channels are exactly
+// u v d [f [ndl]] (in any order), else positional R G B [A [5th]].
 std::vector<int> receiver_channel_order(const RawImage& img) {
-  const std::vector<std::string> names =
-      img.channels == 4 ? std::vector<std::string>{"u", "v", "d", "f"} : std::vector<std::string>{"u", "v", "d"};
+  std::vector<std::string> names{"u", "v", "d", "f", "ndl"};
+  names.resize(size_t(img.channels));
   std::vector<int> by_name = find_channels(img, names);
   if (!by_name.empty()) return by_name;
   std::vector<int> positional(img.channels);
@@ -236,10 +236,10 @@ HostImage load_depth_map(const std::string& path, const DepthLoadOptions& opt) {
 // Non-finite u, v or f also make a texel background: such a receiver has no defined lookup.
 Receivers load_receiver_image(const std::string& path) {
   const RawImage raw = read_raw(path, kReceiverImageRole);
-  if (raw.channels != 3 && raw.channels != 4)
+  if (raw.channels < 3 || raw.channels > 5)
     fail(kReceiverImageRole, path,
-         "expected 3 or 4 channels (u v d [f], or R G B [A]), found " + std::to_string(raw.channels) + " channel" +
-             (raw.channels == 1 ? "" : "s"));
+         "expected 3, 4 or 5 channels (u v d [f [ndl]], or R G B [A [5th]]), found " + std::to_string(raw.channels) +
+             " channel" + (raw.channels == 1 ? "" : "s"));
   require_float_receivers(raw, path);
 
   const std::vector<int> order = receiver_channel_order(raw);
@@ -247,13 +247,17 @@ Receivers load_receiver_image(const std::string& path) {
   rec.width = raw.width;
   rec.height = raw.height;
   rec.grid = false;
-  rec.has_footprint = raw.channels == 4;
+  rec.has_footprint = raw.channels >= 4;
+  rec.has_ndl = raw.channels == 5;
   const size_t n = raw.texels();
   rec.u.resize(n);
   rec.v.resize(n);
   rec.d.resize(n);
   rec.f.assign(n, 1.0f);
+  if (rec.has_ndl) rec.ndl.resize(n);
   for (size_t t = 0; t < n; ++t) {
+    // ndl is carried as stored: a non-finite one means "unknown" and leaves the receiver defined.
+    if (rec.has_ndl) rec.ndl[t] = raw.at(t, order[4]);
     rec.u[t] = raw.at(t, order[0]);
     rec.v[t] = raw.at(t, order[1]);
     if (rec.has_footprint) rec.f[t] = raw.at(t, order[3]);

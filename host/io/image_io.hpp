@@ -30,8 +30,9 @@ double linearize_depth(double stored, const DepthLoadOptions& opt);
 // clamped to [0,1]; non-finite texels are an error unless opt.nonfinite == Far (then 1).
 HostImage load_depth_map(const std::string& path, const DepthLoadOptions& opt);
 
-// Reads a receiver image: float EXR/TIFF/PFM with 3 or 4 channels. Channels named u v d [f]
-// are used by name, else R G B [A] in order. Missing footprint = 1.
+// Reads a receiver image: float EXR/TIFF/PFM with 3, 4 or 5 channels. Channels named
+// u v d [f [ndl]] are used by name (in any order), else positional: R G B [A [5th]]. Missing
+// footprint = 1; ndl (n.l towards the light, <= 0 facing away) only with 5 channels.
 Receivers load_receiver_image(const std::string& path);
 
 // --receiver-depth mode: one-channel image of the shadow map's size (expected_w x expected_h);

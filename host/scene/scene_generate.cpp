@@ -70,7 +70,8 @@ std::vector<OutputFile> output_files(bool has_ground) {
   files.push_back({"receivers.exr",
                    "camera-view receivers: u v d (float32) f (half, footprint in level-0 texels "
                    "from the shadow-map coordinates of the pixel's neighbourhood on the hit "
-                   "tangent plane); NaN = background"});
+                   "tangent plane) ndl (half, cosine between the camera-facing normal and the "
+                   "direction to the light, <= 0 facing away); NaN = background"});
   files.push_back({"reference_hard.exr",
                    "camera view: ray-traced point-light visibility Y (half; 1 lit, 0 occluded or "
                    "facing away, 1 background)"});

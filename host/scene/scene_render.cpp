@@ -84,10 +84,18 @@ HostImage SceneRenderer::receiver_depth() const {
   return image;
 }
 
+// The hit's normal faces the camera (surfaces are two-sided), so ndl <= 0 is the side of a
+// surface the light does not reach: ortho -forward, perspective the direction to the light's
+// position. The hard reference counts such a receiver as occluded (0) by the same test.
+double SceneRenderer::n_dot_l(Vec3 point, Vec3 normal) const {
+  double distance = 0.0;
+  return dot(normal, setup_.light.towards_light(point, distance).direction);
+}
+
 bool SceneRenderer::lit_hard(Vec3 point, Vec3 normal) const {
   double distance = 0.0;
   const Ray to_light = setup_.light.towards_light(point, distance);
-  if (dot(normal, to_light.direction) <= 0.0) return false;  // faces away from the light
+  if (dot(normal, to_light.direction) <= 0.0) return false;  // faces away from the light: n_dot_l <= 0
   const Ray shadow_ray{point + offset_ * normal, to_light.direction};
   return !tracer_.occluded(shadow_ray, 0.0, distance, kMaskAll);
 }
@@ -143,9 +151,9 @@ double SceneRenderer::footprint_texels(int x, int y, Vec3 point, Vec3 normal) co
 CameraImages SceneRenderer::camera_view(bool with_soft) const {
   const int w = setup_.camera.width, h = setup_.camera.height;
   CameraImages out;
-  out.receivers = HostImage(w, h, 4, kNaN);
-  out.receivers.channel_names = {"u", "v", "d", "f"};
-  out.receivers.channel_formats = {"float", "float", "float", "half"};
+  out.receivers = HostImage(w, h, 5, kNaN);
+  out.receivers.channel_names = {"u", "v", "d", "f", "ndl"};
+  out.receivers.channel_formats = {"float", "float", "float", "half", "half"};
   out.reference_hard = HostImage(w, h, 1, 1.0f);
   out.reference_hard.channel_names = {"Y"};
   out.reference_hard.channel_formats = {"half"};
@@ -165,6 +173,7 @@ CameraImages SceneRenderer::camera_view(bool with_soft) const {
       out.receivers.at(x, y, 1) = float(c.v);
       out.receivers.at(x, y, 2) = float(c.d);
       out.receivers.at(x, y, 3) = float(footprint_texels(x, y, point, hit->normal));
+      out.receivers.at(x, y, 4) = float(n_dot_l(point, hit->normal));
       out.reference_hard.at(x, y) = lit_hard(point, hit->normal) ? 1.0f : 0.0f;
       if (with_soft) {
         const uint64_t stream = (uint64_t(setup_.seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);

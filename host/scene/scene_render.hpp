@@ -27,7 +27,7 @@ struct SceneSetup {
 
 // Camera-view outputs of one pass.
 struct CameraImages {
-  HostImage receivers;       // u v d (float) f (half); NaN on background
+  HostImage receivers;       // u v d (float) f ndl (half); NaN on background
   HostImage reference_hard;  // Y: 1 lit, 0 occluded, 1 background
   HostImage reference_soft;  // Y: fraction of area-light samples visible, 1 background
 };
@@ -45,6 +45,8 @@ class SceneRenderer {
 
   // Single-point queries (for tests): lit by the point light / fraction of the area light seen.
   bool lit_hard(Vec3 point, Vec3 normal) const;
+  // Cosine between the (camera-facing) normal and the direction to the light; <= 0 faces away.
+  double n_dot_l(Vec3 point, Vec3 normal) const;
   double visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const;
   const RayTracer& tracer() const { return tracer_; }
 

@@ -30,13 +30,18 @@ struct HostImage {
 
 // Receiver samples as structure-of-arrays (what the reconstruction kernels read).
 // u, v: shadow-map texture coordinates; d: light-space depth (linear, [0,1]; NaN = background);
-// f: footprint in level-0 texels (1 when the input has none).
+// f: footprint in level-0 texels (1 when the input has none); ndl: cosine between the surface
+// normal (oriented towards the viewer) and the direction to the light, <= 0 facing away from the
+// light (empty when the input has none). No kernel reads ndl yet: it is carried for slope-scaled
+// biases, and evaluate leaves facing-away receivers out of its ray-traced error figures.
 struct Receivers {
   int width = 0;  // output image size (receiver image size, or shadow-map size)
   int height = 0;
   bool grid = false;  // true: --receiver-depth mode, u/v are the texel centres of a WxH grid
   bool has_footprint = false;
+  bool has_ndl = false;
   std::vector<float> u, v, d, f;  // u, v, f empty in grid mode
+  std::vector<float> ndl;         // empty unless has_ndl; NaN = unknown
   size_t count() const { return static_cast<size_t>(width) * height; }
 };
 

@@ -37,6 +37,56 @@ TEST(EvalErrors, StatisticsByHand) {
   EXPECT_THROW(eval::check_metric("p98"), InputError);
 }
 
+// Acne and leaks on a constructed 20x10 hard reference, lit for x < 10 and shadowed from x = 10
+// on, 7x7 windows: lit inside are x <= 6 (70 receivers), shadowed inside x >= 13 (70); the band
+// x = 7..12 is in neither class, whatever the output says there.
+TEST(EvalAcneLeak, ConstructedImagesByHand) {
+  HostImage hard(20, 10, 1, 0.0f);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) hard.at(x, y) = 1.0f;
+  std::vector<float> v(hard.data.begin(), hard.data.end());
+  v[2 * 20 + 2] = 0.0f;    // acne
+  v[5 * 20 + 3] = 0.49f;   // acne (below 0.5)
+  v[6 * 20 + 4] = 0.5f;    // not acne (0.5 is not below 0.5)
+  v[5 * 20 + 8] = 0.0f;    // in the band: not counted
+  v[5 * 20 + 11] = 1.0f;   // in the band: not counted
+  v[5 * 20 + 15] = 0.51f;  // leak
+  v[0 * 20 + 19] = NAN;    // NaN: a leak
+  std::vector<uint8_t> all(v.size(), 1);
+  eval::AcneLeak a = eval::acne_leak(v, hard, all);
+  ASSERT_TRUE(a.valid);
+  EXPECT_EQ(a.lit, 70u);
+  EXPECT_EQ(a.shadowed, 70u);
+  EXPECT_DOUBLE_EQ(a.acne, 2.0 / 70.0);
+  EXPECT_DOUBLE_EQ(a.leak, 2.0 / 70.0);
+
+  // Receivers left out (facing away, misses) are in no window and counted in no class: with
+  // x = 10..12 out, lit inside reaches x = 9 (100 receivers) and the wrong outputs there vanish.
+  std::vector<uint8_t> mask = all;
+  for (int y = 0; y < 10; ++y)
+    for (int x = 10; x <= 12; ++x) mask[size_t(y) * 20 + x] = 0;
+  a = eval::acne_leak(v, hard, mask);
+  EXPECT_EQ(a.lit, 100u);
+  EXPECT_EQ(a.shadowed, 70u);
+  EXPECT_DOUBLE_EQ(a.acne, 3.0 / 100.0);  // (8, 5) now counts
+  EXPECT_DOUBLE_EQ(a.leak, 2.0 / 70.0);
+
+  // One shadowed receiver in a lit area takes its whole 7x7 neighbourhood out of the lit class;
+  // the window is clipped at the image border (a corner receiver sees 4x4).
+  HostImage lit(20, 20, 1, 1.0f);
+  lit.at(10, 10) = 0.0f;
+  a = eval::acne_leak(std::vector<float>(400, 1.0f), lit, std::vector<uint8_t>(400, 1));
+  EXPECT_EQ(a.lit, 400u - 49u);
+  EXPECT_EQ(a.shadowed, 0u);
+  EXPECT_DOUBLE_EQ(a.leak, 0.0);  // no class, no fraction
+  a = eval::acne_leak(std::vector<float>(400, 1.0f), lit, std::vector<uint8_t>(400, 1), 0);
+  EXPECT_EQ(a.lit, 399u);  // radius 0: every receiver is its own class
+  EXPECT_EQ(a.shadowed, 1u);
+  EXPECT_DOUBLE_EQ(a.leak, 1.0);
+
+  EXPECT_FALSE(eval::acne_leak(std::vector<float>(3, 1.0f), lit, std::vector<uint8_t>(3, 1)).valid);
+}
+
 TEST(EvalGrid, FootprintLookupsOnlyWhenNeeded) {
   const auto m = eval::parse_methods("esm,csm");
   auto has_mips = [](const std::vector<FilterOptions>& g) {
@@ -78,6 +128,38 @@ eval::Scene small_scene() {
       rx.f.push_back(1.0f);
     }
   return eval::make_scene("small", depth, rx);
+}
+
+// Receivers with ndl <= 0 face away from the light: left out of every figure against the
+// ray-traced references (and of acne / leaks), kept in s_ref's; NaN ndl is unknown and counts.
+TEST(EvalAcneLeak, FacingAwayReceiversLeaveTheTracedFigures) {
+  eval::Scene s = small_scene();
+  Receivers rx = s.receivers;
+  rx.has_ndl = true;
+  rx.ndl.assign(rx.count(), 0.7f);
+  for (int y = 0; y < 32; ++y) {
+    for (int x = 0; x < 4; ++x) rx.ndl[size_t(y) * 32 + x] = x == 0 ? 0.0f : -0.3f;
+    rx.ndl[size_t(y) * 32 + 4] = NAN;
+  }
+  s = eval::make_scene("facing", s.depth, rx);
+  EXPECT_EQ(s.valid_count, 32u * 32u);
+  EXPECT_EQ(s.traced_count, 32u * 28u);
+  s.ref_hard = HostImage(32, 32, 1, 1.0f);  // all lit: the occluded square is "acne"
+  s.ref_soft = s.ref_hard;
+  eval::SrefCache sref(s);
+  FilterOptions o;
+  o.method = "sm";
+  o.depth_test.bias = float(eval::kDefaultSrefBias);
+  const eval::Row row = eval::evaluate_config(runtime_ptr(), s, o, sref, {0, 1});
+  EXPECT_EQ(row.sref.n, 32u * 32u);
+  EXPECT_EQ(row.hard.n, 32u * 28u);
+  EXPECT_EQ(row.soft.n, 32u * 28u);
+  ASSERT_TRUE(row.acne_leak.valid);
+  EXPECT_EQ(row.acne_leak.lit, 32u * 28u);
+  size_t dark = 0;  // the occluder's shadow on the counted receivers
+  for (size_t i = 0; i < s.traced.size(); ++i) dark += s.traced[i] && row.visibility[i] < 0.5f;
+  EXPECT_GT(dark, 100u);
+  EXPECT_DOUBLE_EQ(row.acne_leak.acne, double(dark) / (32.0 * 28.0));
 }
 
 // --auto picks something under the bound, skips the mip pyramid (footprints 1), and its error
@@ -318,6 +400,7 @@ TEST(EvalCli, WritesResults) {
   std::getline(csv, header);
   EXPECT_NE(header.find("sref_p99"), std::string::npos);
   EXPECT_NE(header.find("hard_rmse"), std::string::npos);
+  EXPECT_NE(header.find(",acne,umbra_leak,lit_inside,shadowed_inside"), std::string::npos);
   int rows = 0;
   while (std::getline(csv, line)) rows += !line.empty();
   EXPECT_GE(rows, 5);  // sm + esm {40,80} x R {1,3} (x mips when footprints > 1)

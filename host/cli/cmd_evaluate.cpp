@@ -145,11 +145,14 @@ int run_evaluate(const EvaluateArgs& a) {
   }
 
   if (!a.quiet) {
-    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max", "hard_rmse",
-                "MiB");
+    // acne% / leak%: eval::acne_leak against reference_hard (-1 without one).
+    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max",
+                "hard_rmse", "acne%", "leak%", "MiB");
     for (const auto& r : all)
-      std::printf("%-10s %-34s %9.3f %9.4f %9.4f %9.4f %9.4f %9.2f\n", r.scene.c_str(), r.label.c_str(), r.time_ms,
-                  r.sref.p99, r.sref.rmse, r.sref.max, r.hard.valid ? r.hard.rmse : -1.0, r.device_bytes / 1048576.0);
+      std::printf("%-10s %-34s %9.3f %9.4f %9.4f %9.4f %9.4f %9.2f %9.2f %9.2f\n", r.scene.c_str(), r.label.c_str(),
+                  r.time_ms, r.sref.p99, r.sref.rmse, r.sref.max, r.hard.valid ? r.hard.rmse : -1.0,
+                  r.acne_leak.valid ? 100.0 * r.acne_leak.acne : -1.0,
+                  r.acne_leak.valid ? 100.0 * r.acne_leak.leak : -1.0, r.device_bytes / 1048576.0);
     for (const auto& s : skipped)
       std::printf("skipped %s / %s: %s\n", s.scene.c_str(), s.label.c_str(), s.reason.c_str());
   }

@@ -28,6 +28,12 @@ struct Scene {
   // Receivers that the map can shadow: finite d, (u, v) inside [0,1]^2. Errors count only these.
   std::vector<uint8_t> valid;
   size_t valid_count = 0;
+  // The receivers of every figure against the ray-traced references: valid and not facing away
+  // from the light (ndl > 0; all valid ones when the receivers carry no ndl, and where ndl is
+  // unknown). A renderer's n.l term darkens a facing-away surface whatever its shadow says, so
+  // counting it (the hard reference has 0 there) would score a method on pixels nobody sees lit.
+  std::vector<uint8_t> traced;
+  size_t traced_count = 0;
   double max_footprint = 1.0;  // over valid receivers (1 when the receivers carry none)
 };
 Scene load_scene(const std::string& dir);
@@ -62,6 +68,23 @@ struct ErrorStats {
   bool valid = false;
 };
 ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref, const std::vector<uint8_t>& mask);
+// Acne and leaks against the hard reference (issue 14), over the receivers of `mask`, on the
+// receiver image's grid: a receiver is "lit inside" when the hard reference is lit (>= 0.5) at
+// every counted receiver of the (2 radius + 1)^2 window around it, and "shadowed inside" when it
+// is shadowed at every one (the window clipped to the image). Receivers outside `mask` (misses,
+// outside the frustum, facing away) are not in any window: they say nothing about the light there,
+// so a lit receiver next to the background or a terminator still counts as lit inside. The window
+// keeps the penumbra band of a filter off both counts: what is left is acne (lit inside, output
+// < 0.5) and leaks (shadowed inside, output > 0.5), as fractions of their class.
+constexpr int kAcneLeakRadius = 3;  // 7x7
+struct AcneLeak {
+  size_t lit = 0, shadowed = 0;  // receivers lit inside / shadowed inside
+  double acne = 0, leak = 0;     // fraction of `lit` below 0.5 / of `shadowed` above 0.5 (0 when none)
+  bool valid = false;            // the reference matched the size of v
+};
+AcneLeak acne_leak(const std::vector<float>& v, const HostImage& ref_hard, const std::vector<uint8_t>& mask,
+                   int radius = kAcneLeakRadius);
+
 // Metric by name: rmse, p99, max, frac_1_255, frac_005, leak, darken. InputError otherwise.
 double metric_value(const ErrorStats& e, const std::string& metric);
 void check_metric(const std::string& metric);
@@ -109,7 +132,8 @@ struct Row {
   StageTimes stages;
   size_t device_bytes = 0;
   int runs = 0;
-  ErrorStats sref, hard, soft;
+  ErrorStats sref, hard, soft;    // hard, soft: over Scene::traced
+  AcneLeak acne_leak;             // against reference_hard over Scene::traced
   std::vector<float> visibility;  // kept for error images; cleared when not needed
 };
 Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,

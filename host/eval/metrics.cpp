@@ -48,6 +48,52 @@ ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& r
   return e;
 }
 
+// Window sums by an integral image: per receiver, how many counted receivers lie in its window
+// and how many of them the hard reference lights.
+AcneLeak acne_leak(const std::vector<float>& v, const HostImage& ref_hard, const std::vector<uint8_t>& mask,
+                   int radius) {
+  AcneLeak out;
+  const int w = ref_hard.width, h = ref_hard.height;
+  const size_t n = ref_hard.texels();
+  if (n == 0 || v.size() != n || mask.size() != n || ref_hard.channels != 1) return out;
+  out.valid = true;
+  const size_t stride = size_t(w) + 1;
+  std::vector<uint32_t> counted(stride * (size_t(h) + 1), 0), lit(counted.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const size_t s = (size_t(y) + 1) * stride + x + 1;
+      const uint32_t c = mask[i] ? 1u : 0u;
+      const uint32_t l = (mask[i] && ref_hard.data[i] >= 0.5f) ? 1u : 0u;
+      counted[s] = c + counted[s - 1] + counted[s - stride] - counted[s - stride - 1];
+      lit[s] = l + lit[s - 1] + lit[s - stride] - lit[s - stride - 1];
+    }
+  auto box = [&](const std::vector<uint32_t>& t, int x0, int y0, int x1, int y1) {  // inclusive, clipped
+    return t[size_t(y1 + 1) * stride + x1 + 1] - t[size_t(y0) * stride + x1 + 1] - t[size_t(y1 + 1) * stride + x0] +
+           t[size_t(y0) * stride + x0];
+  };
+  size_t acne = 0, leak = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!mask[i]) continue;
+      const int x0 = std::max(0, x - radius), x1 = std::min(w - 1, x + radius);
+      const int y0 = std::max(0, y - radius), y1 = std::min(h - 1, y + radius);
+      const uint32_t c = box(counted, x0, y0, x1, y1), l = box(lit, x0, y0, x1, y1);
+      // Written so that a NaN output counts as the error of either class.
+      if (l == c) {
+        ++out.lit;
+        acne += !(v[i] >= 0.5f);
+      } else if (l == 0) {
+        ++out.shadowed;
+        leak += !(v[i] <= 0.5f);
+      }
+    }
+  out.acne = out.lit ? double(acne) / double(out.lit) : 0.0;
+  out.leak = out.shadowed ? double(leak) / double(out.shadowed) : 0.0;
+  return out;
+}
+
 void check_metric(const std::string& m) {
   static const char* names[] = {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"};
   for (const char* n : names)

@@ -91,6 +91,8 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   for (const char* ref : {"sref", "hard", "soft"})
     for (const char* m : {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"})
       f << "," << ref << "_" << m;
+  // Acne and umbra leaks against reference_hard (eval::acne_leak), after every older column.
+  f << ",acne,umbra_leak,lit_inside,shadowed_inside";
   f << "\n";
   for (const auto& r : rows) {
     const auto& o = r.options;
@@ -107,6 +109,11 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
       f << "," << e->rmse << "," << e->p99 << "," << e->max << "," << e->frac_1_255 << "," << e->frac_005 << ","
         << e->leak << "," << e->darken;
     }
+    const AcneLeak& al = r.acne_leak;
+    if (al.valid)
+      f << "," << al.acne << "," << al.leak << "," << al.lit << "," << al.shadowed;
+    else
+      f << ",,,,";
     f << "\n";
   }
   if (!f) throw InputError("cannot write '" + path + "'");
@@ -119,7 +126,10 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     << "  \"time\": \"median wall ms of prefilter + reconstruct + finish with the inputs on the device, "
        "after warm-up; stage times are device profiling medians\",\n"
     << "  \"errors\": \"sref: against s_ref with the configuration's own weights; hard/soft: against the "
-       "ray-traced camera-view references; receivers with finite depth inside the light frustum only\",\n"
+       "ray-traced camera-view references over the receivers that face the light (ndl > 0); receivers with "
+       "finite depth inside the light frustum only; acne / umbra_leak: receivers lit / shadowed in reference_hard "
+       "at every counted receiver of their 7x7 window that come out below / above 0.5, as fractions of "
+       "lit_inside / shadowed_inside\",\n"
     << "  \"results\": [\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -139,6 +149,12 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     stats_json(f, "hard", r.hard);
     f << ", ";
     stats_json(f, "soft", r.soft);
+    f << ", \"acne_leak\": ";
+    if (r.acne_leak.valid)
+      f << "{\"acne\": " << r.acne_leak.acne << ", \"umbra_leak\": " << r.acne_leak.leak
+        << ", \"lit_inside\": " << r.acne_leak.lit << ", \"shadowed_inside\": " << r.acne_leak.shadowed << "}";
+    else
+      f << "null";
     f << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   f << "  ],\n  \"skipped\": [\n";

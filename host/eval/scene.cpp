@@ -33,12 +33,18 @@ void analyse(Scene& s) {
   const Receivers& rx = s.receivers;
   s.valid.assign(rx.count(), 0);
   s.valid_count = 0;
+  s.traced.assign(rx.count(), 0);
+  s.traced_count = 0;
   s.max_footprint = 1.0;
   for (size_t i = 0; i < rx.count(); ++i) {
     if (!std::isfinite(rx.d[i])) continue;
     if (!rx.grid && !(rx.u[i] >= 0.0f && rx.u[i] <= 1.0f && rx.v[i] >= 0.0f && rx.v[i] <= 1.0f)) continue;
     s.valid[i] = 1;
     ++s.valid_count;
+    if (!(rx.has_ndl && rx.ndl[i] <= 0.0f)) {  // NaN ndl: unknown, counted
+      s.traced[i] = 1;
+      ++s.traced_count;
+    }
     if (!rx.grid && rx.has_footprint && std::isfinite(rx.f[i]))
       s.max_footprint = std::max(s.max_footprint, double(rx.f[i]));
   }

@@ -94,10 +94,12 @@ Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, cons
   row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);
   auto vs_image = [&](const HostImage& img) {
     if (img.texels() != m.visibility.size()) return ErrorStats{};
-    return error_stats(m.visibility, std::vector<double>(img.data.begin(), img.data.end()), scene.valid);
+    return error_stats(m.visibility, std::vector<double>(img.data.begin(), img.data.end()), scene.traced);
   };
+  // Against the ray-traced references only the receivers facing the light count (Scene::traced).
   row.hard = vs_image(scene.ref_hard);
   row.soft = vs_image(scene.ref_soft);
+  row.acne_leak = acne_leak(m.visibility, scene.ref_hard, scene.traced);
   row.visibility = std::move(m.visibility);
   return row;
 }

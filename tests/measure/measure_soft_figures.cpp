@@ -14,33 +14,13 @@
 #include <vector>
 
 #include "image_io.hpp"
+#include "scene_light.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/soft.hpp"
 
 namespace sf::test {
 namespace {
-
-SoftLight header_light(const std::string& path) {
-  SoftLight L;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  const OIIO::ImageSpec& s = in->spec();
-  auto num = [&](const char* n) { return std::atof(s.get_string_attribute(n).c_str()); };
-  L.perspective = s.get_string_attribute("light_type") == "perspective";
-  L.near_plane = num("near");
-  L.far_plane = num("far");
-  L.size = num("light_size");
-  L.fov_degrees = num("fov_degrees");
-  std::string e = s.get_string_attribute("ortho_extents");
-  for (char& c : e)
-    if (c == '[' || c == ']' || c == ',') c = ' ';
-  std::istringstream es(e);
-  double a = 0, b = 0;
-  es >> a >> b;
-  L.extent = b - a;
-  return L;
-}
 
 struct Scene {
   std::string name;

@@ -66,8 +66,8 @@ TEST(ReceiverPlane, TiltedPlanesStayLit) {
         const TiltedPlane plane(64, degrees, phi, 8.0);
         const HostImage map = plane.map();
         const Receivers rx = plane.receivers(24, 20, 0.73, alpha);
-        const std::string what = std::to_string(int(degrees)) + " deg phi " + std::to_string(phi) + " alpha " +
-                                 std::to_string(alpha);
+        const std::string what =
+            std::to_string(int(degrees)) + " deg phi " + std::to_string(phi) + " alpha " + std::to_string(alpha);
         for (const std::string method : {"sm", "pcf"}) {
           FilterOptions o;
           o.method = method;

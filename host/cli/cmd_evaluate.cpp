@@ -49,8 +49,8 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
   add_auto_choice_options(*c, a.auto_args);
   c->add_option("--metric", a.auto_args.metric, "--auto: metric against s_ref")->capture_default_str();
   c->add_option("--sref-bias", a.auto_args.sref_bias,
-                "Depth bias b of s_ref, H(z - d + b); sm and pcf run with it (default 0.01: the "
-                "bundled scenes' lit surfaces tilt by up to 0.01 across a support, 0 shows acne)")
+                "Depth bias b of s_ref, H(z - d_t + b) against each receiver's plane d_t; sm and pcf run "
+                "with it (default 2^-15, the inputs' rounding)")
       ->capture_default_str();
   return c;
 }

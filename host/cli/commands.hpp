@@ -28,9 +28,9 @@ struct AutoArgs {
   std::string metric = "p99";
   std::string methods = "all";
   int runs = 3;
-  int rounds = 5;           // interleaved re-measurements of the candidates under the bound
-  double tolerance = 0.05;  // least tie band (the measured noise widens it); the cheaper estimate wins
-  double sref_bias = 0.01;  // depth bias of s_ref (eval::kDefaultSrefBias; 0 = the unbiased test)
+  int rounds = 5;                    // interleaved re-measurements of the candidates under the bound
+  double tolerance = 0.05;           // least tie band (the measured noise widens it); the cheaper estimate wins
+  double sref_bias = 1.0 / 32768.0;  // depth bias of s_ref (eval::kDefaultSrefBias)
 };
 void add_auto_options(CLI::App& cmd, AutoArgs& args);
 // --auto-rounds and --auto-tolerance (how the measured candidates are compared), for `filter`

@@ -34,7 +34,7 @@ void add_auto_options(CLI::App& c, AutoArgs& a) {
   c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")->capture_default_str();
   add_auto_choice_options(c, a);
   c.add_option("--sref-bias", a.sref_bias,
-               "--auto: depth bias b of s_ref, H(z - d + b) (default 0.01: lit tilted surfaces stay lit)")
+               "--auto: depth bias b of s_ref, H(z - d_t + b) against each receiver's plane (default 2^-15)")
       ->capture_default_str();
 }
 

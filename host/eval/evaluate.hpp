@@ -40,11 +40,12 @@ Scene load_scene(const std::string& dir);
 // A scene from memory (filter --auto): no ray-traced references.
 Scene make_scene(std::string name, HostImage depth, Receivers receivers);
 
-// Depth bias of s_ref in evaluations: sum_t W_x(t) H(z_t - d + b). Tilted surfaces change their
-// depth across a filter support, so s_ref without a bias shows acne on lit floors that no
-// prefiltered method reproduces and no renderer wants; b = 0.01 covers the bundled scenes' tilt
-// (tests/test_esm_scene.cpp, docs/results.md). sm and pcf run with the same bias.
-constexpr double kDefaultSrefBias = 0.01;
+// s_ref in evaluations tests each texel against the receiver's plane (FilterOptions::
+// receiver_plane, docs/receiver_plane.md), sum_t W_x(t) H(z_t - d_t + b): exact for planar
+// receivers, so tilted lit floors are lit in it as in the ray-traced reference. b is the same tie
+// bias sm and pcf default to (2^-15: the inputs' rounding); sm and pcf run with the same bias and
+// plane, so they compute s_ref itself. --sref-bias sets another b.
+constexpr double kDefaultSrefBias = 1.0 / 32768.0;
 
 // --- the parameter grid -----------------------------------------------------------------------
 enum class Grid { Quick, Default, Wide };
@@ -104,8 +105,9 @@ class SrefCache {
   double bias_;
   std::map<std::string, std::vector<double>> cache_;
 };
+// Against each receiver's plane (ref::receiver_plane under `plane`; off: the constant d).
 std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
-                                   double bias = 0.0);
+                                   double bias = 0.0, const ReceiverPlaneOptions& plane = {});
 
 // --- timing -----------------------------------------------------------------------------------
 struct Measured {

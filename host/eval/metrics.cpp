@@ -6,6 +6,7 @@
 
 #include "evaluate.hpp"
 #include "lookups.hpp"
+#include "receiver_plane.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -121,7 +122,7 @@ double row_metric(const Row& r, const std::string& metric) {
 // --- s_ref -----------------------------------------------------------------------------------------
 
 std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
-                                   double bias) {
+                                   double bias, const ReceiverPlaneOptions& plane) {
   const size_t n = rx.count();
   std::vector<double> out(n, 1.0);
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -130,7 +131,8 @@ std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& bl
     for (size_t i = t; i < n; i += threads) {
       const double u = rx.grid ? ref::texel_centre(int(i % rx.width), rx.width) : rx.u[i];
       const double v = rx.grid ? ref::texel_centre(int(i / rx.width), rx.height) : rx.v[i];
-      out[i] = ref::s_ref(depth, blur, lookup, u, v, rx.d[i], ref::footprint_at(rx, i), bias);
+      out[i] = ref::s_ref(depth, blur, lookup, u, v, ref::receiver_plane(depth, rx, i, plane), ref::footprint_at(rx, i),
+                          bias);
     }
   };
   std::vector<std::thread> pool;

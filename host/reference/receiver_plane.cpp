@@ -78,7 +78,8 @@ Plane receiver_plane(const HostImage& depth, const Receivers& rx, size_t i, cons
     p.y = y;
     if (!o.enabled || !std::isfinite(rx.d[i])) return p;
     double gx, gy;
-    image_slope(W, H, x, y, [&](int a, int b) { return double(rx.d[size_t(b) * W + a]); }, gx, gy);
+    image_slope(
+        W, H, x, y, [&](int a, int b) { return double(rx.d[size_t(b) * W + a]); }, gx, gy);
     if (!std::isfinite(gx) || !std::isfinite(gy)) {
       double mx, my;
       image_slope(W, H, x, y, map_at, mx, my);

@@ -46,7 +46,10 @@ Outcome run_case(const std::string& name, const FilterOptions& o, const HostImag
   const FilterResult r = filter(runtime_ptr(), o, depth, rx);
   BlurOptions blur = o.blur;
   if (o.method == "sm") blur = BlurOptions{};
-  const std::vector<double> want = ref::s_ref(depth, blur, Lookup::Bilinear, rx);
+  // sm and pcf against their reference (s_ref of the receivers' planes, ref::filter), the
+  // others against s_ref of d.
+  const std::vector<double> want =
+      find_method(o.method).raw_depth ? ref::filter(o, depth, rx) : ref::s_ref(depth, blur, Lookup::Bilinear, rx);
   Outcome out;
   for (size_t i = 0; i < want.size(); ++i) {
     const float v = r.visibility.data[i];

@@ -28,6 +28,7 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
   DeviceReceivers rx;
   rx.grid = r.grid;
   rx.count = count;
+  rx.row = r.grid ? 0 : r.width;  // the receiver image's neighbours give the receiver planes
   rx.d = up(r.d);
   size_t rx_bytes = count * sizeof(float);
   if (!r.grid) {

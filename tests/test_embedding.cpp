@@ -341,10 +341,10 @@ TEST(Embedding, CompilerWarningsAreOffUnlessAsked) {
   auto& rt = runtime();
   auto options_of = [&rt](const cl::Program& p) { return p.getBuildInfo<CL_PROGRAM_BUILD_OPTIONS>(rt.device()); };
   const std::string base = "-cl-std=CL1.2 -DSF_TEST_WARNINGS";
-  const std::string quiet = options_of(rt.program({"common.clh", "pcf.cl"}, base));
+  const std::string quiet = options_of(rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, base));
   EXPECT_NE(quiet.find(" -w"), std::string::npos) << quiet;
   rt.set_compiler_warnings(true);
-  const std::string loud = options_of(rt.program({"common.clh", "pcf.cl"}, base));
+  const std::string loud = options_of(rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, base));
   rt.set_compiler_warnings(false);
   EXPECT_EQ(loud.find(" -w"), std::string::npos) << loud;
 }

@@ -56,6 +56,18 @@ struct TiltedPlane {
   }
 };
 
+// sm and pcf (prefilter radius R) with their defaults keep every receiver lit to 1/255.
+void expect_sm_and_pcf_lit(const HostImage& map, const Receivers& rx, int radius, const std::string& what) {
+  for (const std::string method : {"sm", "pcf"}) {
+    FilterOptions o;
+    o.method = method;
+    o.blur.radius = radius;
+    const auto got = filter(runtime_ptr(), o, map, rx).visibility.data;
+    for (size_t i = 0; i < rx.count(); ++i)
+      ASSERT_GE(got[i], 1.0f - 1.0f / 255.0f) << method << " " << what << " receiver " << i;
+  }
+}
+
 }  // namespace
 
 // Slopes up to 80 degrees, several directions and camera rotations: no receiver self-shadows.
@@ -68,14 +80,7 @@ TEST(ReceiverPlane, TiltedPlanesStayLit) {
         const Receivers rx = plane.receivers(24, 20, 0.73, alpha);
         const std::string what =
             std::to_string(int(degrees)) + " deg phi " + std::to_string(phi) + " alpha " + std::to_string(alpha);
-        for (const std::string method : {"sm", "pcf"}) {
-          FilterOptions o;
-          o.method = method;
-          o.blur.radius = 2;
-          const auto got = filter(runtime_ptr(), o, map, rx).visibility.data;
-          for (size_t i = 0; i < rx.count(); ++i)
-            ASSERT_GE(got[i], 1.0f - 1.0f / 255.0f) << method << " " << what << " receiver " << i;
-        }
+        expect_sm_and_pcf_lit(map, rx, 2, what);
         // s_ref of the receivers' planes with the default bias: every test lit (the weights sum
         // to 1 within double rounding).
         FilterOptions o;
@@ -98,14 +103,7 @@ TEST(ReceiverPlane, TiltedGridStaysLit) {
     rx.grid = true;
     rx.width = rx.height = map.width;
     rx.d = map.data;
-    for (const std::string method : {"sm", "pcf"}) {
-      FilterOptions o;
-      o.method = method;
-      o.blur.radius = 3;
-      const auto got = filter(runtime_ptr(), o, map, rx).visibility.data;
-      for (size_t i = 0; i < rx.count(); ++i)
-        ASSERT_GE(got[i], 1.0f - 1.0f / 255.0f) << method << " " << degrees << " deg texel " << i;
-    }
+    expect_sm_and_pcf_lit(map, rx, 3, "grid " + std::to_string(int(degrees)) + " deg");
   }
 }
 

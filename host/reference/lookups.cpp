@@ -229,12 +229,9 @@ std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup k
 
 double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, double d, double f,
              double bias) {
-  if (outside(u, v, d)) return 1.0;
-  d = std::clamp(d, 0.0, 1.0);
-  double acc = 0;
-  for (const Tap& t : lookup_taps(depth.width, depth.height, blur_opt, kind, u, v, f))
-    if (depth.at(t.x, t.y) - d + bias >= 0) acc += t.w;
-  return acc;
+  if (outside(u, v, d)) return 1.0;  // before the clamp, which would make an infinite d finite
+  return s_ref(depth, blur_opt, kind, u, v, flat_plane(depth.width, depth.height, u, v, std::clamp(d, 0.0, 1.0)), f,
+               bias);
 }
 
 double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, const Plane& plane,

@@ -1,6 +1,7 @@
 // ESM failure classification and fall-back (seed 000 ch. 7.3; methods.md sec. 3; docs/lookups.md).
-// Needs common.clh, storage.clh, methods/esm.clh and lookup.clh (SF_LOOKUP) before it. Runs after
-// reconstruction: flagged receivers get a 2x2 PCF of the ESM test on the raw depth instead.
+// Needs common.clh, storage.clh, methods/esm.clh, lookup.clh (SF_LOOKUP) and receiver_plane.clh
+// before it. Runs after reconstruction: flagged receivers get a 2x2 PCF of the ESM test on the raw
+// depth against their plane instead.
 //
 // Modes: 1 = zmax: flag when some depth texel in the lookup's support has z > d + offset. The
 // support (every texel with a non-zero composite weight, and possibly a few zero-weight ones) is
@@ -60,14 +61,16 @@ inline float sf_zmax_box(__global const float* restrict depth, __global const fl
   return m;
 }
 
-// 2x2 PCF of the ESM test: bilinear weights at (u, v) on min(exp(c (z - d)), 1) per depth texel.
-inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, float u, float v,
-                           float d, float c) {
-  const float x = fma(u, (float)W, -0.5f), y = fma(v, (float)H, -0.5f);
+// 2x2 PCF of the ESM test against the receiver's plane p (receiver_plane.clh): bilinear weights
+// at (p->x, p->y) on min(exp(c (z_t - d_t + bias)), 1) per depth texel t, d_t the plane at t.
+inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, const sf_plane* p,
+                           float bias, float c) {
+  const float x = p->x, y = p->y;
   const float xf = floor(x), yf = floor(y), ax = x - xf, ay = y - yf;
   const int x0 = sf_clampi((int)xf, 0, W - 1), x1 = sf_clampi((int)xf + 1, 0, W - 1);
   const int y0 = sf_clampi((int)yf, 0, H - 1), y1 = sf_clampi((int)yf + 1, 0, H - 1);
-#define SF_T(X, Y) exp(fmin(c * (depth[(size_t)(Y) * W + (X)] - d), 0.0f))
+#define SF_T(X, Y) \
+  exp(fmin(c * (depth[(size_t)(Y) * W + (X)] - sf_plane_at(p, (float)(X), (float)(Y)) + bias), 0.0f))
   return mix(mix(SF_T(x0, y0), SF_T(x1, y0), ax), mix(SF_T(x0, y1), SF_T(x1, y1), ax), ay);
 #undef SF_T
 }
@@ -75,12 +78,14 @@ inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, f
 
 // One receiver: returns whether it is flagged; `vis` is replaced by the fall-back if so.
 // box: the lookup's support before the prefilter (zmax mode); b: the filtered basis as the
-// reconstruction read it (threshold mode).
+// reconstruction read it (threshold mode); p: the receiver's plane (the fall-back's test, with
+// the plane's slope-scaled bias as sm and pcf have it).
 inline bool sf_classify(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
                         __global const float* restrict sat, __global const float* restrict depth,
-                        __global const float* restrict zchain, int W, int H, float u, float v,
-                        float d, int4 box, const float* b, const sf_classify_params C,
-                        const sf_method_params P, float* vis) {
+                        __global const float* restrict zchain, int W, int H, const sf_plane* p,
+                        int4 box, const float* b, const sf_classify_params C, const sf_method_params P,
+                        const sf_plane_params PP, float* vis) {
+  const float d = p->d;
   bool flag;
   if (C.mode == SF_CLASSIFY_ZMAX) {
     box = (int4)(max(box.x - C.radius, 0), max(box.y - C.radius, 0), min(box.z + C.radius, W - 1),
@@ -89,7 +94,7 @@ inline bool sf_classify(__global const sf_stored* restrict basis, __global const
   } else {
     flag = log(fmax(b[0], FLT_MIN)) - P.c * (d - 0.5f) > C.log_thresh;
   }
-  if (flag) *vis = sf_esm_pcf2x2(depth, W, H, u, v, d, P.c);
+  if (flag) *vis = sf_esm_pcf2x2(depth, W, H, p, sf_plane_bias(p, 0.0f, PP), P.c);
   return flag;
 }
 
@@ -100,7 +105,7 @@ __kernel void sf_esm_classify_points(
     __global const float* restrict u, __global const float* restrict v,
     __global const float* restrict d, __global const float* restrict f,
     __global float* restrict out, __global uchar* restrict flags, const int count,
-    const sf_classify_params C, const sf_method_params P) {
+    const sf_classify_params C, const sf_method_params P, const sf_plane_params PP) {
   const int i = get_global_id(0);
   if (i >= count) return;
   const float ui = u[i], vi = v[i], di = d[i];
@@ -112,8 +117,10 @@ __kernel void sf_esm_classify_points(
   float b[SF_CHANNELS] = {0.0f};
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
   float vis = 0.0f;
-  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, ui, vi, clamp(di, 0.0f, 1.0f),
-                                sf_support(W, H, ui, vi, fi), b, C, P, &vis);
+  const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi,
+                                              clamp(di, 0.0f, 1.0f), PP);
+  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, &p, sf_support(W, H, ui, vi, fi),
+                                b, C, P, PP, &vis);
   flags[i] = flag ? 1 : 0;
   if (flag) out[i] = clamp(vis, 0.0f, 1.0f);
 }
@@ -124,7 +131,7 @@ __kernel void sf_esm_classify_grid(
     __global const float* restrict sat, __global const float* restrict depth,
     __global const float* restrict zchain, const int W, const int H,
     __global const float* restrict d, __global float* restrict out, __global uchar* restrict flags,
-    const sf_classify_params C, const sf_method_params P) {
+    const sf_classify_params C, const sf_method_params P, const sf_plane_params PP) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= W || y >= H) return;
   const size_t i = (size_t)y * W + x;
@@ -137,8 +144,9 @@ __kernel void sf_esm_classify_grid(
   float b[SF_CHANNELS] = {0.0f};
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
   float vis = 0.0f;
-  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, ui, vi, clamp(di, 0.0f, 1.0f),
-                                (int4)(x, y, x, y), b, C, P, &vis);
+  const sf_plane p = sf_receiver_plane_grid(d, depth, W, H, x, y, clamp(di, 0.0f, 1.0f), PP);
+  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, &p, (int4)(x, y, x, y), b, C, P,
+                                PP, &vis);
   flags[i] = flag ? 1 : 0;
   if (flag) out[i] = clamp(vis, 0.0f, 1.0f);
 }

@@ -2,7 +2,8 @@
 //   v = sum_t W_x(t) H(z_t - d_t + bias)
 // with W_x the composite Gaussian (x) bilinear weights of the prefilter lookup (sm: radius 0,
 // the bilinear weights alone) and d_t the receiver's depth at texel t: its plane
-// (receiver_plane.clh), or d itself with the plane off. Needs common.clh and
+// (receiver_plane.clh), or d itself with the plane off. The bias is the constant plus the
+// plane's slope-scaled term (sf_plane_bias). Needs common.clh and
 // receiver_plane.clh before it. Reads the raw float32 depth map.
 //
 // Both factors are separable and so are the clamp-to-edge rules, so W_x(t) = wx(i) wy(j) over
@@ -181,7 +182,8 @@ __kernel void sf_pcf_points_footprint(__global const float* restrict depth, cons
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, width, height, ui, vi,
                                               clamp(di, 0.0f, 1.0f), P);
-  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, &p, bias, radius, &g);
+  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, &p, sf_plane_bias(&p, bias, P),
+                            radius, &g);
 }
 #endif
 
@@ -195,7 +197,7 @@ __kernel void sf_pcf_points(__global const float* restrict depth, const int widt
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, width, height, ui, vi,
                                               clamp(di, 0.0f, 1.0f), P);
-  out[i] = sf_pcf(depth, width, height, &p, bias, radius, &g);
+  out[i] = sf_pcf(depth, width, height, &p, sf_plane_bias(&p, bias, P), radius, &g);
 }
 
 // --receiver-depth mode: the receiver sits at the texel centre (bilinear weights (1, 0)).
@@ -212,5 +214,5 @@ __kernel void sf_pcf_grid(__global const float* restrict depth, const int width,
     return;
   }
   const sf_plane p = sf_receiver_plane_grid(d, depth, width, height, x, y, clamp(di, 0.0f, 1.0f), P);
-  out[i] = sf_pcf(depth, width, height, &p, bias, radius, &g);
+  out[i] = sf_pcf(depth, width, height, &p, sf_plane_bias(&p, bias, P), radius, &g);
 }

@@ -187,7 +187,8 @@ INSTANTIATE_TEST_SUITE_P(KindsAndRadii, EsmLookupPipeline,
 // on the bundled scenes' camera receivers (every 61st: floor footprints of tens of texels, edges
 // of the map) and on random receivers of an odd-sized map (odd edges of the pyramid, footprints
 // past the top level). Float32 weights summed over up to a few 10^4 tests: tolerance 1e-5. With
-// the receiver plane on (the default) against s_ref of the same planes, and off against s_ref of d.
+// the receiver plane on (the default) against s_ref of the same planes and the same bias (the
+// constant plus the plane's slope-scaled term), and off against s_ref of d.
 class PcfFootprints : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
 
 void expect_pcf_is_sref(const FilterOptions& opt, const HostImage& depth, const Receivers& rx,
@@ -198,9 +199,9 @@ void expect_pcf_is_sref(const FilterOptions& opt, const HostImage& depth, const 
   double worst = 0;
   size_t partial = 0;
   for (size_t i = 0; i < rx.count(); ++i) {
-    const double s =
-        ref::s_ref(depth, opt.blur, opt.lookup.kind, rx.u[i], rx.v[i],
-                   ref::receiver_plane(depth, rx, i, opt.receiver_plane), ref::footprint_at(rx, i), depth_bias(opt));
+    const ref::Plane plane = ref::receiver_plane(depth, rx, i, opt.receiver_plane);
+    const double s = ref::s_ref(depth, opt.blur, opt.lookup.kind, rx.u[i], rx.v[i], plane, ref::footprint_at(rx, i),
+                                plane.bias(depth_bias(opt), opt.receiver_plane.slope_bias));
     if (!want.empty()) {
       ASSERT_NEAR(want[i], s, 1e-12) << what << " reference " << i;
     }

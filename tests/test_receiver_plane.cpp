@@ -3,6 +3,7 @@
 // exactly 1, and the kernels' planes match the double reference's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "lookups.hpp"
@@ -11,6 +12,7 @@
 #include "sf_test_env.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/soft.hpp"
 
 using namespace sf;
 using namespace sf::test;
@@ -132,4 +134,37 @@ TEST(ReceiverPlane, FlatTestShadowsTiltedPlanesAndKernelsMatchReference) {
     // Float and double may round an exact tie apart: a handful, never more.
     EXPECT_LE(off, rx.count() / 100) << (m == &map ? "plane" : "random");
   }
+}
+
+// Every method with its defaults (prefilter radius 2 where it applies), the soft methods with a
+// light a tenth of the map wide: planes up to 80 degrees stay lit to 1/255 (issue 14's first
+// test; the prefiltered methods' own regularisation keeps a plane's moments lit, the depth tests
+// their plane and slope-scaled bias).
+TEST(ReceiverPlane, EveryMethodKeepsTiltedPlanesLit) {
+  for (const double degrees : {0.0, 45.0, 80.0})
+    for (const double phi : {0.0, 2.5}) {
+      const TiltedPlane plane(64, degrees, phi, 8.0);
+      const HostImage map = plane.map();
+      const Receivers rx = plane.receivers(24, 20, 0.73, 0.4);
+      const std::string what = std::to_string(int(degrees)) + " deg phi " + std::to_string(phi);
+      for (const MethodDesc& m : methods()) {
+        FilterOptions o;
+        o.method = m.name;
+        if (m.filtered) o.blur.radius = 2;
+        const auto got = filter(runtime_ptr(), o, map, rx).visibility.data;
+        float worst = 1.0f;
+        for (float v : got) worst = std::min(worst, v);
+        EXPECT_GE(worst, 1.0f - 1.0f / 255.0f) << m.name << " " << what;
+      }
+      for (SoftMethod sm : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved}) {
+        SoftOptions o;
+        o.method = sm;
+        o.light.size = 0.1;
+        o.light.extent = 1.0;
+        const auto got = soft_filter(runtime_ptr(), o, map, rx).visibility.data;
+        float worst = 1.0f;
+        for (float v : got) worst = std::min(worst, v);
+        EXPECT_GE(worst, 1.0f - 1.0f / 255.0f) << soft_method_name(sm) << " " << what;
+      }
+    }
 }

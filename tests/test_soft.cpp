@@ -133,12 +133,15 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   double mean = 0, worst = 0;
   for (int i = 0; i < rx.width; ++i) {
     double want;
+    // One row of receivers has no neighbours above or below: the plane's gradient is the depth
+    // map's slope, as in the kernel, which run_device gives no receiver row.
+    const ref::Plane plane = ref::receiver_plane(depth, rx, i, o.receiver_plane);
     if (c.method == SoftMethod::Pcss)
-      want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+      want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], plane, rx.f[i]);
     else if (c.method == SoftMethod::Cssm)
       want = ref::soft_cssm(*lk, depth.width, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
     else
-      want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+      want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], plane, rx.f[i]);
     ASSERT_TRUE(std::isfinite(got[i])) << i;
     const double e = std::abs(got[i] - want);
     bad += e > tol;
@@ -209,7 +212,9 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
         const double w = std::clamp(std::max(soft_width(o.light, d, 0.0) * depth.width, f), 1.0, 256.0);
         // cssm's test is z < d - offset (d' = d - offset): the brute force uses the same one.
         const double off = cssm_z_offset(o);
-        const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, d, off);
+        ref::Plane flat;
+        flat.d = d;
+        const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, flat, off);
         if (s.blk < 0.2) continue;
         absd.push_back(std::abs(zavg[i] - s.zavg));
         rel.push_back(std::abs(zavg[i] - s.zavg) / (d - s.zavg));
@@ -390,9 +395,10 @@ TEST(SoftCssm, PerspectiveSceneAgainstRayTracedReference) {
   struct Err {
     double rmse, p99;
   };
-  auto measure = [&](SoftMethod m, int order, Lookup lookup) {
+  auto measure = [&](SoftMethod m, int order, Lookup lookup, bool plane = true) {
     SoftOptions o;
     o.method = m;
+    o.receiver_plane.enabled = plane;
     o.cssm_order = order;
     o.cssm_lookup = lookup;
     o.light = light;
@@ -408,11 +414,15 @@ TEST(SoftCssm, PerspectiveSceneAgainstRayTracedReference) {
     std::sort(err.begin(), err.end());
     EXPECT_GT(err.size(), 5000u);
     const Err r{std::sqrt(se / err.size()), err[size_t(0.99 * (err.size() - 1))]};
-    std::printf("  perspective spheres, %s M=%d %s: RMSE %.4f, p99 %.3f\n", soft_method_name(m), order,
-                lookup == Lookup::Sat ? "sat" : "mips", r.rmse, r.p99);
+    std::printf("  perspective spheres, %s M=%d %s%s: RMSE %.4f, p99 %.3f\n", soft_method_name(m), order,
+                lookup == Lookup::Sat ? "sat" : "mips", plane ? "" : " (receiver plane off)", r.rmse, r.p99);
     return r;
   };
-  const Err pcss = measure(SoftMethod::Pcss, 4, Lookup::Sat);
+  // cssm against the seed's pcss (the plain test against d); pcss with the receiver plane must
+  // beat it on this scene's tilted and curved receivers.
+  const Err pcss = measure(SoftMethod::Pcss, 4, Lookup::Sat, false);
+  const Err pcss_plane = measure(SoftMethod::Pcss, 4, Lookup::Sat);
+  EXPECT_LT(pcss_plane.rmse, pcss.rmse);
   const Err m4 = measure(SoftMethod::Cssm, 4, Lookup::Mips), m16 = measure(SoftMethod::Cssm, 16, Lookup::Mips);
   const Err s4 = measure(SoftMethod::Cssm, 4, Lookup::Sat);
   EXPECT_LT(m4.rmse, 1.3 * pcss.rmse);

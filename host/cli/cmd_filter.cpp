@@ -125,12 +125,13 @@ int run_filter(const FilterArgs& a) {
                     lit_able ? 100.0 * r.flagged / lit_able : 0.0, lit_able);
     }
     std::printf(
-        "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside)%s | device %s | "
+        "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside, %zu facing away)%s | "
+        "device %s | "
         "device ms: transform %.3f, blur %.3f%s, reconstruct %.3f, upload %.3f, download %.3f | "
         "wall ms: load %.1f, run %.1f, write %.1f, total %.1f | %s\n",
         (method_summary(options) + ", " + prefilter_summary(options)).c_str(), depth.width, depth.height,
-        receivers.width, receivers.height, receivers.grid ? " (planar)" : "", r.background, r.outside, flagged,
-        runtime->info().device_name.c_str(), r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(),
+        receivers.width, receivers.height, receivers.grid ? " (planar)" : "", r.background, r.outside, r.facing_away,
+        flagged, runtime->info().device_name.c_str(), r.times.transform * 1e3, r.times.blur * 1e3, stages.c_str(),
         r.times.reconstruct * 1e3, r.times.upload * 1e3, r.times.download * 1e3, load_ms, run_ms, write_ms,
         ms_since(t0), a.output.c_str());
   }

@@ -25,6 +25,9 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--receiver-plane-max-slope", o.receiver_plane.max_slope,
                "Largest receiver-plane slope in depth per shadow-map texel (steeper is clamped)")
       ->capture_default_str();
+  c.add_option("--slope-bias", o.receiver_plane.slope_bias,
+               "sm, pcf: texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
+      ->capture_default_str();
   c.add_option("--esm-c", o.esm.c, "ESM exponent c")->capture_default_str();
   c.add_option("--vsm-min-variance", o.vsm.min_variance,
                "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");
@@ -34,6 +37,9 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--evsm-neg", o.evsm.neg, "EVSM negative exponent (clamped to the storage's limit)")
       ->capture_default_str();
   c.add_option("--msm-bias", o.msm.moment_bias, "MSM moment bias (default 3e-6 f32, 6e-5 unorm16)");
+  c.add_option("--msm-spread-bias", o.msm.spread_bias,
+               "MSM: the receiver depth less this many standard deviations of the filtered depths")
+      ->capture_default_str();
   c.add_option("--csm-order", o.csm.order, "CSM order M (2M basis planes), 1..32")->capture_default_str();
   c.add_option("--csm-alpha", o.csm.alpha, "CSM ringing attenuation alpha")->capture_default_str();
   c.add_option("--csm-offset", o.csm.offset, "CSM depth offset (default: measured per order)");

@@ -105,7 +105,18 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--light-fov", a.light_fov, "Perspective: full field of view, degrees (default: header fov_degrees)");
   c->add_option("--light-extent", a.light_extent,
                 "Orthographic: map width in light units (default: header ortho_extents)");
-  c->add_option("--soft-bias", a.options.bias, "Blocker test z < d - bias")->capture_default_str();
+  c->add_option("--soft-bias", a.options.bias, "Blocker test z < d_t - bias (d_t: the receiver's plane)")
+      ->capture_default_str();
+  c->add_option_function<std::string>(
+      "--receiver-plane",
+      [&a](const std::string& s) {
+        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
+        a.options.receiver_plane.enabled = s == "on";
+      },
+      "pcss, ssmm: test each texel against the receiver's plane (on, default) or its depth d (off)");
+  c->add_option("--slope-bias", a.options.receiver_plane.slope_bias,
+                "pcss, ssmm: texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
+      ->capture_default_str();
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();

@@ -14,11 +14,16 @@ bool outside(double u, double v, double d) {
   return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1;
 }
 
-// Of the one-sided differences that exist, the smaller in magnitude; NaN when neither does.
+// Whether one-sided steps a and b (per unit of distance) describe one surface.
+bool steps_agree(double a, double b) { return std::abs(b - a) <= 0.5 * std::max(std::abs(a), std::abs(b)); }
+
+// Of the one-sided differences that exist: their mean where both exist and agree, else the
+// smaller in magnitude; NaN when neither does.
 double step(double lo, double mid, double hi) {
   const double a = mid - lo, b = hi - mid;
   if (!std::isfinite(a)) return std::isfinite(b) ? b : kNaN;
   if (!std::isfinite(b)) return a;
+  if (steps_agree(a, b)) return 0.5 * (a + b);
   return std::abs(a) <= std::abs(b) ? a : b;
 }
 
@@ -38,8 +43,9 @@ struct Step {
   double x = 0, y = 0, d = 0;
 };
 
-// Of the receivers at i - stride and i + stride (where they exist), the one with the smaller
-// |depth step|, as a texel-space offset and depth step.
+// Of the receivers at i - stride and i + stride (where they exist): the step from one to the
+// other where both exist and their slopes agree, else the one with the smaller |depth step|, as
+// a texel-space offset and depth step.
 bool axis_step(const Receivers& rx, int W, int H, size_t i, size_t stride, bool has_lo, bool has_hi, Step& s) {
   auto neighbour = [&](size_t j, Step& e) {
     const double u = rx.u[j], v = rx.v[j], d = rx.d[j];
@@ -49,6 +55,13 @@ bool axis_step(const Receivers& rx, int W, int H, size_t i, size_t stride, bool 
   };
   Step a, b;
   const bool ha = has_lo && neighbour(i - stride, a), hb = has_hi && neighbour(i + stride, b);
+  if (ha && hb) {
+    const double la = std::hypot(a.x, a.y), lb = std::hypot(b.x, b.y);
+    if (la > 0 && lb > 0 && steps_agree(-a.d / la, b.d / lb)) {
+      s = {b.x - a.x, b.y - a.y, b.d - a.d};
+      return true;
+    }
+  }
   if (ha && (!hb || std::abs(a.d) <= std::abs(b.d))) {
     s = a;
     return true;

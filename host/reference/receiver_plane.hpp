@@ -1,6 +1,7 @@
 #pragma once
 // Receiver-plane depth in double precision (kernels/receiver_plane.clh; docs/receiver_plane.md):
 // the plane each receiver is tested against, by the same rules as the kernels.
+#include <cmath>
 #include <cstddef>
 
 #include "shadowfilter/host_image.hpp"
@@ -12,6 +13,8 @@ namespace sf::ref {
 struct Plane {
   double d = 0, x = 0, y = 0, gx = 0, gy = 0;
   double at(double tx, double ty) const { return d + gx * (tx - x) + gy * (ty - y); }
+  // The test's bias: b plus slope_bias texels of the plane's slope (sf_plane_bias).
+  double bias(double b, double slope_bias) const { return b + slope_bias * (std::abs(gx) + std::abs(gy)); }
 };
 
 // The constant d at (u, v): the plain depth test (x, y rounded to float32 as the kernels do).

@@ -113,8 +113,9 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
       receiver_at(rx, i, u, v, d);
       if (receiver_outside(u, v, d)) continue;
       const Plane plane = receiver_plane(depth, rx, i, opt.receiver_plane);
-      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane, footprint_at(rx, i), depth_bias(opt))
-                          : pcf(depth, weights, plane, depth_bias(opt));
+      const double bias = plane.bias(depth_bias(opt), opt.receiver_plane.slope_bias);
+      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane, footprint_at(rx, i), bias)
+                          : pcf(depth, weights, plane, bias);
     }
     return out;
   }

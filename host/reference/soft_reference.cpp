@@ -19,20 +19,22 @@ double fp_of(double f) { return std::isfinite(f) ? f : 1.0; }
 
 }  // namespace
 
-BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, double d, double bias) {
+BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, const Plane& p, double bias) {
   const double cx = u * w, cy = v * h, hx = 0.5 * width, hy = 0.5 * width * h / w;
   const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
   double W = 0, lit = 0, blk = 0, blkz = 0;
   for (int j = int(std::floor(y0)); j <= int(std::ceil(y1)) - 1; ++j) {
     const double wy = std::min(y1, j + 1.0) - std::max(y0, double(j));
     if (wy <= 0) continue;
-    const double* row = img + size_t(std::clamp(j, 0, h - 1)) * w;
+    const int tj = std::clamp(j, 0, h - 1);
+    const double* row = img + size_t(tj) * w;
     for (int i = int(std::floor(x0)); i <= int(std::ceil(x1)) - 1; ++i) {
       const double wx = std::min(x1, i + 1.0) - std::max(x0, double(i));
       if (wx <= 0) continue;
-      const double z = row[std::clamp(i, 0, w - 1)], wt = wx * wy;
+      const int ti = std::clamp(i, 0, w - 1);
+      const double z = row[ti], wt = wx * wy;
       W += wt;
-      if (z >= d - bias)
+      if (z >= p.at(ti, tj) - bias)
         lit += wt;
       else {
         blk += wt;
@@ -47,21 +49,33 @@ BoxScan box_scan(const double* img, int w, int h, double u, double v, double wid
   return r;
 }
 
-double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, double d, double f) {
-  if (outside(u, v, d)) return 1.0;
-  d = std::clamp(d, 0.0, 1.0);
+Plane plane_level(const Plane& p, int W, int H, int w, int h) {
+  const double sx = double(W) / w, sy = double(H) / h;
+  Plane q;
+  q.x = (p.x + 0.5) / sx - 0.5;
+  q.y = (p.y + 0.5) / sy - 0.5;
+  q.gx = p.gx * sx;
+  q.gy = p.gy * sy;
+  q.d = p.d - 0.5 * (std::abs(p.gx) * (sx - 1) + std::abs(p.gy) * (sy - 1));
+  return q;
+}
+
+double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, const Plane& plane, double f) {
+  if (outside(u, v, plane.d)) return 1.0;
+  const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int W = depth.width, H = depth.height;
   const double* img = depth.data.data();
   const double search = std::clamp(soft_width(o.light, d, 0.0) * W, 1.0, double(o.max_width));
-  const BoxScan s = box_scan(img, W, H, u, v, search, d, o.bias);
+  const BoxScan s = box_scan(img, W, H, u, v, search, plane, bias);
   if (!(s.blk > 0)) return 1.0;
   const double width = std::clamp(std::max(soft_width(o.light, d, s.zavg) * W, fp_of(f)), 1.0, double(o.max_width));
-  return box_scan(img, W, H, u, v, width, d, o.bias).lit;
+  return box_scan(img, W, H, u, v, width, plane, bias).lit;
 }
 
-double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, double d, double f) {
-  if (outside(u, v, d)) return 1.0;
-  d = std::clamp(d, 0.0, 1.0);
+double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, const Plane& plane,
+                 double f) {
+  if (outside(u, v, plane.d)) return 1.0;
+  const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
   const double n = o.ssmm_n;
   const double search = soft_width(o.light, d, 0.0);
@@ -72,6 +86,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     for (int k = 0; k <= last; ++k) {
       const Planes& P = chain[k];
       const int w = P.width, h = P.height;
+      const Plane pk = plane_level(plane, W, H, w, h);
       const double ri = n / w, rlo = 0.5 * ri, rhi = 2 * ri;
       const double cx = u * w, cy = v * h, hx = 0.5 * n, hy = 0.5 * n * h / w;
       const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
@@ -83,8 +98,9 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
           const double wx = std::min(x1, i + 1.0) - std::max(x0, double(i));
           if (wx <= 0) continue;
           ws += wx * wy;
-          const double z = P.at(0, std::clamp(i, 0, w - 1), std::clamp(j, 0, h - 1));
-          if (!(z < d - o.bias)) continue;
+          const int ti = std::clamp(i, 0, w - 1), tj = std::clamp(j, 0, h - 1);
+          const double z = P.at(0, ti, tj);
+          if (!(z < pk.at(ti, tj) - bias)) continue;
           const double r = soft_width(o.light, d, z);
           double wt;
           if (r <= ri)
@@ -99,12 +115,13 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     return std::clamp(1.0 - sb, 0.0, 1.0);
   }
   const Planes& S = chain[last];
-  const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search * S.width, 1.0), d, o.bias);
+  const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search * S.width, 1.0),
+                             plane_level(plane, W, H, S.width, S.height), bias);
   if (!(s.blk > 0)) return 1.0;
   const double r = soft_width(o.light, d, s.zavg), r0 = n / W;
   if (r < r0) {
     const double width = std::clamp(std::max(r * W, fp_of(f)), 1.0, n);
-    return box_scan(chain[0].data.data(), W, H, u, v, width, d, o.bias).lit;
+    return box_scan(chain[0].data.data(), W, H, u, v, width, plane, bias).lit;
   }
   const int a = std::min(int(std::floor(std::log2(r / r0))), top);
   const double ra = r0 * double(1 << a);
@@ -114,7 +131,8 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     const double wt = t == 0 ? 1 - wb : wb;
     if (wt <= 0) continue;
     const Planes& P = chain[a + t];
-    res += wt * box_scan(P.data.data(), P.width, P.height, u, v, n, d, o.bias).lit;
+    res +=
+        wt * box_scan(P.data.data(), P.width, P.height, u, v, n, plane_level(plane, W, H, P.width, P.height), bias).lit;
   }
   return std::clamp(res, 0.0, 1.0);
 }

@@ -1,22 +1,29 @@
 #pragma once
 // Scalar double-precision reference of the soft-shadow methods (kernels/soft/*.cl; docs/soft.md):
 // the same decisions and formulas, evaluated in double.
+#include "receiver_plane.hpp"
 #include "reference.hpp"
 #include "shadowfilter/soft.hpp"
 
 namespace sf::ref {
 
 // Area-weighted box (clamp-to-edge) of width w texels (x; y scaled by H/W) centred at (u, v) on
-// a plane: lit = fraction with z >= d - bias; blk = fraction with z < d - bias, blkz = their
+// a plane: lit = fraction with z >= d_t - bias, d_t the receiver's plane `p` (in this image's
+// texel coordinates) at the texel read; blk = fraction with z < d_t - bias, blkz = their
 // weighted mean depth (NaN without blockers).
 struct BoxScan {
   double lit = 0, blk = 0, zavg = 0;
 };
-BoxScan box_scan(const double* plane, int w, int h, double u, double v, double width, double d, double bias);
+BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, const Plane& p, double bias);
+// The plane of a level of w x h texels over a W x H map whose texels are the min of their blocks
+// (kernels/soft/soft_common.clh, sf_plane_level).
+Plane plane_level(const Plane& p, int W, int H, int w, int h);
 
-// One receiver (background / outside = 1).
-double soft_pcss(const Planes& depth, const SoftOptions& opt, double u, double v, double d, double f);
-double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, double u, double v, double d, double f);
+// One receiver (background / outside = 1), tested against its plane (receiver_plane.hpp, in
+// level-0 texel coordinates) with the bias opt.bias plus the plane's slope-scaled term.
+double soft_pcss(const Planes& depth, const SoftOptions& opt, double u, double v, const Plane& plane, double f);
+double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, double u, double v, const Plane& plane,
+                 double f);
 // cssm: the basis (4M + 1 planes), then the lookup through LookupRef; zavg_out (may be null):
 // z_avg or NaN when no blocker.
 Planes cssm_basis(const HostImage& depth, int order);

@@ -5,6 +5,7 @@
 
 #include "cl_errors.hpp"
 #include "method_build.hpp"
+#include "plane_params.hpp"
 #include "shadowfilter/classify.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -21,9 +22,11 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
                      opt.method);
   m.validate(opt);
+  detail::validate(opt.receiver_plane, "FilterOptions::receiver_plane");
   detail::BuildOptions b;
   detail::add_method_options(b, m, opt).lookup(opt.lookup.kind);
-  cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", "esm_classify.cl"}, b.str());
+  cl::Program p = rt.program(
+      {"common.clh", "storage.clh", m.header, "lookup.clh", "receiver_plane.clh", "esm_classify.cl"}, b.str());
   return cl::Kernel(p, name);
 }
 
@@ -65,7 +68,7 @@ double esm_threshold_eps(const FilterOptions& opt) {
 cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                       const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                       const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
-                                      const EventList* wait) try {
+                                      const EventList* wait, int receiver_row) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
   common_args(k, in)
@@ -77,7 +80,8 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, con
       .buffer(flags)
       .value(static_cast<int>(count))
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt));
+      .bytes(find_method(opt.method).pack_params(opt))
+      .value(detail::plane_params(opt.receiver_plane, receiver_row));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
   return e;
@@ -95,7 +99,8 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
       .buffer(visibility)
       .buffer(flags)
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt));
+      .bytes(find_method(opt.method).pack_params(opt))
+      .value(detail::plane_params(opt.receiver_plane, 0));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange, wait, &e);
   return e;
@@ -162,9 +167,9 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
   in.lookup = lookup;
   in.width = width_;
   in.height = height_;
-  classify_done_ =
-      rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
-              : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_, rx.count, wait);
+  classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
+                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_,
+                                                         rx.count, wait, rx.row);
   return classify_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::classify", e);

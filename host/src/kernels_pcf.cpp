@@ -5,6 +5,7 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "plane_params.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
 
@@ -37,8 +38,7 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
   s.bias = depth_bias(opt);
   const auto w = gaussian_weights(s.radius, opt.blur.sigma);
   std::copy(w.begin(), w.end(), s.weights.w);
-  s.plane.on = opt.receiver_plane.enabled ? 1 : 0;
-  s.plane.max_slope = opt.receiver_plane.max_slope;
+  s.plane = detail::plane_params(opt.receiver_plane, 0);
   return s;
 }
 

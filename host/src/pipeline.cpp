@@ -217,6 +217,19 @@ cl::Buffer upload(Runtime& rt, const std::vector<float>& host, EventList& events
 
 }  // namespace
 
+size_t shadow_facing_away(const Receivers& rx, std::vector<float>& visibility) {
+  if (!rx.has_ndl) return 0;
+  if (rx.ndl.size() != rx.count() || visibility.size() != rx.count())
+    throw InputError("shadow_facing_away: receivers and visibility differ in size");
+  size_t n = 0;
+  for (size_t i = 0; i < visibility.size(); ++i)
+    if (rx.ndl[i] <= 0.0f && std::isfinite(rx.d[i])) {
+      visibility[i] = 0.0f;
+      ++n;
+    }
+  return n;
+}
+
 FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
                     const Receivers& receivers) try {
   Runtime& rt = *runtime;
@@ -269,6 +282,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
       result.flagged += flags[i] ? 1 : 0;
     }
   }
+  if (options.facing_away_shadowed) result.facing_away = shadow_facing_away(receivers, result.visibility.data);
   result.times = pipe.times();
   result.times.upload = event_seconds(uploads.front(), uploads.back());
   result.times.download = event_seconds(download);

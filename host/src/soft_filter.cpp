@@ -4,6 +4,7 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "plane_params.hpp"
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -37,7 +38,8 @@ ClSoftLight cl_light(const SoftOptions& o) {
   return c;
 }
 
-const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh", "soft/soft_common.clh"};
+const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh", "receiver_plane.clh",
+                                               "soft/soft_common.clh"};
 
 cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
   const int M = o.cssm_order;
@@ -162,6 +164,7 @@ void validate(const SoftOptions& o) {
                        "raise the offset or the scale, or give SoftOptions::cssm_sharpen_a = 0");
   }
   if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("SoftOptions::ssmm_n must be 1..64");
+  detail::validate(o.receiver_plane, "SoftOptions::receiver_plane");
 }
 
 SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height) try
@@ -232,8 +235,8 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
 }
 
 cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
-                          const cl::Buffer& visibility, size_t count, const EventList* wait,
-                          const cl::Buffer* zavg) try {
+                          const cl::Buffer& visibility, size_t count, const EventList* wait, const cl::Buffer* zavg,
+                          int receiver_row) try {
   const ClSoftLight L = cl_light(opt_);
   // Every points kernel takes (its maps, W, H in its order), then (u, v, d, f, visibility
   // [, zavg], count, light [, its parameters]).
@@ -274,6 +277,7 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   } else if (opt_.method != SoftMethod::Pcss) {
     args.value(opt_.ssmm_n).value(opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
   }
+  if (opt_.method != SoftMethod::Cssm) args.value(detail::plane_params(opt_.receiver_plane, receiver_row));
   rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait,
                                     &run_done_);
   return run_done_;
@@ -351,7 +355,8 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
     cl::Event prep = sfl.prepare(depth);
     EventList after{prep};
-    const EventList ran{sfl.run(u, v, d, f, out, n, &after)};  // out-of-order queues: wait on it
+    // out-of-order queues: wait on it
+    const EventList ran{sfl.run(u, v, d, f, out, n, &after, nullptr, in.receivers.width)};
     std::vector<float> vis(n);
     if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
     const SoftTimes t = sfl.times();
@@ -359,6 +364,7 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     r.times.pyramid += t.pyramid;
     r.times.sat += t.sat;
     r.times.reconstruct += t.reconstruct;
+    if (opt.facing_away_shadowed) shadow_facing_away(in.receivers, vis);  // each light's own ndl
     for (size_t i = 0; i < n; ++i) acc[i] += in.light.weight * vis[i];
     wsum += in.light.weight;
     if (&in == &lights.front())

@@ -1,5 +1,7 @@
-// ssmm: soft shadow mip-maps (seed 003; methods.md sec. 4). Needs common.clh and
-// soft/soft_common.clh before it. Reads the raw depth (level 0) and its min-depth pyramid
+// ssmm: soft shadow mip-maps (seed 003; methods.md sec. 4). Needs common.clh, receiver_plane.clh
+// and soft/soft_common.clh before it. Every texel is tested against the receiver's plane as its
+// level sees it (sf_plane_level: the plane's minimum over the texel's block), with the bias b
+// (the light's constant plus the plane's slope-scaled term); "z < d - bias" below reads so. Reads the raw depth (level 0) and its min-depth pyramid
 // (pyramid.cl, Reduce::Min; levels 1.. in `chain`, one plane each).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
 // (seed 003 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
@@ -31,11 +33,14 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
                              const int W, const int H, __global const float* restrict u,
                              __global const float* restrict v, __global const float* restrict d,
                              __global const float* restrict f, __global float* restrict out,
-                             const int count, const sf_soft_light L, const int n, const int mode) {
+                             const int count, const sf_soft_light L, const int n, const int mode,
+                             const sf_plane_params P) {
   const int i = get_global_id(0);
   float ui, vi, di;
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const float dd = clamp(di, 0.0f, 1.0f);
+  const sf_plane p0 = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
+  const float bias = sf_plane_bias(&p0, L.bias, P);
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;
@@ -48,6 +53,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
     float sb = 0.0f;
     for (int k = 0; k <= last; ++k) {
       __global const float* img = sf_ssmm_level(depth, chain, W, H, k, &w, &h);
+      const sf_plane pk = sf_plane_level(&p0, W, H, w, h);
       const float ri = nf / (float)w, rlo = 0.5f * ri, rhi = 2.0f * ri;
       const float cx = ui * (float)w, cy = vi * (float)h, hx = 0.5f * nf, hy = 0.5f * nf * (float)h / (float)w;
       const float x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
@@ -56,13 +62,16 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
       for (int j = j0; j <= j1; ++j) {
         const float wy = fmin(y1, (float)(j + 1)) - fmax(y0, (float)j);
         if (wy <= 0.0f) continue;
-        __global const float* row = img + (size_t)sf_clampi(j, 0, h - 1) * w;
+        const int tj = sf_clampi(j, 0, h - 1);
+        __global const float* row = img + (size_t)tj * w;
+        const float row_d = fma(pk.gy, (float)tj - pk.y, pk.d) - bias;
         for (int x = i0; x <= i1; ++x) {
           const float wx = fmin(x1, (float)(x + 1)) - fmax(x0, (float)x);
           if (wx <= 0.0f) continue;
           wsum += wx * wy;
-          const float z = row[sf_clampi(x, 0, w - 1)];
-          if (!(z < dd - L.bias)) continue;
+          const int tx = sf_clampi(x, 0, w - 1);
+          const float z = row[tx];
+          if (!(z < fma(pk.gx, (float)tx - pk.x, row_d))) continue;
           const float r = sf_soft_width(L, dd, z);
           float wt;
           if (r <= ri)
@@ -80,8 +89,9 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   // mode 0: blocker search on layer `last` (its n x n box covers the search width).
   __global const float* img = sf_ssmm_level(depth, chain, W, H, last, &w, &h);
   const float sw = fmax(search * (float)w, 1.0f);
+  sf_plane pk = sf_plane_level(&p0, W, H, w, h);
   sf_box_acc s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * sw,
-                             0.5f * sw * (float)h / (float)w, dd, L.bias);
+                             0.5f * sw * (float)h / (float)w, &pk, bias);
   if (!(s.blk > 0.0f)) {
     out[i] = 1.0f;
     return;
@@ -91,7 +101,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   if (r < r0) {
     const float width = clamp(fmax(r * (float)W, fp), 1.0f, nf);
     s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width,
-                    0.5f * width * (float)H / (float)W, dd, L.bias);
+                    0.5f * width * (float)H / (float)W, &p0, bias);
     out[i] = clamp(s.lit / s.w, 0.0f, 1.0f);
     return;
   }
@@ -105,8 +115,9 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
     const float wt = t == 0 ? 1.0f - wb : wb;
     if (wt <= 0.0f) continue;
     img = sf_ssmm_level(depth, chain, W, H, k, &w, &h);
+    pk = sf_plane_level(&p0, W, H, w, h);
     s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * nf, 0.5f * nf * (float)h / (float)w,
-                    dd, L.bias);
+                    &pk, bias);
     res = fma(wt, s.lit / s.w, res);
   }
   out[i] = clamp(res, 0.0f, 1.0f);

@@ -36,6 +36,11 @@ struct ReceiverPlaneOptions {
   // Largest |dd/dx|, |dd/dy| in depth per level-0 texel (steeper is clamped): 0.1 is 88.9 degrees
   // on a 512-texel map of a scene as deep as it is wide; a steeper gradient is a wrong neighbour.
   float max_slope = 0.1f;
+  // Slope-scaled bias in texels: the test's bias grows by slope_bias (|dd/dx| + |dd/dy|). The
+  // plane is exact for planar receivers only; on curved and faceted ones, and where its gradient
+  // comes from neighbours texels away, it errs by a fraction of a texel's depth change. The
+  // default is the measured one (docs/results.md, "Defaults sweep"); 0 = the plane alone.
+  float slope_bias = 0.5f;
 };
 
 struct VsmOptions {
@@ -59,6 +64,11 @@ struct MsmOptions {
   // Moment bias a: b = (1 - a) bar(B) + a (1/2, ...). Negative = the storage's default,
   // 3e-6 in float32 and 6e-5 in unorm16 (Peters & Klein 2015 with the optimised quantisation).
   float moment_bias = -1.0f;
+  // Spread bias k: the receiver depth becomes d - b - k sigma, sigma the standard deviation of the
+  // filtered depths. A tilted receiver's own surface spreads its support's depths (slope times
+  // radius), and four moments of that spread read part of it as in front of the receiver; a flat
+  // one has sigma = 0. The default is the measured one (docs/results.md, "Defaults sweep").
+  float spread_bias = 0.5f;
 };
 
 struct CsmOptions {
@@ -150,6 +160,9 @@ struct FilterOptions {
   LookupOptions lookup;
   EsmClassifyOptions esm_classify;
   ScheduleOptions schedule;
+  // sf::filter: receivers whose ndl (the receiver image's fifth channel) is <= 0 face away from
+  // the light and get visibility 0, as the ray-traced references have them (sf::shadow_facing_away).
+  bool facing_away_shadowed = true;
 };
 
 }  // namespace sf

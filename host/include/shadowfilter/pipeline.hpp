@@ -130,8 +130,9 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
 struct FilterResult {
   HostImage visibility;  // receivers.width x receivers.height, 1 channel
   StageTimes times;
-  size_t background = 0;  // receivers with non-finite depth (output 1)
-  size_t outside = 0;     // receivers outside the light frustum (output 1)
+  size_t background = 0;   // receivers with non-finite depth (output 1)
+  size_t outside = 0;      // receivers outside the light frustum (output 1)
+  size_t facing_away = 0;  // receivers whose ndl <= 0 (output 0 under FilterOptions::facing_away_shadowed)
   // ESM classification (when asked): the mask (1 = flagged, receivers' size) and its count.
   bool classified = false;
   HostImage flags;
@@ -140,5 +141,12 @@ struct FilterResult {
 };
 FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
                     const Receivers& receivers);
+
+// Receivers that carry ndl and face away from the light (ndl <= 0; NaN = unknown, left alone) get
+// visibility 0: their own surface blocks the light, which a shadow map of that surface cannot
+// show (it holds the surface's lit side, at about the receiver's depth). Returns how many.
+// filter() and soft_filter() apply it (FilterOptions::facing_away_shadowed,
+// SoftOptions::facing_away_shadowed); device pipelines leave it to the caller's n.l.
+size_t shadow_facing_away(const Receivers& receivers, std::vector<float>& visibility);
 
 }  // namespace sf

@@ -113,7 +113,9 @@ cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffer
 // --- ESM failure classification (seed 000 ch. 7.3) ---------------------------
 // Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
 // z > d + offset, from the z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
-// their visibility by a 2x2 PCF of the ESM test on the raw depth. flags: one uchar per receiver.
+// their visibility by a 2x2 PCF of the ESM test on the raw depth, against the receiver's plane
+// (FilterOptions::receiver_plane; receiver_row as DeviceReceivers::row). flags: one uchar per
+// receiver.
 // `zmax_chain` is the Reduce::Max pyramid of `depth` (zmax mode only).
 struct ClassifyInputs {
   cl::Buffer depth, zmax_chain;
@@ -124,7 +126,7 @@ struct ClassifyInputs {
 cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                       const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
                                       const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
-                                      const EventList* wait = nullptr);
+                                      const EventList* wait = nullptr, int receiver_row = 0);
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                     const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
                                     const EventList* wait = nullptr);

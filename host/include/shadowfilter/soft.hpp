@@ -34,8 +34,12 @@ double soft_width(const SoftLight& light, double d, double z);
 struct SoftOptions {
   SoftMethod method = SoftMethod::Pcss;
   SoftLight light;
-  float bias = 2e-3f;        // a texel z blocks a receiver d when z < d - bias
-  float max_width = 256.0f;  // cap of every kernel width, level-0 texels
+  float bias = 2e-3f;  // a texel z blocks a receiver d when z < d_t - bias
+  // pcss and ssmm test each texel against the receiver's plane d_t (docs/receiver_plane.md), with
+  // the plane's slope-scaled bias on top of `bias`; cssm reconstructs from a basis and has none.
+  ReceiverPlaneOptions receiver_plane;
+  bool facing_away_shadowed = true;  // receivers with ndl <= 0: 0 (sf::shadow_facing_away)
+  float max_width = 256.0f;          // cap of every kernel width, level-0 texels
   // cssm (defaults chosen on the bundled scenes; docs/soft.md "cssm defaults"). Negative values
   // select the default, which depends on M.
   int cssm_order = 4;                // M: 4M + 1 basis planes
@@ -76,9 +80,11 @@ class SoftFilter {
   cl::Event prepare(const cl::Buffer& depth, const EventList* wait = nullptr);
   // f may be an empty buffer (footprint 1); zavg (cssm only, may be empty): z_avg per receiver
   // (NaN where no blocker was found).
+  // receiver_row: receivers per row of the receiver image, whose neighbours give each receiver's
+  // plane (DeviceReceivers::row); 0 = unstructured points.
   cl::Event run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
                 const cl::Buffer& visibility, size_t count, const EventList* wait = nullptr,
-                const cl::Buffer* zavg = nullptr);
+                const cl::Buffer* zavg = nullptr, int receiver_row = 0);
   SoftTimes times() const;
   const SoftOptions& options() const { return opt_; }
 

@@ -1,5 +1,6 @@
 // sm and pcf: the depth tests on the depth map itself (kernels/pcf.cl). Their reference is the
 // depth test (host/reference/methods_pcf.cpp), which needs no basis.
+#include "plane_params.hpp"
 #include "registration.hpp"
 
 namespace sf::registration {
@@ -18,20 +19,23 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
   m.raw_depth = true;
   m.filtered = filtered;
   m.channel_count = [](const FilterOptions&) { return 1; };
-  m.parameters = "--bias B (default 2^-15 with the receiver plane, 0 without), --receiver-plane on|off (default on)";
+  m.parameters =
+      "--bias B (default 2^-15 with the receiver plane, 0 without), --receiver-plane on|off (default on), "
+      "--slope-bias K (texels of the plane's slope, default 0.5)";
   m.storages = plain_storages({Storage::F32});
   m.validate = [m](const FilterOptions& o) {
     require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
-    if (!(o.receiver_plane.max_slope > 0.0f) || !std::isfinite(o.receiver_plane.max_slope))
-      throw InputError("FilterOptions::receiver_plane.max_slope must be a positive number, got " +
-                       std::to_string(o.receiver_plane.max_slope));
+    detail::validate(o.receiver_plane, "FilterOptions::receiver_plane");
     check_storage(m, o, "it tests the float32 depth map itself and has no basis images");
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(depth_bias(o)); };
   // Without the plane the test is s_ref of the constant d (bias 0), with it the plane's tie bias.
   m.default_depth_bias = [](const FilterOptions& o) { return o.receiver_plane.enabled ? kPlaneBias : 0.0f; };
   m.defines = [](const FilterOptions&) { return std::string(); };
-  m.parameter_values = [](const FilterOptions& o) { return std::vector<MethodParameter>{{"bias", depth_bias(o)}}; };
+  m.parameter_values = [](const FilterOptions& o) {
+    return std::vector<MethodParameter>{{"bias", depth_bias(o)},
+                                        {"slope_bias", o.receiver_plane.enabled ? o.receiver_plane.slope_bias : 0.0f}};
+  };
   m.label = [](const FilterOptions&) { return std::string(); };
   m.variants = [](const FilterOptions& base, GridSize) { return std::vector<FilterOptions>{base}; };
   // sm: one fetch and test per bilinear tap; pcf: every texel of the (2R + 2)^2 support.

@@ -25,15 +25,16 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# Main job: ESM with a Gaussian prefilter on the bundled default scene.
+# Main job: ESM (its defaults: c = 160 with z-max classification) with a Gaussian prefilter on
+# the bundled default scene.
 run: build
 	@mkdir -p $(OUT)
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receivers data/spheres/receivers.exr -o $(OUT)/spheres_esm.exr \
-	    --method esm --esm-c 80 --blur-radius 3
+	    --method esm --blur-radius 3
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receiver-depth data/spheres/receiver_depth.exr -o $(OUT)/spheres_esm_planar.exr \
-	    --method esm --esm-c 80 --blur-radius 3
+	    --method esm --blur-radius 3
 	@echo "output images: $(OUT)/spheres_esm.exr (camera view), $(OUT)/spheres_esm_planar.exr (planar receiver)"
 
 test: build

@@ -41,6 +41,8 @@ FilterOptions esm_options(Lookup lookup, int radius) {
   o.esm.c = 40;
   o.blur.radius = radius;
   o.lookup.kind = lookup;
+  // The reconstruction alone, as a caller's own kernel computes it (esm classifies by default).
+  o.esm_classify.mode = EsmClassify::None;
   return o;
 }
 

@@ -20,6 +20,8 @@ FilterOptions esm_options(float c, int radius = 0) {
   o.method = "esm";
   o.esm.c = c;
   o.blur.radius = radius;
+  // The kernels alone: the reference has no classification stage (esm classifies by default).
+  o.esm_classify.mode = EsmClassify::None;
   return o;
 }
 

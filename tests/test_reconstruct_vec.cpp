@@ -76,6 +76,8 @@ TEST_P(EsmWidths, MatchReference) {
   opt.esm.c = 80.0f;
   opt.blur.radius = 2;
   opt.lookup.kind = kind;
+  // The kernels alone: the reference has no classification stage (esm classifies by default).
+  opt.esm_classify.mode = EsmClassify::None;
   opt.schedule.reconstruct_vector_width = width;
   HostImage depth = random_depth(67, 45, 5, 0.3f, 0.7f);
   for (int y = 8; y < 30; ++y)
@@ -185,6 +187,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       opt.storage = storage;
       opt.blur.radius = 1;
       opt.lookup.kind = Lookup::Mips;
+      opt.esm_classify.mode = EsmClassify::None;  // reconstruct() against the reconstruction alone
       Pipeline pipe(runtime_ptr(), opt, w, h);
       pipe.prefilter(to_device(random_depth(w, h, 5, 0.2f, 0.8f).data)).wait();
       const ImageShape shape = pipe.basis_shape();

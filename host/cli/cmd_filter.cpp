@@ -9,6 +9,7 @@
 #include "filter_options.hpp"
 #include "image_io.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::cli {
@@ -73,8 +74,8 @@ int run_filter(const FilterArgs& a) {
     throw InputError("give exactly one of --receivers or --receiver-depth");
   check_output_is_not_an_input(a.output, {a.shadow_map, a.receivers, a.receiver_depth});
   if (!a.flags_out.empty()) {
-    if (a.options.esm_classify.mode == EsmClassify::None)
-      throw InputError("--flags-out needs --esm-classify zmax or threshold");
+    if (classify_mode(a.options) == EsmClassify::None)
+      throw InputError("--flags-out needs a classification (--method esm, or --esm-classify zmax or threshold)");
     check_output_is_not_an_input(a.flags_out, {a.shadow_map, a.receivers, a.receiver_depth, a.output});
   }
 

@@ -13,8 +13,8 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
       "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
   c.add_option_function<float>(
       "--bias", [&o](float b) { o.depth_test.bias = b; },
-      "Depth bias b for sm, pcf (H(z - d_t + b)) and msm (default: sm, pcf 2^-15 with the receiver plane, "
-      "0 without; msm 0, unorm16: measured)");
+      "Depth bias b for sm, pcf (H(z - d_t + b)) and msm (default: sm, pcf 0.003 with the receiver plane, "
+      "0 without; msm 0, msm-hausdorff 0.001, unorm16: measured)");
   c.add_option_function<std::string>(
       "--receiver-plane",
       [&o](const std::string& s) {
@@ -32,14 +32,10 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--vsm-min-variance", o.vsm.min_variance,
                "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");
   c.add_option("--lbr", o.vsm.lbr, "Light-bleeding reduction a in [0,1) (vsm, evsm)")->capture_default_str();
-  c.add_option("--evsm-pos", o.evsm.pos, "EVSM positive exponent (clamped to the storage's limit)")
-      ->capture_default_str();
-  c.add_option("--evsm-neg", o.evsm.neg, "EVSM negative exponent (clamped to the storage's limit)")
-      ->capture_default_str();
+  c.add_option("--evsm-pos", o.evsm.pos,
+               "EVSM positive exponent (clamped to the storage's limit; default evsm2 5, evsm4 10)");
+  c.add_option("--evsm-neg", o.evsm.neg, "EVSM negative exponent (clamped to the storage's limit; default 5)");
   c.add_option("--msm-bias", o.msm.moment_bias, "MSM moment bias (default 3e-6 f32, 6e-5 unorm16)");
-  c.add_option("--msm-spread-bias", o.msm.spread_bias,
-               "MSM: the receiver depth less this many standard deviations of the filtered depths")
-      ->capture_default_str();
   c.add_option("--csm-order", o.csm.order, "CSM order M (2M basis planes), 1..32")->capture_default_str();
   c.add_option("--csm-alpha", o.csm.alpha, "CSM ringing attenuation alpha")->capture_default_str();
   c.add_option("--csm-offset", o.csm.offset, "CSM depth offset (default: measured per order)");

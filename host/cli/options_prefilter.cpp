@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "filter_options.hpp"
+#include "shadowfilter/methods.hpp"
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -35,13 +36,15 @@ void add_prefilter_options(CLI::App& c, FilterOptions& o) {
                "side f); f = the receivers' footprint channel, 1 when missing")
       ->transform(CLI::CheckedTransformer(lookups, CLI::ignore_case))
       ->default_str("bilinear");
-  const std::map<std::string, EsmClassify> modes{
-      {"none", EsmClassify::None}, {"zmax", EsmClassify::ZMax}, {"threshold", EsmClassify::Threshold}};
+  const std::map<std::string, EsmClassify> modes{{"auto", EsmClassify::Auto},
+                                                 {"none", EsmClassify::None},
+                                                 {"zmax", EsmClassify::ZMax},
+                                                 {"threshold", EsmClassify::Threshold}};
   c.add_option("--esm-classify", o.esm_classify.mode,
-               "ESM failure classification: none | zmax | threshold; flagged receivers fall back "
-               "to a 2x2 PCF of the ESM test")
+               "ESM failure classification: auto (zmax for esm, none otherwise) | none | zmax | threshold; "
+               "flagged receivers fall back to a 2x2 PCF of the ESM test")
       ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case))
-      ->default_str("none");
+      ->default_str("auto");
   c.add_option("--esm-zmax-offset", o.esm_classify.zmax_offset,
                "zmax: flag when a texel in the lookup's support has z > d + offset")
       ->capture_default_str()
@@ -71,9 +74,9 @@ std::string prefilter_summary(const FilterOptions& o) {
       s << ", bilinear lookup";
       break;
   }
-  if (o.esm_classify.mode == EsmClassify::ZMax)
+  if (classify_mode(o) == EsmClassify::ZMax)
     s << ", zmax classification offset=" << o.esm_classify.zmax_offset;
-  else if (o.esm_classify.mode == EsmClassify::Threshold)
+  else if (classify_mode(o) == EsmClassify::Threshold)
     s << ", threshold classification eps=" << std::setprecision(4) << esm_threshold_eps(o);
   return s.str();
 }

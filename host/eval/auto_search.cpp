@@ -32,8 +32,8 @@ double estimated_cost(const FilterOptions& o, int map_w, int map_h, size_t recei
   double rx = k.reconstruct + k.reconstruct_per_channel * ch;
   if (o.lookup.kind == Lookup::Mips) rx *= 2.0;  // two bilinear levels
   if (o.lookup.kind == Lookup::Sat) rx *= 2.5;   // four float-float corners
-  if (o.esm_classify.mode == EsmClassify::Threshold) rx += 6.0;
-  if (o.esm_classify.mode == EsmClassify::ZMax) {
+  if (classify_mode(o) == EsmClassify::Threshold) rx += 6.0;
+  if (classify_mode(o) == EsmClassify::ZMax) {
     texel += 0.4;  // the z-max pyramid of the depth
     rx += 10.0;
   }
@@ -46,7 +46,7 @@ namespace {
 // configuration (evsm's warps above the f16 limit pack to the same clamped value).
 std::string candidate_key(const MethodDesc& m, const FilterOptions& o) {
   std::string key = o.method + "/" + storage_name(o.storage) + "/" + std::to_string(int(o.lookup.kind)) + "/" +
-                    std::to_string(int(o.esm_classify.mode)) + "/";
+                    std::to_string(int(classify_mode(o))) + "/";
   for (uint8_t b : m.pack_params(o)) key += std::to_string(b) + ",";
   return key + m.defines(o);
 }
@@ -245,8 +245,8 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   }
   // What the choice does without, and why.
   bool any_zmax = false;
-  for (const auto& c : cands) any_zmax |= c.options.esm_classify.mode == EsmClassify::ZMax;
-  if (!res.found || res.chosen.esm_classify.mode != EsmClassify::ZMax)
+  for (const auto& c : cands) any_zmax |= classify_mode(c.options) == EsmClassify::ZMax;
+  if (!res.found || classify_mode(res.chosen) != EsmClassify::ZMax)
     res.skipped.push_back(std::string("z-max pyramid: ") +
                           (any_zmax ? "the chosen configuration does not classify ESM failures"
                                     : "no candidate classifies ESM failures (esm not among the methods)"));

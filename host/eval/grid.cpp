@@ -43,8 +43,8 @@ std::string config_label(const FilterOptions& o) {
     if (o.lookup.kind == Lookup::Sat) s << " sat";
     s << " " << storage_name(o.storage);
   }
-  if (o.esm_classify.mode == EsmClassify::ZMax) s << " zmax";
-  if (o.esm_classify.mode == EsmClassify::Threshold) s << " threshold";
+  if (classify_mode(o) == EsmClassify::ZMax) s << " zmax";
+  if (classify_mode(o) == EsmClassify::Threshold) s << " threshold";
   return s.str();
 }
 

@@ -100,6 +100,15 @@ void receiver_at(const Receivers& rx, size_t i, double& u, double& v, double& d)
 
 }  // namespace
 
+namespace {
+// sf::filter's last step (sf::shadow_facing_away): receivers with ndl <= 0 are 0.
+void shadow_facing_away(const FilterOptions& opt, const Receivers& rx, std::vector<double>& out) {
+  if (!opt.facing_away_shadowed || !rx.has_ndl) return;
+  for (size_t i = 0; i < out.size(); ++i)
+    if (rx.ndl[i] <= 0.0f && std::isfinite(rx.d[i])) out[i] = 0.0;
+}
+}  // namespace
+
 std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, const Receivers& rx) {
   std::vector<double> out(rx.count(), 1.0);
   const MethodDesc& method = find_method(opt.method);
@@ -117,6 +126,7 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
       out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane, footprint_at(rx, i), bias)
                           : pcf(depth, weights, plane, bias);
     }
+    shadow_facing_away(opt, rx, out);
     return out;
   }
   // Stored, filtered (and stored again when prefiltered), looked up, reconstructed.
@@ -137,6 +147,7 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
       b[c] = rx.grid ? bilinear(filtered, c, u, v) : lookup.value(c, u, v, footprint_at(rx, i));
     out[i] = m.visibility(b.data(), std::clamp(d, 0.0, 1.0));
   }
+  shadow_facing_away(opt, rx, out);
   return out;
 }
 

@@ -60,16 +60,52 @@ Plane plane_level(const Plane& p, int W, int H, int w, int h) {
   return q;
 }
 
+double soft_horizon(const SoftOptions& o, const Plane& pl, double d, int W, int H) {
+  const SoftLight& L = o.light;
+  double k, a, b;
+  if (L.perspective) {
+    k = L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
+    a = L.near_plane;
+    b = L.far_plane - L.near_plane;
+  } else {
+    k = L.size / L.extent;
+    a = 0;
+    b = 1;
+  }
+  const double Gx = pl.gx * W, Gy = pl.gy * H, G = std::hypot(Gx, Gy);
+  const double DR = std::max(a + b * d, 1e-20);
+  const double wp = L.perspective ? k * b / (DR * DR) : k * b / DR;
+  if (!(G > 0) || !(wp > 0)) return 1.0;
+  const double t = -1.0 / (wp * G);
+  double p = 0.5 * std::abs(Gx) / G, q = 0.5 * std::abs(Gy) / G;
+  if (q > p) std::swap(p, q);
+  double below;
+  if (t <= -(p + q))
+    below = 0;
+  else if (t >= p + q)
+    below = 1;
+  else if (q < 1e-6 * p)
+    below = (t + p) / (2 * p);
+  else if (t <= q - p)
+    below = (t + p + q) * (t + p + q) / (8 * p * q);
+  else if (t <= p - q)
+    below = (t + p) / (2 * p);
+  else
+    below = 1 - (p + q - t) * (p + q - t) / (8 * p * q);
+  return std::clamp(1 - below, 0.0, 1.0);
+}
+
 double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, const Plane& plane, double f) {
   if (outside(u, v, plane.d)) return 1.0;
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int W = depth.width, H = depth.height;
   const double* img = depth.data.data();
   const double search = std::clamp(soft_width(o.light, d, 0.0) * W, 1.0, double(o.max_width));
+  const double horizon = soft_horizon(o, plane, d, W, H);
   const BoxScan s = box_scan(img, W, H, u, v, search, plane, bias);
-  if (!(s.blk > 0)) return 1.0;
+  if (!(s.blk > 0)) return horizon;
   const double width = std::clamp(std::max(soft_width(o.light, d, s.zavg) * W, fp_of(f)), 1.0, double(o.max_width));
-  return box_scan(img, W, H, u, v, width, plane, bias).lit;
+  return box_scan(img, W, H, u, v, width, plane, bias).lit * horizon;
 }
 
 double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, const Plane& plane,
@@ -79,6 +115,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
   const double n = o.ssmm_n;
   const double search = soft_width(o.light, d, 0.0);
+  const double horizon = soft_horizon(o, plane, d, W, H);
   int last = 0;
   while (last < top && n * double(1 << last) / W < search) ++last;
   if (o.method == SoftMethod::SsmmImproved) {
@@ -112,16 +149,16 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
       }
       sb += acc / ws;
     }
-    return std::clamp(1.0 - sb, 0.0, 1.0);
+    return std::clamp(1.0 - sb, 0.0, 1.0) * horizon;
   }
   const Planes& S = chain[last];
   const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search * S.width, 1.0),
                              plane_level(plane, W, H, S.width, S.height), bias);
-  if (!(s.blk > 0)) return 1.0;
+  if (!(s.blk > 0)) return horizon;
   const double r = soft_width(o.light, d, s.zavg), r0 = n / W;
   if (r < r0) {
     const double width = std::clamp(std::max(r * W, fp_of(f)), 1.0, n);
-    return box_scan(chain[0].data.data(), W, H, u, v, width, plane, bias).lit;
+    return box_scan(chain[0].data.data(), W, H, u, v, width, plane, bias).lit * horizon;
   }
   const int a = std::min(int(std::floor(std::log2(r / r0))), top);
   const double ra = r0 * double(1 << a);
@@ -134,7 +171,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     res +=
         wt * box_scan(P.data.data(), P.width, P.height, u, v, n, plane_level(plane, W, H, P.width, P.height), bias).lit;
   }
-  return std::clamp(res, 0.0, 1.0);
+  return std::clamp(res, 0.0, 1.0) * horizon;
 }
 
 Planes cssm_basis(const HostImage& depth, int M) {
@@ -177,7 +214,7 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   const double dp = d - P.offset;
   std::vector<double> b(4 * M + 1);
   const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
-  const double ms = o.cssm_lookup == Lookup::Mips ? 0.65 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
+  const double ms = o.cssm_lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
   for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
   double num;
   const double den = 1.0 - series(b, M, d - P.z_offset, &num);

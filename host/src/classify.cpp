@@ -32,7 +32,7 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
 
 ClassifyParams params(const FilterOptions& opt) {
   ClassifyParams c{};
-  c.mode = static_cast<cl_int>(opt.esm_classify.mode);
+  c.mode = static_cast<cl_int>(classify_mode(opt));
   c.radius = opt.blur.radius;
   c.offset = opt.esm_classify.zmax_offset;
   c.log_thresh = static_cast<float>(std::log1p(esm_threshold_eps(opt)));
@@ -53,8 +53,8 @@ detail::KernelArgs common_args(cl::Kernel& k, const ClassifyInputs& in) {
 }
 
 void check(const FilterOptions& opt, const ClassifyInputs& in) {
-  if (opt.esm_classify.mode == EsmClassify::None) throw InputError("classification mode is none");
-  if (opt.esm_classify.mode == EsmClassify::ZMax && !in.zmax_chain() && (in.width > 1 || in.height > 1))
+  if (classify_mode(opt) == EsmClassify::None) throw InputError("classification mode is none");
+  if (classify_mode(opt) == EsmClassify::ZMax && !in.zmax_chain() && (in.width > 1 || in.height > 1))
     throw InputError("zmax classification needs the z-max pyramid");
 }
 
@@ -113,11 +113,11 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
 namespace sf {
 
 void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan) {
-  if (options.esm_classify.mode == EsmClassify::None) return;
+  if (classify_mode(options) == EsmClassify::None) return;
   if (!find_method(options.method).classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
                      options.method);
-  if (options.esm_classify.mode == EsmClassify::ZMax)
+  if (classify_mode(options) == EsmClassify::ZMax)
     plan.buffers.push_back(
         {"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
   plan.bytes_per_receiver += 1;  // the flags

@@ -111,7 +111,7 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
     sat_ = alloc("sat");
     sat_bands_ = alloc("sat bands");
   }
-  if (options_.esm_classify.mode != EsmClassify::None)
+  if (classify_mode(options_) != EsmClassify::None)
     classify_ = std::make_shared<ClassifyStage>(rt_, options_, width, height, plan_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::Pipeline", e);
@@ -272,7 +272,7 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
   cl::Event download;
   rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(), &after_rec,
                                &download);
-  if (options.esm_classify.mode != EsmClassify::None) {
+  if (classify_mode(options) != EsmClassify::None) {
     std::vector<unsigned char> flags(count);
     if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data(), &after_rec);
     result.classified = true;

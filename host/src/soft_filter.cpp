@@ -98,9 +98,9 @@ double cssm_series(int M, double x) {
 CssmParams cssm_params(const SoftOptions& o) {
   const float M = float(std::max(o.cssm_order, 1));
   CssmParams p;
-  p.offset = o.cssm_offset >= 0.0f ? o.cssm_offset : 0.1f / M;
+  p.offset = o.cssm_offset >= 0.0f ? o.cssm_offset : 0.2f / M;
   p.z_offset = cssm_z_offset(o);
-  p.scale = o.cssm_scale > 0.0f ? o.cssm_scale : 3.0f;
+  p.scale = o.cssm_scale > 0.0f ? o.cssm_scale : 1.5f;
   p.lit = float(cssm_series(o.cssm_order, p.offset));
   // A straight edge's filtered lit fraction q gives v = 0.5 + scale (q lit - 0.5) (q / 1 when
   // normalised): the ramp is steeper by scale lit, so the kernel widens by that to keep the width.

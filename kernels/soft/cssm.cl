@@ -22,10 +22,10 @@
 #define SF_M SF_CSSM_ORDER
 // Trilinear (mips) lookups read at LOD log2(SF_CSSM_MIP_SCALE w): the 2x2 mean of the pyramid
 // and the bilinear tent each blur by about the level's texel, so level log2(w) filters far wider
-// than the box of side w; 0.65 matches the box's spread at the default width scale (parallel
-// planes: -6.7% ortho, -9.1% perspective; mips stay alignment-dependent, docs/soft.md).
+// than the box of side w; 0.55 matches the box's spread at the default width scale (parallel
+// planes, docs/soft.md; mips stay alignment-dependent).
 #if SF_LOOKUP == SF_LOOKUP_MIPS
-#define SF_CSSM_MIP_SCALE 0.65f
+#define SF_CSSM_MIP_SCALE 0.55f
 #else
 #define SF_CSSM_MIP_SCALE 1.0f
 #endif

@@ -6,6 +6,8 @@
 //    plane: the widest any blocker can make it), mean z of the texels with z < d_t - b;
 // 2. PCF: area-weighted box of width w(d, z_avg) (at least the receiver footprint f and one
 //    texel) of the test z >= d_t - b. No blocker found: lit (1).
+// Times the fraction of the light above the receiver's own horizon (sf_soft_horizon), which the
+// plane's test leaves out.
 // Cost grows with the light size (widths in texels squared).
 __kernel void sf_pcss_points(__global const float* restrict depth, const int W, const int H,
                              __global const float* restrict u, __global const float* restrict v,
@@ -18,17 +20,18 @@ __kernel void sf_pcss_points(__global const float* restrict depth, const int W, 
   const float dd = clamp(di, 0.0f, 1.0f);
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p, L.bias, P);
+  const float horizon = sf_soft_horizon(L, &p, dd, W, H);
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const float cx = ui * (float)W, cy = vi * (float)H;
   const float search = clamp(sf_soft_width(L, dd, 0.0f) * (float)W, 1.0f, L.max_width);
   const float sy = (float)H / (float)W;  // uv widths map to W texels in x, H in y
   const sf_box_acc s = sf_box_scan(depth, W, H, cx, cy, 0.5f * search, 0.5f * search * sy, &p, bias);
   if (!(s.blk > 0.0f)) {
-    out[i] = 1.0f;
+    out[i] = horizon;
     return;
   }
   const float zavg = s.blkz / s.blk;
   const float width = clamp(fmax(sf_soft_width(L, dd, zavg) * (float)W, fp), 1.0f, L.max_width);
   const sf_box_acc q = sf_box_scan(depth, W, H, cx, cy, 0.5f * width, 0.5f * width * sy, &p, bias);
-  out[i] = clamp(q.lit / q.w, 0.0f, 1.0f);
+  out[i] = clamp(q.lit / q.w, 0.0f, 1.0f) * horizon;
 }

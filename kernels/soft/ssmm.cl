@@ -1,7 +1,8 @@
 // ssmm: soft shadow mip-maps (seed 003; methods.md sec. 4). Needs common.clh, receiver_plane.clh
 // and soft/soft_common.clh before it. Every texel is tested against the receiver's plane as its
 // level sees it (sf_plane_level: the plane's minimum over the texel's block), with the bias b
-// (the light's constant plus the plane's slope-scaled term); "z < d - bias" below reads so. Reads the raw depth (level 0) and its min-depth pyramid
+// (the light's constant plus the plane's slope-scaled term); "z < d - bias" below reads so. The
+// result is times the fraction of the light above the receiver's horizon (sf_soft_horizon). Reads the raw depth (level 0) and its min-depth pyramid
 // (pyramid.cl, Reduce::Min; levels 1.. in `chain`, one plane each).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
 // (seed 003 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
@@ -41,6 +42,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   const float dd = clamp(di, 0.0f, 1.0f);
   const sf_plane p0 = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p0, L.bias, P);
+  const float horizon = sf_soft_horizon(L, &p0, dd, W, H);  // as pcss
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;
@@ -83,7 +85,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
       }
       sb += acc / wsum;
     }
-    out[i] = clamp(1.0f - sb, 0.0f, 1.0f);
+    out[i] = clamp(1.0f - sb, 0.0f, 1.0f) * horizon;
     return;
   }
   // mode 0: blocker search on layer `last` (its n x n box covers the search width).
@@ -93,7 +95,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   sf_box_acc s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * sw,
                              0.5f * sw * (float)h / (float)w, &pk, bias);
   if (!(s.blk > 0.0f)) {
-    out[i] = 1.0f;
+    out[i] = horizon;
     return;
   }
   const float r = sf_soft_width(L, dd, s.blkz / s.blk);
@@ -102,7 +104,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
     const float width = clamp(fmax(r * (float)W, fp), 1.0f, nf);
     s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width,
                     0.5f * width * (float)H / (float)W, &p0, bias);
-    out[i] = clamp(s.lit / s.w, 0.0f, 1.0f);
+    out[i] = clamp(s.lit / s.w, 0.0f, 1.0f) * horizon;
     return;
   }
   int a = (int)floor(log2(r / r0));
@@ -120,5 +122,5 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
                     &pk, bias);
     res = fma(wt, s.lit / s.w, res);
   }
-  out[i] = clamp(res, 0.0f, 1.0f);
+  out[i] = clamp(res, 0.0f, 1.0f) * horizon;
 }

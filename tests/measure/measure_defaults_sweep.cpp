@@ -94,10 +94,18 @@ struct FilterSweep {
 
 FilterSweep filter_sweep(const std::string& method) {
   using O = FilterOptions;
-  const auto bias = axis<O>("bias", {0, kTieBias, 1e-4, 3e-4, 1e-3, 3e-3, 5e-3, 1e-2},
-                            [](O& o, double v) { o.depth_test.bias = float(v); });
-  const std::vector<Setting> plane = {{"plane", [](O& o) { o.receiver_plane.enabled = true; }},
-                                      {"no-plane", [](O& o) { o.receiver_plane.enabled = false; }}};
+  // The depth tests: against the receiver's plane with a small constant and its slope-scaled
+  // bias, or against d with a constant bias alone.
+  const std::vector<Setting> plane = cross(
+      cross(std::vector<Setting>{{"plane", [](O& o) { o.receiver_plane.enabled = true; }}},
+            axis<O>("bias", {kTieBias, 1e-4, 3e-4, 1e-3, 3e-3}, [](O& o, double v) { o.depth_test.bias = float(v); })),
+      axis<O>("slope", {0, 0.25, 0.5, 1}, [](O& o, double v) { o.receiver_plane.slope_bias = float(v); }));
+  const std::vector<Setting> no_plane =
+      cross(std::vector<Setting>{{"no-plane", [](O& o) { o.receiver_plane.enabled = false; }}},
+            axis<O>("bias", {0, kTieBias, 1e-4, 3e-4, 1e-3, 3e-3, 5e-3, 1e-2},
+                    [](O& o, double v) { o.depth_test.bias = float(v); }));
+  std::vector<Setting> depth_tests = plane;
+  depth_tests.insert(depth_tests.end(), no_plane.begin(), no_plane.end());
   const std::vector<Setting> classify = {{"", [](O& o) { o.esm_classify.mode = EsmClassify::None; }},
                                          {"zmax", [](O& o) { o.esm_classify.mode = EsmClassify::ZMax; }},
                                          {"threshold", [](O& o) { o.esm_classify.mode = EsmClassify::Threshold; }}};
@@ -112,7 +120,7 @@ FilterSweep filter_sweep(const std::string& method) {
       cross(axis<O>("a", {3e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3},
                     [](O& o, double v) { o.msm.moment_bias = float(v); }),
             axis<O>("bias", {0, 1e-4, 3e-4, 1e-3, 3e-3}, [](O& o, double v) { o.depth_test.bias = float(v); }));
-  if (method == "sm" || method == "pcf") return {kAsIs, cross(plane, bias)};
+  if (method == "sm" || method == "pcf") return {kAsIs, depth_tests};
   if (method == "esm")
     return {cross(axis<O>("c", {20, 40, 60, 80, 120, 160}, [](O& o, double v) { o.esm.c = float(v); }), classify),
             kAsIs};
@@ -155,8 +163,18 @@ std::vector<SoftSetting> soft_sweep(SoftMethod m) {
                          [](O& o, double v) { o.cssm_offset = float(v); }),
                  axis<O>("scale", {1.25, 1.5, 2, 3, 4}, [](O& o, double v) { o.cssm_scale = float(v); }));
   }
-  return axis<O>("bias", {0, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 3e-2, 5e-2},
-                 [](O& o, double v) { o.bias = float(v); });
+  // pcss, ssmm: against the receiver's plane with a constant and the slope-scaled bias, or
+  // against d with a constant bias alone.
+  std::vector<SoftSetting> out = cross(
+      cross(std::vector<SoftSetting>{{"plane", [](O& o) { o.receiver_plane.enabled = true; }}},
+            axis<O>("bias", {kTieBias, 1e-4, 5e-4, 2e-3, 5e-3, 1e-2, 2e-2}, [](O& o, double v) { o.bias = float(v); })),
+      axis<O>("slope", {0, 0.25, 0.5, 1}, [](O& o, double v) { o.receiver_plane.slope_bias = float(v); }));
+  const std::vector<SoftSetting> no_plane =
+      cross(std::vector<SoftSetting>{{"no-plane", [](O& o) { o.receiver_plane.enabled = false; }}},
+            axis<O>("bias", {0, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 3e-2, 5e-2},
+                    [](O& o, double v) { o.bias = float(v); }));
+  out.insert(out.end(), no_plane.begin(), no_plane.end());
+  return out;
 }
 
 // ---- what a candidate is ------------------------------------------------------------------------
@@ -167,8 +185,8 @@ std::string fingerprint(const FilterOptions& o) {
   std::ostringstream s;
   s.precision(9);
   for (const MethodParameter& p : find_method(o.method).parameter_values(o)) s << p.key << '=' << p.value << ' ';
-  s << "bias=" << depth_bias(o) << " plane=" << o.receiver_plane.enabled << ',' << o.receiver_plane.max_slope
-    << " classify=" << int(o.esm_classify.mode) << ',' << o.esm_classify.zmax_offset << ','
+  s << "bias=" << depth_bias(o) << " plane=" << o.receiver_plane.enabled << ',' << o.receiver_plane.max_slope << ','
+    << o.receiver_plane.slope_bias << " classify=" << int(classify_mode(o)) << ',' << o.esm_classify.zmax_offset << ','
     << o.esm_classify.threshold_eps << " storage=" << int(o.storage) << " blur=" << o.blur.radius << ',' << o.blur.sigma
     << " lookup=" << int(o.lookup.kind);
   return s.str();
@@ -178,10 +196,11 @@ std::string fingerprint(const SoftOptions& o) {
   std::ostringstream s;
   s.precision(9);
   const CssmParams c = cssm_params(o);
-  s << soft_method_name(o.method) << " bias=" << o.bias << " max_width=" << o.max_width << " ssmm_n=" << o.ssmm_n
-    << " cssm=" << o.cssm_order << ',' << int(o.cssm_lookup) << ',' << c.offset << ',' << c.z_offset << ',' << c.scale
-    << ',' << c.width_scale << ',' << c.sharpen_a << ',' << c.sharpen_b << ',' << o.cssm_normalise << ','
-    << o.cssm_min_den << ',' << o.cssm_contact;
+  s << soft_method_name(o.method) << " bias=" << o.bias << " plane=" << o.receiver_plane.enabled << ','
+    << o.receiver_plane.max_slope << ',' << o.receiver_plane.slope_bias << " max_width=" << o.max_width
+    << " ssmm_n=" << o.ssmm_n << " cssm=" << o.cssm_order << ',' << int(o.cssm_lookup) << ',' << c.offset << ','
+    << c.z_offset << ',' << c.scale << ',' << c.width_scale << ',' << c.sharpen_a << ',' << c.sharpen_b << ','
+    << o.cssm_normalise << ',' << o.cssm_min_den << ',' << o.cssm_contact;
   return s.str();
 }
 
@@ -368,7 +387,8 @@ std::vector<float> run_soft(const DeviceScene& ds, SoftOptions o) {
   o.light = ds.light;
   SoftFilter filter(runtime_ptr(), o, ds.scene.depth.width, ds.scene.depth.height);
   const EventList after{filter.prepare(ds.depth)};
-  return ds.read(filter.run(ds.u, ds.v, ds.d, ds.f, ds.visibility, ds.rx.count, &after));
+  // The receiver image's rows give each receiver's plane, as soft_filter() passes them.
+  return ds.read(filter.run(ds.u, ds.v, ds.d, ds.f, ds.visibility, ds.rx.count, &after, nullptr, ds.rx.row));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -472,8 +492,11 @@ TEST(DefaultsSweep, SharedBasisIsExact) {
   for (const Plan::Filter& f : make_plan(blur_radius()).filters)
     for (const auto& g : f.groups) {
       if (g.empty()) continue;
-      run_group(ds, *f.method, g, [&](const FilterCandidate& c, const std::vector<float>& v) {
+      run_group(ds, *f.method, g, [&](const FilterCandidate& c, const std::vector<float>& shared) {
         const auto own = filter(runtime_ptr(), c.options, ds.scene.depth, ds.scene.receivers).visibility.data;
+        // filter() also sets the receivers facing away to 0 (no row counts them).
+        std::vector<float> v = shared;
+        shadow_facing_away(ds.scene.receivers, v);
         size_t differ = 0;
         for (size_t i = 0; i < v.size(); ++i) differ += !(v[i] == own[i] || (std::isnan(v[i]) && std::isnan(own[i])));
         EXPECT_EQ(differ, 0u) << f.method->name << " " << c.label;

@@ -108,6 +108,9 @@ const std::vector<MethodDesc>& methods();
 size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o);
 // The depth bias in effect: FilterOptions::depth_test.bias, else the method's default.
 float depth_bias(const FilterOptions& o);
+// The classification in effect: FilterOptions::esm_classify.mode, Auto resolved (zmax for a
+// classifiable method, none for the others).
+EsmClassify classify_mode(const FilterOptions& o);
 
 // The csm reconstruction parameters for these options (defaults resolved per order).
 struct CsmParameters {

@@ -8,8 +8,10 @@ namespace sf {
 
 struct EsmOptions {
   // Exponent c of exp(c z). Larger: sharper, less light leaking, but a wider failure band near
-  // contact. 80 is the seed's float32 value; the centred storage holds c <= 174 in float32.
-  float c = 80.0f;
+  // contact, which the default classification (EsmClassifyOptions) hands to its fall-back. 160 is
+  // the measured default with z-max classification (docs/results.md "Defaults sweep"; the seed's
+  // float32 value is 80); the centred storage holds c <= 174 in float32.
+  float c = 160.0f;
 };
 
 // Storage format of the basis images (kernels/storage.clh). Filters compute in float whatever
@@ -19,10 +21,11 @@ const char* storage_name(Storage s);        // "f32", "f16", "unorm16", "unorm8"
 Storage parse_storage(const std::string&);  // throws InputError for other names
 int storage_bytes(Storage s);               // bytes per stored value
 
-// Depth bias b of the methods that test depths directly (sm, pcf: H(z - d + b); msm: the
-// receiver depth becomes d - b). Unset = the method's default (depth_bias() in methods.hpp): 0
-// for sm and pcf (they then equal s_ref exactly) and msm in float32; msm in unorm16 needs a
-// small bias to keep flat receivers lit through the quantisation (docs/methods.md).
+// Depth bias b of the methods that test depths directly (sm, pcf: H(z - d_t + b); msm: the
+// receiver depth becomes d - b). Unset = the method's default (depth_bias() in methods.hpp),
+// measured (docs/results.md "Defaults sweep"): sm and pcf 0.003 against the receiver plane (0
+// without it, where they equal s_ref of d), msm 0 and msm-hausdorff 0.001 in float32; msm in
+// unorm16 needs a small bias to keep flat receivers lit through the quantisation (docs/methods.md).
 struct DepthTestOptions {
   std::optional<float> bias;
 };
@@ -38,16 +41,19 @@ struct ReceiverPlaneOptions {
   float max_slope = 0.1f;
   // Slope-scaled bias in texels: the test's bias grows by slope_bias (|dd/dx| + |dd/dy|). The
   // plane is exact for planar receivers only; on curved and faceted ones, and where its gradient
-  // comes from neighbours texels away, it errs by a fraction of a texel's depth change. The
-  // default is the measured one (docs/results.md, "Defaults sweep"); 0 = the plane alone.
-  float slope_bias = 0.5f;
+  // comes from neighbours texels away, it errs by a fraction of a texel's depth change. 0 by
+  // measurement (docs/results.md, "Defaults sweep"): on grazing receivers (terrain, the bunny)
+  // a slope-scaled term lets occluders close above them leak, where the constant bias of the
+  // method keeps the acne targets with fewer leaks.
+  float slope_bias = 0.0f;
 };
 
 struct VsmOptions {
-  // Minimum variance v_min; negative = the method's default for the storage (docs/methods.md).
-  // vsm: absolute floor of bar(z^2) - bar(z)^2, default 2e-5 (a flat receiver stays lit when
-  // its stored mean is rounded by half a float16 ulp). evsm: relative, the floor per side is
-  // (v_min c |warped d|)^2, default 1e-4 in float32 and 2e-3 in float16.
+  // Minimum variance v_min; negative = the method's default for the storage (docs/methods.md;
+  // measured, docs/results.md "Defaults sweep"). vsm: absolute floor of bar(z^2) - bar(z)^2,
+  // default 1e-6 in float32 and 2e-5 in the 16-bit storages (a flat receiver stays lit when its
+  // stored mean is rounded by half a float16 ulp). evsm: relative, the floor per side is
+  // (v_min c |warped d|)^2, default 1e-3 in float32 and 2e-3 in float16.
   float min_variance = -1.0f;
   // Light-bleeding reduction a in [0, 1): v = clamp((p - a) / (1 - a), 0, 1). 0 = none.
   float lbr = 0.0f;
@@ -55,20 +61,18 @@ struct VsmOptions {
 
 struct EvsmOptions {
   // Exponents of the positive and negative warps (seed 000 / Lauritzen). Clamped to what the
-  // storage holds: exp(2 c w) must stay finite, c <= 42 in float32 and 5.54 in float16.
-  float pos = 40.0f;
-  float neg = 5.0f;
+  // storage holds: exp(2 c w) must stay finite, c <= 42 in float32 and 5.54 in float16. Negative =
+  // the method's measured default (docs/results.md "Defaults sweep"): evsm2 c+ = 5, evsm4 c+ = 10
+  // and c- = 5; larger warps sharpen the bound's penumbrae past the ray-traced ones.
+  float pos = -1.0f;
+  float neg = -1.0f;
 };
 
 struct MsmOptions {
   // Moment bias a: b = (1 - a) bar(B) + a (1/2, ...). Negative = the storage's default,
-  // 3e-6 in float32 and 6e-5 in unorm16 (Peters & Klein 2015 with the optimised quantisation).
+  // 1e-4 in float32 (measured, docs/results.md "Defaults sweep"; Peters & Klein suggest 3e-5) and
+  // 6e-5 in unorm16 (Peters & Klein 2015 with the optimised quantisation).
   float moment_bias = -1.0f;
-  // Spread bias k: the receiver depth becomes d - b - k sigma, sigma the standard deviation of the
-  // filtered depths. A tilted receiver's own surface spreads its support's depths (slope times
-  // radius), and four moments of that spread read part of it as in front of the receiver; a flat
-  // one has sigma = 0. The default is the measured one (docs/results.md, "Defaults sweep").
-  float spread_bias = 0.5f;
 };
 
 struct CsmOptions {
@@ -98,10 +102,13 @@ struct LookupOptions {
 };
 
 // ESM failure classification (seed 000 ch. 7.3): flagged receivers fall back to a 2x2 PCF of
-// the ESM test on the raw depth.
-enum class EsmClassify { None = 0, ZMax = 1, Threshold = 2 };
+// the ESM test on the raw depth. Auto (the default) is zmax for a method that can be classified
+// (esm) and none for every other: ESM alone leaks wherever a receiver's support also holds texels
+// behind it (up to 38% of terrain's umbra), and no exponent removes that (docs/results.md
+// "Defaults sweep", with what the stage costs per frame). classify_mode() (methods.hpp) resolves it.
+enum class EsmClassify { None = 0, ZMax = 1, Threshold = 2, Auto = 3 };
 struct EsmClassifyOptions {
-  EsmClassify mode = EsmClassify::None;
+  EsmClassify mode = EsmClassify::Auto;
   // zmax: flag when some texel of the lookup's support has z > d + offset. The offset keeps
   // lit receivers whose own surface slopes away within the support from being flagged; 0.02
   // is the measured balance between flagging ESM's failures and flagging lit receivers

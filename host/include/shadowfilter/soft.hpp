@@ -34,18 +34,21 @@ double soft_width(const SoftLight& light, double d, double z);
 struct SoftOptions {
   SoftMethod method = SoftMethod::Pcss;
   SoftLight light;
-  float bias = 2e-3f;  // a texel z blocks a receiver d when z < d_t - bias
   // pcss and ssmm test each texel against the receiver's plane d_t (docs/receiver_plane.md), with
   // the plane's slope-scaled bias on top of `bias`; cssm reconstructs from a basis and has none.
-  ReceiverPlaneOptions receiver_plane;
+  // Both measured (docs/results.md "Defaults sweep"): 0.005 and a quarter texel of the plane's
+  // slope, the lowest worst RMSE against the ray-traced soft shadows with acne below 0.5%.
+  float bias = 5e-3f;  // a texel z blocks a receiver d when z < d_t - bias
+  ReceiverPlaneOptions receiver_plane{true, 0.1f, 0.25f};
   bool facing_away_shadowed = true;  // receivers with ndl <= 0: 0 (sf::shadow_facing_away)
   float max_width = 256.0f;          // cap of every kernel width, level-0 texels
-  // cssm (defaults chosen on the bundled scenes; docs/soft.md "cssm defaults"). Negative values
-  // select the default, which depends on M.
+  // cssm (defaults chosen on the bundled scenes, docs/soft.md "cssm defaults"; the offset and
+  // scale by the defaults sweep, docs/results.md). Negative values select the default, which
+  // depends on M.
   int cssm_order = 4;                // M: 4M + 1 basis planes
   Lookup cssm_lookup = Lookup::Sat;  // mips or sat
-  float cssm_offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.1 / M
-  float cssm_scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 3
+  float cssm_offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.2 / M
+  float cssm_scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 1.5
   float cssm_width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
   bool cssm_normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
   float cssm_sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off

@@ -101,6 +101,11 @@ size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o) {
   return size_t(m.channels(o)) * (m.raw_depth ? 4 : storage_bytes(o.storage));
 }
 
+EsmClassify classify_mode(const FilterOptions& o) {
+  if (o.esm_classify.mode != EsmClassify::Auto) return o.esm_classify.mode;
+  return find_method(o.method).classifiable ? EsmClassify::ZMax : EsmClassify::None;
+}
+
 float depth_bias(const FilterOptions& o) {
   if (o.depth_test.bias) return *o.depth_test.bias;
   return find_method(o.method).default_depth_bias(o);

@@ -1,6 +1,6 @@
 #pragma once
 // The light of a generated scene (docs/scenes.md) from its shadow map's header, for the soft
-// methods of the measurements (tests/measure).
+// methods of the tests and the measurements (tests/measure).
 #include <OpenImageIO/imageio.h>
 
 #include <cstdlib>

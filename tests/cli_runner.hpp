@@ -22,10 +22,12 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
-// `shadowfilter ARGS`, its output captured through files in `dir` (removed afterwards).
-inline RunResult run_cli(const std::string& args, const std::string& dir) {
+// `shadowfilter ARGS`, its output captured through files in `dir` (removed afterwards); `env`:
+// variable assignments for the command ("NAME=value ...").
+inline RunResult run_cli(const std::string& args, const std::string& dir, const std::string& env = "") {
   const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
+  const std::string cmd =
+      (env.empty() ? "" : env + " ") + std::string(SF_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
   const int status = std::system(cmd.c_str());
   RunResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

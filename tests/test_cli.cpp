@@ -204,6 +204,21 @@ TEST_F(Cli, ArgumentErrors) {
                      "bogus");
 }
 
+// The OpenCL compiler's warnings reach the terminal only with -v: a run that builds every
+// program afresh (an empty cache, PoCL's own kernel cache off) prints no warning on stderr (the
+// driver may still say things of its own, such as PoCL on a POCL_WORK_GROUP_METHOD it does not
+// know); -v runs too.
+TEST_F(Cli, CompilerWarningsOnlyWithVerbose) {
+  const std::string run = "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
+                          " --method vsm -q -o " + path("vis.exr");
+  RunResult r = run_cli(run, dir_, "SHADOWFILTER_CACHE_DIR=" + path("fresh_cache") + " POCL_KERNEL_CACHE=0");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* word : {"warning", "generated", "build log"})
+    EXPECT_EQ(r.err.find(word), std::string::npos) << r.err;
+  r = run_cli(run + " -v", dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST_F(Cli, NeverOverwritesAnInput) {
   const auto before = fs::file_size(path("sm.exr"));
   RunResult r = run_cli(

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "sf_test_env.hpp"
@@ -349,6 +350,33 @@ TEST(Embedding, CompilerWarningsAreOffUnlessAsked) {
   const std::string loud = options_of(rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, base));
   rt.set_compiler_warnings(false);
   EXPECT_EQ(loud.find(" -w"), std::string::npos) << loud;
+}
+
+// With warnings on, a program built from source hands its build log to the sink (the command's
+// -v prints it); off, the sink hears nothing. A macro defined twice in the options warns. The
+// disk cache is off meanwhile: a binary from an earlier run has no log.
+TEST(Embedding, BuildLogsReachTheSinkOnlyWithWarningsOn) {
+  auto& rt = runtime();
+  const char* cache = std::getenv("SHADOWFILTER_CACHE_DIR");
+  const std::string saved = cache ? cache : "";
+  setenv("SHADOWFILTER_CACHE_DIR", "", 1);
+  std::vector<std::string> logs;
+  rt.set_build_log_sink(
+      [&logs](const std::string& files, const std::string& log) { logs.push_back(files + ": " + log); });
+  const std::string twice = "-cl-std=CL1.2 -DSF_TEST_TWICE=1 -DSF_TEST_TWICE=2 -DSF_TEST_SINK=";
+  rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, twice + "0");
+  EXPECT_TRUE(logs.empty()) << logs.front();
+  rt.set_compiler_warnings(true);
+  rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, twice + "1");
+  rt.set_compiler_warnings(false);
+  rt.set_build_log_sink(nullptr);
+  if (cache)
+    setenv("SHADOWFILTER_CACHE_DIR", saved.c_str(), 1);
+  else
+    unsetenv("SHADOWFILTER_CACHE_DIR");
+  ASSERT_EQ(logs.size(), 1u);
+  EXPECT_NE(logs[0].find("pcf.cl: "), std::string::npos) << logs[0];
+  EXPECT_NE(logs[0].find("SF_TEST_TWICE"), std::string::npos) << logs[0];
 }
 
 }  // namespace

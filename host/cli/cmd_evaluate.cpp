@@ -10,6 +10,7 @@
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "shadowfilter/errors.hpp"
+#include "verbose.hpp"
 
 namespace sf::cli {
 
@@ -33,6 +34,7 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
   c->add_option("--device", a.device, "OpenCL device (as for filter)");
   c->add_flag("--no-images", a.no_images, "Write no PNGs");
   c->add_flag("-q,--quiet", a.quiet, "No progress bar and no summary table");
+  add_verbose_flag(*c, a.verbose);
   c->add_flag("--auto", a.auto_args.enabled,
               "Only what each scene requires (no mips / sat when every footprint <= 1), then search "
               "methods, parameters, lookups and storages in estimated-cost order for the fastest "
@@ -72,6 +74,7 @@ int run_evaluate(const EvaluateArgs& a) {
   std::vector<eval::Scene> scenes;
   for (const auto& d : a.dirs) scenes.push_back(eval::load_scene(d));
   auto runtime = Runtime::create(a.device);
+  apply_verbose(*runtime, a.verbose);
   eval::TimingSettings timing{a.warmup, a.runs};
 
   std::vector<eval::Row> all;

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "image_io.hpp"
+#include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
@@ -64,6 +65,7 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   c->add_option("--flags-out", a.flags_out,
                 "With --esm-classify: write the mask of flagged receivers (1 = flagged) here");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  add_verbose_flag(*c, a.verbose);
   add_auto_options(*c, a.auto_args);
   return c;
 }
@@ -95,6 +97,7 @@ int run_filter(const FilterArgs& a) {
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);
+  apply_verbose(*runtime, a.verbose);
   const FilterOptions options = a.auto_args.enabled ? choose_auto_options(a, depth, receivers, runtime) : a.options;
   const auto t_run = Clock::now();
   FilterResult r = filter(runtime, options, depth, receivers);

@@ -41,7 +41,7 @@ struct FilterArgs {
   std::string shadow_map, receivers, receiver_depth, output, device;
   std::string encoding = "linear", nonfinite = "error";
   double near_plane = 0.1, far_plane = 100.0;
-  bool quiet = false;
+  bool quiet = false, verbose = false;
   std::string flags_out;  // --flags-out: ESM classification mask (1 = flagged)
   FilterOptions options;
   AutoArgs auto_args;
@@ -69,7 +69,7 @@ struct EvaluateArgs {
   std::vector<std::string> dirs;
   std::string methods = "all", grid = "quick", out_dir, device, pareto_metric = "rmse";
   int runs = 5, warmup = 1;
-  bool quiet = false, no_images = false;
+  bool quiet = false, no_images = false, verbose = false;
   AutoArgs auto_args;
   int auto_radius = 3;               // --auto target: Gaussian radius
   std::string auto_lookup = "auto";  // --auto target lookup: auto | bilinear | mips | sat

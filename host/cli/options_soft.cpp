@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "image_io.hpp"
+#include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::cli {
@@ -143,6 +144,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--ssmm-n", a.options.ssmm_n, "ssmm: n x n texels per layer")->capture_default_str();
   c->add_option("--device", a.device, "OpenCL device");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  add_verbose_flag(*c, a.verbose);
   return c;
 }
 
@@ -226,6 +228,7 @@ int run_soft(const SoftArgs& a) {
     validate(o);
   }
   auto rt = Runtime::create(a.device);
+  apply_verbose(*rt, a.verbose);
   const auto t1 = std::chrono::steady_clock::now();
   const SoftResult r = soft_filter_lights(rt, opt, lights);
   const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();

@@ -18,7 +18,7 @@ struct SoftArgs {
          light_extent = std::numeric_limits<double>::quiet_NaN();
   std::string lookup = "sat";
   std::vector<float> sharpen;
-  bool quiet = false;
+  bool quiet = false, verbose = false;
   SoftOptions options;
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);

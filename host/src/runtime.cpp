@@ -195,6 +195,11 @@ void Runtime::set_without_fp64(bool without) { info_.fp64 = device_fp64_ && !wit
 
 void Runtime::set_compiler_warnings(bool on) { compiler_warnings_ = on; }
 
+void Runtime::set_build_log_sink(BuildLogSink sink) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  build_log_sink_ = std::move(sink);
+}
+
 bool Runtime::compiler_warnings_from_env() {
   const char* v = std::getenv("SHADOWFILTER_CL_WARNINGS");
   return v && std::string(v) == "1";
@@ -257,18 +262,18 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     }
   }
 
+  std::string file_list;
+  for (const auto& f : files) file_list += (file_list.empty() ? "" : " ") + f;
   cl::Program p(context_, source);
   try {
     p.build({device_}, options.c_str());
   } catch (const cl::Error&) {
     std::string log = p.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
-    throw DeviceError("OpenCL build of [" +
-                      [&] {
-                        std::string n;
-                        for (const auto& f : files) n += (n.empty() ? "" : " ") + f;
-                        return n;
-                      }() +
-                      "] with '" + options + "' failed:\n" + one_line(log));
+    throw DeviceError("OpenCL build of [" + file_list + "] with '" + options + "' failed:\n" + one_line(log));
+  }
+  if (compiler_warnings_ && build_log_sink_) {
+    const std::string log = p.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+    if (log.find_first_not_of(" \t\r\n") != std::string::npos) build_log_sink_(file_list, log);
   }
   if (!dir.empty()) {
     auto bins = p.getInfo<CL_PROGRAM_BINARIES>();

@@ -3,6 +3,7 @@
 // A Runtime either creates its own context/queue (CLI, tests) or wraps a caller's.
 #include "shadowfilter/opencl.hpp"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -55,6 +56,11 @@ class Runtime {
   // the caller's input and would reach every user's terminal. On to see them: this, or
   // SHADOWFILTER_CL_WARNINGS=1 in the environment. Programs built from here on follow it.
   void set_compiler_warnings(bool on);
+  // Where the warnings go while they are on: every program built from source with a non-empty
+  // build log passes its kernel file names and the log here (the command's -v prints them).
+  // Unset, the log stays with the driver. Programs loaded from the binary cache have no log.
+  using BuildLogSink = std::function<void(const std::string& files, const std::string& log)>;
+  void set_build_log_sink(BuildLogSink sink);
 
   // Builds (or fetches from the in-memory and disk caches) a program made of the named embedded
   // kernel files concatenated in order (e.g. {"common.clh", "methods/esm.clh", "transform.cl"}),
@@ -74,6 +80,7 @@ class Runtime {
   bool profiling_ = false;
   static bool compiler_warnings_from_env();
   bool compiler_warnings_ = compiler_warnings_from_env();
+  BuildLogSink build_log_sink_;
   std::mutex mutex_;
   std::map<std::string, cl::Program> programs_;  // key: file names and build options
 };

@@ -1,0 +1,22 @@
+#include "verbose.hpp"
+
+#include <cstdio>
+
+namespace sf::cli {
+
+void add_verbose_flag(CLI::App& c, bool& verbose) {
+  c.add_flag("-v,--verbose", verbose,
+             "Print the OpenCL compiler's warnings about the kernels built in this run (kernels from the "
+             "binary cache were built before: SHADOWFILTER_CACHE_DIR= with no value disables it)");
+}
+
+void apply_verbose(Runtime& rt, bool verbose) {
+  if (!verbose) return;
+  rt.set_compiler_warnings(true);
+  rt.set_build_log_sink([](const std::string& files, const std::string& log) {
+    std::fprintf(stderr, "shadowfilter: OpenCL build log of [%s]:\n%s%s", files.c_str(), log.c_str(),
+                 log.empty() || log.back() == '\n' ? "" : "\n");
+  });
+}
+
+}  // namespace sf::cli

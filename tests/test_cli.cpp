@@ -204,6 +204,23 @@ TEST_F(Cli, ArgumentErrors) {
                      "bogus");
 }
 
+// Every number option of every command must be finite (and --blur-sigma positive, above): NaN,
+// infinities and values past the float range are input errors, never a silent default.
+TEST_F(Cli, NonFiniteNumbersAreInputErrors) {
+  const std::string filter = "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " ";
+  for (const char* option : {"--esm-c nan", "--esm-c inf", "--lbr -inf", "--bias nan", "--esm-zmax-offset nan",
+                             "--esm-threshold-eps inf", "--csm-alpha 1e50", "--near nan", "--vsm-min-variance nan",
+                             "--receiver-plane-max-slope inf", "--max-error nan", "--sref-bias nan"})
+    expect_input_error(filter + option,
+                       std::string(option).substr(0, std::string(option).find(' ')) + ": must be a finite number");
+  expect_input_error(filter + "--esm-c -5", "--esm-c must be a positive number");
+  expect_input_error("soft --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --light-size nan",
+                     "--light-size: must be a finite number");
+  expect_input_error("evaluate " + dir_ + " --max-error inf", "--max-error: must be a finite number");
+  expect_input_error("scene spheres --light-size nan", "--light-size: must be a finite number");
+  expect_input_error("scene spheres --light-dir 1,nan,0", "--light-dir: must be a finite number");
+}
+
 // The OpenCL compiler's warnings reach the terminal only with -v: a run that builds every
 // program afresh (an empty cache, PoCL's own kernel cache off) prints no warning on stderr (the
 // driver may still say things of its own, such as PoCL on a POCL_WORK_GROUP_METHOD it does not

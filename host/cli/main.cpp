@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "finite_numbers.hpp"
 #include "option_names.hpp"
 #include "options_soft.hpp"
 #include "shadowfilter/errors.hpp"
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   CLI::App* evaluate = sf::cli::add_evaluate_command(app, evaluate_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
+  sf::cli::require_finite_numbers(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -58,6 +58,7 @@ size_t joined_level0_bytes(const Runtime& rt, const ImageShape& shape) {
 BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int width, int height) try {
   if (width <= 0 || height <= 0)
     throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" + std::to_string(height));
+  require_finite_options(options);
   const MethodDesc& method = find_method(options.method);
   method.validate(options);
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius

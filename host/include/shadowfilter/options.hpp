@@ -172,4 +172,8 @@ struct FilterOptions {
   bool facing_away_shadowed = true;
 };
 
+// Throws InputError naming the first floating-point field of `o` that is not finite (every
+// field, whether the method reads it or not: a NaN is never a default).
+void require_finite_options(const FilterOptions& o);
+
 }  // namespace sf

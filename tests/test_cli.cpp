@@ -204,6 +204,28 @@ TEST_F(Cli, ArgumentErrors) {
                      "bogus");
 }
 
+// Lookups that cannot hold the map (docs/numerics.md, "Lookup limits") are refused before
+// anything runs: exit 2, one line naming the limit and what to use instead, no output. At the
+// limit the same lookup runs. sm.exr holds depths 0.2 and 0.7 on 24 x 16 texels, where the table
+// holds esm's c (zmax - zmin) up to 16.9.
+TEST_F(Cli, RefusedLookupsExitTwoAndWriteNothing) {
+  const std::string in = "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr");
+  expect_input_error(in + " --method esm --esm-c 80 --lookup sat", "--lookup sat cannot hold esm with --esm-c 80");
+  expect_input_error(in + " --method esm --lookup sat", "exp(40); use --lookup mips or --esm-c <= 33.");
+  expect_input_error(in + " --method evsm2 --lookup sat", "--lookup sat cannot hold evsm2 with --evsm-pos 40");
+  expect_input_error(in + " --method evsm4 --lookup sat --evsm-pos 1 --evsm-neg 42", "with --evsm-neg 42");
+  // Depths up to 1 at c = 174: the table's float32 sums would overflow.
+  HostImage far(24, 16, 1, 1.0f);
+  far.at(3, 3) = 0.95f;
+  io::write_image(path("far.exr"), far);
+  expect_input_error(
+      "filter --shadow-map " + path("far.exr") + " --receiver-depth " + path("rd.exr") + " --esm-c 174 --lookup sat",
+      "float32 entries would overflow");
+  const RunResult r = run_cli(in + " --method esm --esm-c 33 --lookup sat -o " + path("limit.exr"), dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(path("limit.exr")));
+}
+
 // Every number option of every command must be finite (and --blur-sigma positive, above): NaN,
 // infinities and values past the float range are input errors, never a silent default.
 TEST_F(Cli, NonFiniteNumbersAreInputErrors) {

@@ -36,10 +36,12 @@ Points random_points(size_t n, unsigned seed) {
   return p;
 }
 
+// c = 40, or 15 with sat: on these maps (depths 0.2 .. 0.9) the table holds c (zmax - zmin) up
+// to about 13.5 (docs/numerics.md, "Lookup limits"), and sf::filter and the Pipeline refuse more.
 FilterOptions esm_options(Lookup lookup, int radius) {
   FilterOptions o;
   o.method = "esm";
-  o.esm.c = 40;
+  o.esm.c = lookup == Lookup::Sat ? 15.0f : 40.0f;
   o.blur.radius = radius;
   o.lookup.kind = lookup;
   // The reconstruction alone, as a caller's own kernel computes it (esm classifies by default).

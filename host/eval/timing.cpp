@@ -5,6 +5,7 @@
 
 #include "eval_util.hpp"
 #include "evaluate.hpp"
+#include "shadowfilter/depth_range.hpp"
 
 namespace sf::eval {
 
@@ -16,7 +17,11 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
                  const TimingSettings& t) {
   using Clock = std::chrono::steady_clock;
   const Receivers& r = scene.receivers;
-  Pipeline pipe(rt, o, scene.depth.width, scene.depth.height);  // validates, may throw InputError
+  // The map's depth range from the host copy: refused lookups throw here, and prefilter() runs
+  // no range reduction inside the timed loop.
+  FilterOptions run = o;
+  if (!run.depth_range) run.depth_range = depth_range(scene.depth);
+  Pipeline pipe(rt, run, scene.depth.width, scene.depth.height);  // validates, may throw InputError
   auto& q = rt->queue();
   auto up = [&](const std::vector<float>& h) {
     cl::Buffer b(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));

@@ -29,6 +29,8 @@ void require_finite_options(const FilterOptions& o) {
   };
   for (const auto& [name, value] : fields)
     if (!std::isfinite(value)) throw InputError(std::string(name) + " must be a finite number");
+  if (o.depth_range && (std::isnan(o.depth_range->min) || std::isnan(o.depth_range->max)))
+    throw InputError("FilterOptions::depth_range must not be NaN (min > max: a map without finite depths)");
 }
 
 }  // namespace sf

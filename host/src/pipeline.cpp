@@ -7,6 +7,7 @@
 
 #include "cl_errors.hpp"
 #include "shadowfilter/classify.hpp"
+#include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf {
@@ -62,6 +63,12 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
   const MethodDesc& method = find_method(options.method);
   method.validate(options);
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
+  // A stated depth range is checked here, before anything is allocated; else prefilter() checks
+  // each map's own.
+  if (options.depth_range) {
+    const std::string why = sat_refusal(options, SatMap{*options.depth_range, width, height, rt.info().fp64});
+    if (!why.empty()) throw InputError(why);
+  }
   BufferPlan plan;
   plan.shape = {width, height, method.channels(options), method.raw_depth ? 4 : storage_bytes(options.storage)};
   const ImageShape& shape = plan.shape;
@@ -119,6 +126,13 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
+  // Without a stated range, a lookup whose limit depends on it measures this map first
+  // (blocking) and refuses it before anything is enqueued.
+  if (sat_() && !options_.depth_range && method_->sat_limit) {
+    const MapRange range = depth_range(*rt_, depth, shape_.plane_texels(), wait);
+    const std::string why = sat_refusal(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
+    if (!why.empty()) throw InputError(why);
+  }
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
   transform_done_ =
@@ -235,7 +249,11 @@ FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& optio
                     const Receivers& receivers) try {
   Runtime& rt = *runtime;
   if (depth.channels != 1) throw InputError("depth map must have one channel");
-  Pipeline pipe(std::move(runtime), options, depth.width, depth.height);  // keeps the runtime alive
+  // The map's depth range from the host copy: the pipeline checks the lookup's limits before it
+  // allocates anything, and prefilter() needs no device reduction.
+  FilterOptions run = options;
+  if (!run.depth_range) run.depth_range = depth_range(depth);
+  Pipeline pipe(std::move(runtime), run, depth.width, depth.height);  // keeps the runtime alive
 
   FilterResult result;
   const size_t count = receivers.count();

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "shadowfilter/options.hpp"
+#include "shadowfilter/sat_precision.hpp"
 
 namespace sf {
 
@@ -79,6 +80,10 @@ struct MethodDesc {
   std::function<std::string(const FilterOptions&)> defines;
   // Checks the options against the method's limits; throws InputError naming the limit.
   std::function<void(const FilterOptions&)> validate;
+  // Where the summed-area table (Lookup::Sat) cannot hold this method's basis on `map` within the
+  // documented error (sat_precision.hpp): a one-line refusal naming the limit and what to use
+  // instead; "" where it can. Empty for bases that need none.
+  std::function<std::string(const FilterOptions&, const SatMap& map)> sat_limit;
   // The bytes of sf_method_params for these options (passed by value to the kernels).
   std::function<std::vector<uint8_t>(const FilterOptions&)> pack_params;
   // The depth bias when FilterOptions::depth_test.bias is unset.
@@ -104,6 +109,9 @@ struct MethodDesc {
 };
 
 const std::vector<MethodDesc>& methods();
+// The method's sat_limit for these options on `map` ("" when the lookup is not sat or the
+// method has no limit there).
+std::string sat_refusal(const FilterOptions& o, const SatMap& map);
 // Bytes of basis images per shadow-map texel for these options (channels x storage bytes).
 size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o);
 // The depth bias in effect: FilterOptions::depth_test.bias, else the method's default.

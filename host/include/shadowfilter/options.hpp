@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include "shadowfilter/map_range.hpp"
+
 namespace sf {
 
 struct EsmOptions {
@@ -170,6 +172,12 @@ struct FilterOptions {
   // sf::filter: receivers whose ndl (the receiver image's fifth channel) is <= 0 face away from
   // the light and get visibility 0, as the ray-traced references have them (sf::shadow_facing_away).
   bool facing_away_shadowed = true;
+  // The depth range of the maps this pipeline filters, where a lookup's limit depends on it (esm
+  // and evsm with sat: MethodDesc::sat_limit). Set, the Pipeline checks it when it is built
+  // (a range narrower than a map's voids the error bound for that map); unset, prefilter()
+  // measures each map on the device first (a blocking reduction, depth_range.hpp). sf::filter
+  // sets it from the host map.
+  std::optional<MapRange> depth_range;
 };
 
 // Throws InputError naming the first floating-point field of `o` that is not finite (every

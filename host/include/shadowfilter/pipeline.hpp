@@ -80,7 +80,11 @@ class Pipeline {
   // InputError when the options are invalid or the buffers do not fit the device.
   Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height);
 
-  // Transform + blur of a depth map (width*height floats, linear [0,1]).
+  // Transform + blur of a depth map (width*height floats, linear [0,1]). Where the lookup's
+  // limit depends on the map's depth range (esm, evsm with sat: MethodDesc::sat_limit) and
+  // FilterOptions::depth_range is unset, it first reads the map's range back from the device (a
+  // blocking reduction, depth_range.hpp) and throws InputError, enqueuing nothing, when the
+  // lookup cannot hold it; state the range in the options to keep prefilter() asynchronous.
   cl::Event prefilter(const cl::Buffer& depth, const EventList* wait = nullptr);
   // Visibility per receiver into `visibility` (rx.count floats).
   cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
@@ -126,7 +130,9 @@ class Pipeline {
 // Checks that `bytes` in one buffer and `total` bytes overall fit the runtime's device.
 void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, const std::string& what);
 
-// Convenience for host data (what the CLI uses): uploads, runs, downloads.
+// Convenience for host data (what the CLI uses): uploads, runs, downloads. The map's depth range
+// (FilterOptions::depth_range, when unset) comes from the host copy, so a lookup that cannot
+// hold it is refused before anything runs.
 struct FilterResult {
   HostImage visibility;  // receivers.width x receivers.height, 1 channel
   StageTimes times;

@@ -14,6 +14,8 @@ constexpr float kMaxCFloat32 = 174.0f;
 constexpr float kMaxCFloat16 = 22.0f;
 // Where a grid or table puts esm in f16: the largest round exponent under the limit.
 constexpr float kFloat16GridC = 20.0f;
+// The summed-area table's share of the visibility error (docs/numerics.md, "Lookup limits").
+constexpr double kSatVisibilityError = 1e-3;
 
 }  // namespace
 
@@ -40,6 +42,15 @@ MethodDesc esm_method() {
         << (half ? " (exp(c/2) must stay below 65504, the largest half)" : " (exp(c/2) must stay a normal float)");
       throw InputError(s.str());
     }
+  };
+  // v = bar(B') exp(c (1/2 - d)) moves by the relative error of the box mean bar(B') times v (and
+  // no more once clamped at 1): box means within kSatVisibilityError keep the table's share of
+  // the error there. B' = exp(c (z - 1/2)) lies in [exp(c (zmin - 1/2)), exp(c (zmax - 1/2))].
+  m.sat_limit = [](const FilterOptions& o, const SatMap& map) {
+    const MapRange r = map.range;
+    auto ranges = [r](double c) { return std::vector<LogRange>{{c * (r.min - 0.5), c * (r.max - 0.5)}}; };
+    return sat_exponential_refusal("esm", "FilterOptions::esm.c", o.esm.c, ranges, map, kSatVisibilityError,
+                                   "a visibility error of 0.001");
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(sf_esm_params{o.esm.c}); };
   m.defines = [](const FilterOptions&) { return std::string(); };

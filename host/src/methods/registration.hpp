@@ -3,6 +3,7 @@
 // the small helpers they validate and pack with.
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -37,6 +38,21 @@ inline std::string num(double v) {
 inline void require_finite(float v, const char* field) {
   if (!std::isfinite(v)) throw InputError(std::string(field) + " must be a finite number");
 }
+
+// ln of the least and largest magnitude of one basis channel over a map.
+struct LogRange {
+  double lo, hi;
+};
+
+// The refusal of a basis of exponentials on `map` when the summed-area table cannot hold one of
+// its channels within `relative_error` (sat_precision.hpp); "" when it can. `log_ranges(c)` gives
+// the channels' LogRanges over map.range for the exponent c, which `exponent` names
+// ("FilterOptions::esm.c"), and `keeps` says what the tolerance keeps ("a visibility error of
+// 0.001"). The message names the limit passed and the largest exponent within all of them (every
+// limit holds for a smaller c once it holds for c: the magnitudes' logarithms scale with c).
+std::string sat_exponential_refusal(const std::string& method, const char* exponent, double c,
+                                    const std::function<std::vector<LogRange>(double c)>& log_ranges, const SatMap& map,
+                                    double relative_error, const std::string& keeps);
 
 // The storage must be one the method lists (MethodDesc::storages); `why` says why the others
 // do not work.

@@ -1,6 +1,8 @@
 // The registry's list, lookups by name and storage, and the storage formats.
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "registration.hpp"
 
@@ -70,6 +72,57 @@ void check_storage(const MethodDesc& m, const FilterOptions& o, const std::strin
                    " (it accepts " + m.storage_list() + ")" + (why.empty() ? "" : ": " + why));
 }
 
+namespace {
+
+// Why the table cannot hold channels of these ranges ("" when it can).
+std::string sat_reason(const std::vector<LogRange>& channels, const SatMap& map, double relative_error,
+                       const std::string& keeps) {
+  std::ostringstream s;
+  s << std::setprecision(3);
+  for (const LogRange& r : channels) {
+    if (r.hi > sat_max_log_value(map)) {
+      s << "its float32 entries would overflow: " << map.texels() << " texels of values up to exp(" << r.hi
+        << ") sum past exp(" << sat_max_log_value(map) + std::log(double(map.texels())) << ")";
+      return s.str();
+    }
+    if (r.hi - r.lo > sat_max_log_ratio(map, relative_error)) {
+      s << "its box means keep " << keeps << " for values spanning up to exp(" << sat_max_log_ratio(map, relative_error)
+        << ") on a map of this size, and these span exp(" << r.hi - r.lo << ")";
+      return s.str();
+    }
+    if (r.lo < sat_min_log_value(relative_error)) {
+      s << "its float32 entries resolve values down to exp(" << sat_min_log_value(relative_error) << ") for " << keeps
+        << ", and these go down to exp(" << r.lo << ")";
+      return s.str();
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string sat_exponential_refusal(const std::string& method, const char* exponent, double c,
+                                    const std::function<std::vector<LogRange>(double c)>& log_ranges, const SatMap& map,
+                                    double relative_error, const std::string& keeps) {
+  const std::string why = sat_reason(log_ranges(c), map, relative_error, keeps);
+  if (why.empty()) return {};
+  // The largest exponent within every limit, by bisection, rounded down to 3 digits.
+  double ok = 0, bad = c;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (ok + bad);
+    (sat_reason(log_ranges(mid), map, relative_error, keeps).empty() ? ok : bad) = mid;
+  }
+  std::ostringstream s;
+  s << std::setprecision(3) << "FilterOptions::lookup.kind sat cannot hold " << method << " with " << exponent << " "
+    << c << " on this " << map.width << "x" << map.height << " map (depths " << map.range.min << " to " << map.range.max
+    << "): " << why << "; use FilterOptions::lookup.kind mips";
+  if (ok > 0) {
+    const double step = std::pow(10.0, std::floor(std::log10(ok)) - 2);
+    s << " or " << exponent << " <= " << std::floor(ok / step) * step;
+  }
+  return s.str();
+}
+
 std::vector<StorageLimit> plain_storages(std::initializer_list<Storage> list) {
   std::vector<StorageLimit> out;
   for (Storage s : list) out.push_back({s, "", {}});
@@ -95,6 +148,12 @@ const std::vector<MethodDesc>& methods() {
       csm_method(),
   };
   return all;
+}
+
+std::string sat_refusal(const FilterOptions& o, const SatMap& map) {
+  const MethodDesc& m = find_method(o.method);
+  if (m.raw_depth || o.lookup.kind != Lookup::Sat || !m.sat_limit) return {};
+  return m.sat_limit(o, map);
 }
 
 size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o) {

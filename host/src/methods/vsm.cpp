@@ -12,6 +12,9 @@ namespace {
 // c <= 44.3, and 42 leaves room for the Chebyshev sums; float16: ln(65504) / 2 = 5.54.
 constexpr float kEvsmMaxFloat32 = 42.0f;
 constexpr float kEvsmMaxFloat16 = 5.54f;
+// The relative error a float32 lookup leaves in a moment (a few ulps: 2^-21), which the
+// summed-area table may not exceed (docs/numerics.md, "Lookup limits").
+constexpr double kSatRelativeError = 1.0 / (1 << 21);
 
 float evsm_limit(Storage s) { return s == Storage::F16 ? kEvsmMaxFloat16 : kEvsmMaxFloat32; }
 
@@ -124,6 +127,25 @@ MethodDesc evsm_method(int channels) {
     if (o.evsm.pos == 0.0f || !std::isfinite(o.evsm.pos) || o.evsm.neg == 0.0f || !std::isfinite(o.evsm.neg))
       throw InputError(
           "FilterOptions::evsm.pos and FilterOptions::evsm.neg must be positive numbers (negative = the default)");
+  };
+  // The Chebyshev bound amplifies relative errors of the moments by up to 1 / (v_min c)^2 (the
+  // variance floor, relative to t^2): float32 lookups already carry a few ulps, and that is what
+  // evsm's error bound covers (docs/numerics.md). The table may add no more: box means within
+  // kSatRelativeError. With w = 2z - 1 over [wmin, wmax], the positive moments exp(c w), exp(2 c w)
+  // and the negative ones' magnitudes exp(-c w), exp(-2 c w).
+  m.sat_limit = [four](const FilterOptions& o, const SatMap& map) {
+    const sf_evsm_params p = evsm_params(o);
+    const double wmin = 2.0 * map.range.min - 1.0, wmax = 2.0 * map.range.max - 1.0;
+    auto positive = [=](double c) { return std::vector<LogRange>{{c * wmin, c * wmax}, {2 * c * wmin, 2 * c * wmax}}; };
+    auto negative = [=](double c) {
+      return std::vector<LogRange>{{-c * wmax, -c * wmin}, {-2 * c * wmax, -2 * c * wmin}};
+    };
+    const std::string name = four ? "evsm4" : "evsm2", keeps = "the precision of float32 lookups";
+    std::string why =
+        sat_exponential_refusal(name, "FilterOptions::evsm.pos", p.pos, positive, map, kSatRelativeError, keeps);
+    if (why.empty() && four)
+      why = sat_exponential_refusal(name, "FilterOptions::evsm.neg", p.neg, negative, map, kSatRelativeError, keeps);
+    return why;
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(evsm_params(o)); };
   m.defines = [](const FilterOptions&) { return std::string(); };

@@ -29,6 +29,9 @@ int run_methods(const MethodsArgs&) {
     std::cout << "\n    basis: " << ch << " channel(s)";
     if (!m.channels_note.empty()) std::cout << " with the defaults (" << m.channels_note << " in general)";
     std::cout << "; bytes per texel by --storage: " << mem.str() << " (twice that while prefiltering)\n";
+    if (m.sat_limit)
+      std::cout << "    --lookup sat: refused past a limit on exp(c (zmax - zmin)) that follows the map's depth range "
+                   "and size (docs/numerics.md, \"Lookup limits\")\n";
   }
   return 0;
 }

@@ -78,7 +78,8 @@ std::string refusal_of(const FilterOptions& o, const HostImage& m, const Receive
 }
 
 TEST(LookupLimits, SatRefusalNamesTheLimitAndTheWayOut) {
-  FilterOptions o;  // esm, c = 80
+  FilterOptions o;
+  o.esm.c = 80.0f;
   o.lookup.kind = Lookup::Sat;
   const HostImage m = limit_map(64, 0.2f, 0.7f);
   const Receivers rx = limit_receivers(m, 10);
@@ -95,6 +96,7 @@ TEST(LookupLimits, SatRefusalNamesTheLimitAndTheWayOut) {
   for (const char* method : {"evsm2", "evsm4"}) {
     FilterOptions e;
     e.method = method;
+    e.evsm.pos = 40.0f;
     e.lookup.kind = Lookup::Sat;
     why = refusal_of(e, m, rx);
     EXPECT_NE(why.find(std::string(method) + " with FilterOptions::evsm.pos 40"), std::string::npos) << why;
@@ -169,6 +171,10 @@ TEST(LookupLimits, SatAtTheLimitMeetsItsBound) {
       FilterOptions o;
       o.method = method;
       o.lookup.kind = Lookup::Sat;
+      o.esm.c = 80.0f;
+      o.evsm.pos = 40.0f;
+      o.vsm.min_variance = 1e-4f;               // evsm's relative floor of the bound below
+      o.esm_classify.mode = EsmClassify::None;  // the double twin has no classification stage
       const bool esm = o.method == "esm";
       const float span = widest_span(o, 128, 0.8f);
       ASSERT_GT(span, 0.0f) << method;

@@ -15,6 +15,7 @@ void require_finite_options(const FilterOptions& o) {
       {"FilterOptions::esm.c", o.esm.c},
       {"FilterOptions::depth_test.bias", o.depth_test.bias.value_or(0.0f)},
       {"FilterOptions::receiver_plane.max_slope", o.receiver_plane.max_slope},
+      {"FilterOptions::receiver_plane.slope_bias", o.receiver_plane.slope_bias},
       {"FilterOptions::vsm.min_variance", o.vsm.min_variance},
       {"FilterOptions::vsm.lbr", o.vsm.lbr},
       {"FilterOptions::evsm.pos", o.evsm.pos},

@@ -76,26 +76,19 @@ inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, c
 }
 
 
-// One receiver: returns whether it is flagged; `vis` is replaced by the fall-back if so.
-// box: the lookup's support before the prefilter (zmax mode); b: the filtered basis as the
-// reconstruction read it (threshold mode); p: the receiver's plane (the fall-back's test, with
-// the plane's slope-scaled bias as sm and pcf have it).
-inline bool sf_classify(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
-                        __global const float* restrict sat, __global const float* restrict depth,
-                        __global const float* restrict zchain, int W, int H, const sf_plane* p,
-                        int4 box, const float* b, const sf_classify_params C, const sf_method_params P,
-                        const sf_plane_params PP, float* vis) {
-  const float d = p->d;
-  bool flag;
+// Whether one receiver at depth d is flagged. box: the lookup's support before the prefilter
+// (zmax mode); b: the filtered basis as the reconstruction read it (threshold mode). A flagged
+// receiver's fall-back (sf_esm_pcf2x2) tests against its plane, which only flagged receivers
+// compute.
+inline bool sf_classify(__global const float* restrict depth, __global const float* restrict zchain, int W,
+                        int H, float d, int4 box, const float* b, const sf_classify_params C,
+                        const sf_method_params P) {
   if (C.mode == SF_CLASSIFY_ZMAX) {
     box = (int4)(max(box.x - C.radius, 0), max(box.y - C.radius, 0), min(box.z + C.radius, W - 1),
                  min(box.w + C.radius, H - 1));
-    flag = sf_zmax_box(depth, zchain, W, H, box) > d + C.offset;
-  } else {
-    flag = log(fmax(b[0], FLT_MIN)) - P.c * (d - 0.5f) > C.log_thresh;
+    return sf_zmax_box(depth, zchain, W, H, box) > d + C.offset;
   }
-  if (flag) *vis = sf_esm_pcf2x2(depth, W, H, p, sf_plane_bias(p, 0.0f, PP), P.c);
-  return flag;
+  return log(fmax(b[0], FLT_MIN)) - P.c * (d - 0.5f) > C.log_thresh;
 }
 
 __kernel void sf_esm_classify_points(
@@ -116,13 +109,13 @@ __kernel void sf_esm_classify_points(
   const float fi = f ? f[i] : 1.0f;
   float b[SF_CHANNELS] = {0.0f};
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
-  float vis = 0.0f;
-  const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi,
-                                              clamp(di, 0.0f, 1.0f), PP);
-  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, &p, sf_support(W, H, ui, vi, fi),
-                                b, C, P, PP, &vis);
+  const float dd = clamp(di, 0.0f, 1.0f);
+  const bool flag = sf_classify(depth, zchain, W, H, dd, sf_support(W, H, ui, vi, fi), b, C, P);
   flags[i] = flag ? 1 : 0;
-  if (flag) out[i] = clamp(vis, 0.0f, 1.0f);
+  if (flag) {
+    const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, PP);
+    out[i] = clamp(sf_esm_pcf2x2(depth, W, H, &p, sf_plane_bias(&p, 0.0f, PP), P.c), 0.0f, 1.0f);
+  }
 }
 
 // --receiver-depth mode: receivers at texel centres, footprint 1.
@@ -143,10 +136,11 @@ __kernel void sf_esm_classify_grid(
   const float ui = ((float)x + 0.5f) / (float)W, vi = ((float)y + 0.5f) / (float)H;
   float b[SF_CHANNELS] = {0.0f};
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
-  float vis = 0.0f;
-  const sf_plane p = sf_receiver_plane_grid(d, depth, W, H, x, y, clamp(di, 0.0f, 1.0f), PP);
-  const bool flag = sf_classify(basis, chain, sat, depth, zchain, W, H, &p, (int4)(x, y, x, y), b, C, P,
-                                PP, &vis);
+  const float dd = clamp(di, 0.0f, 1.0f);
+  const bool flag = sf_classify(depth, zchain, W, H, dd, (int4)(x, y, x, y), b, C, P);
   flags[i] = flag ? 1 : 0;
-  if (flag) out[i] = clamp(vis, 0.0f, 1.0f);
+  if (flag) {
+    const sf_plane p = sf_receiver_plane_grid(d, depth, W, H, x, y, dd, PP);
+    out[i] = clamp(sf_esm_pcf2x2(depth, W, H, &p, sf_plane_bias(&p, 0.0f, PP), P.c), 0.0f, 1.0f);
+  }
 }

@@ -25,7 +25,7 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# Main job: ESM (its defaults: c = 160 with z-max classification) with a Gaussian prefilter on
+# Main job: ESM (its defaults: c = 120 with z-max classification) with a Gaussian prefilter on
 # the bundled default scene.
 run: build
 	@mkdir -p $(OUT)

@@ -211,7 +211,7 @@ TEST_F(Cli, ArgumentErrors) {
 TEST_F(Cli, RefusedLookupsExitTwoAndWriteNothing) {
   const std::string in = "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr");
   expect_input_error(in + " --method esm --esm-c 80 --lookup sat", "--lookup sat cannot hold esm with --esm-c 80");
-  expect_input_error(in + " --method esm --lookup sat", "exp(80); use --lookup mips or --esm-c <= 33.");
+  expect_input_error(in + " --method esm --lookup sat", "exp(60); use --lookup mips or --esm-c <= 33.");
   expect_input_error(in + " --method evsm2 --evsm-pos 40 --lookup sat",
                      "--lookup sat cannot hold evsm2 with --evsm-pos 40");
   expect_input_error(in + " --method evsm4 --lookup sat --evsm-pos 1 --evsm-neg 42", "with --evsm-neg 42");

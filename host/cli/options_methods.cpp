@@ -14,7 +14,7 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option_function<float>(
       "--bias", [&o](float b) { o.depth_test.bias = b; },
       "Depth bias b for sm, pcf (H(z - d_t + b)) and msm (default: sm, pcf 0.003 with the receiver plane, "
-      "0 without; msm 0, msm-hausdorff 0.001, unorm16: measured)");
+      "0 without; msm 0, msm-hausdorff 3e-4, unorm16: measured)");
   c.add_option_function<std::string>(
       "--receiver-plane",
       [&o](const std::string& s) {

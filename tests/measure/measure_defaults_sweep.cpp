@@ -367,7 +367,7 @@ sweep::Row measure_row(const DeviceScene& ds, const std::string& method, const s
 void run_group(const DeviceScene& ds, const MethodDesc& m, const std::vector<FilterCandidate>& group,
                const std::function<void(const FilterCandidate&, const std::vector<float>&)>& take) {
   const FilterOptions& first = group.front().options;
-  if (first.esm_classify.mode != EsmClassify::None && group.size() > 1)
+  if (classify_mode(first) != EsmClassify::None && group.size() > 1)
     throw std::logic_error("a classifying pipeline setting cannot share its basis (the stage runs in reconstruct())");
   if (first.lookup.kind != Lookup::Bilinear) throw std::logic_error("the sweep shares bilinear bases only");
   const int w = ds.scene.depth.width, h = ds.scene.depth.height;

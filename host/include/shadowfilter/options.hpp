@@ -10,10 +10,10 @@ namespace sf {
 
 struct EsmOptions {
   // Exponent c of exp(c z). Larger: sharper, less light leaking, but a wider failure band near
-  // contact, which the default classification (EsmClassifyOptions) hands to its fall-back. 160 is
+  // contact, which the default classification (EsmClassifyOptions) hands to its fall-back. 120 is
   // the measured default with z-max classification (docs/results.md "Defaults sweep"; the seed's
   // float32 value is 80); the centred storage holds c <= 174 in float32.
-  float c = 160.0f;
+  float c = 120.0f;
 };
 
 // Storage format of the basis images (kernels/storage.clh). Filters compute in float whatever
@@ -26,7 +26,7 @@ int storage_bytes(Storage s);               // bytes per stored value
 // Depth bias b of the methods that test depths directly (sm, pcf: H(z - d_t + b); msm: the
 // receiver depth becomes d - b). Unset = the method's default (depth_bias() in methods.hpp),
 // measured (docs/results.md "Defaults sweep"): sm and pcf 0.003 against the receiver plane (0
-// without it, where they equal s_ref of d), msm 0 and msm-hausdorff 0.001 in float32; msm in
+// without it, where they equal s_ref of d), msm 0 and msm-hausdorff 3e-4 in float32; msm in
 // unorm16 needs a small bias to keep flat receivers lit through the quantisation (docs/methods.md).
 struct DepthTestOptions {
   std::optional<float> bias;
@@ -72,8 +72,9 @@ struct EvsmOptions {
 
 struct MsmOptions {
   // Moment bias a: b = (1 - a) bar(B) + a (1/2, ...). Negative = the storage's default,
-  // 1e-4 in float32 (measured, docs/results.md "Defaults sweep"; Peters & Klein suggest 3e-5) and
-  // 6e-5 in unorm16 (Peters & Klein 2015 with the optimised quantisation).
+  // in float32 1e-4 for msm and 1e-3 for msm-hausdorff (measured, docs/results.md "Defaults
+  // sweep"; Peters & Klein suggest 3e-5) and 6e-5 in unorm16 (Peters & Klein 2015 with the
+  // optimised quantisation).
   float moment_bias = -1.0f;
 };
 

@@ -26,7 +26,7 @@ MethodDesc esm_method() {
   m.header = "methods/esm.clh";
   m.classifiable = true;
   m.channel_count = [](const FilterOptions&) { return 1; };
-  m.parameters = "--esm-c C (default 80; limit 174 in f32, 22 in f16)";
+  m.parameters = "--esm-c C (default 120; limit 174 in f32, 22 in f16), --esm-classify (default zmax)";
   m.storages = {{Storage::F32, "c <= 174", {}},
                 {Storage::F16, "c <= 22", [](FilterOptions& o) { o.esm.c = std::min(o.esm.c, kFloat16GridC); }}};
   m.validate = [m](const FilterOptions& o) {

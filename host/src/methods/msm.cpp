@@ -99,13 +99,15 @@ constexpr float kUnorm16DepthBias = 1e-4f;
 // Measured float32 defaults (docs/results.md "Defaults sweep": the lowest worst RMSE against the
 // ray-traced soft shadows over the built-in scenes and a scanned mesh at 512 and 2048 maps): a
 // moment bias of 1e-4 (3e-6 darkened tilted planes, 3% at 80 degrees), and for the Hausdorff
-// bound a depth bias of 0.001 beside it.
+// bound 1e-3 with a depth bias of 3e-4.
 constexpr float kMomentBiasF32 = 1e-4f;
-constexpr float kHausdorffDepthBiasF32 = 1e-3f;
+constexpr float kHausdorffMomentBiasF32 = 1e-3f;
+constexpr float kHausdorffDepthBiasF32 = 3e-4f;
 
 float moment_bias(const FilterOptions& o) {
   if (o.msm.moment_bias >= 0) return o.msm.moment_bias;
-  return o.storage == Storage::F32 ? kMomentBiasF32 : 6e-5f;
+  if (o.storage != Storage::F32) return 6e-5f;
+  return o.method == "msm-hausdorff" ? kHausdorffMomentBiasF32 : kMomentBiasF32;
 }
 
 }  // namespace
@@ -118,8 +120,8 @@ MethodDesc msm_method(bool hausdorff) {
   m.header = "methods/msm.clh";
   m.channel_count = [](const FilterOptions&) { return 4; };
   m.parameters =
-      "--msm-bias A (default 1e-4 f32, 6e-5 unorm16), --bias B (default 0 f32, 0.001 msm-hausdorff f32, "
-      "measured for unorm16)";
+      "--msm-bias A (default f32 1e-4, msm-hausdorff 1e-3; unorm16 6e-5), --bias B (default f32 0, "
+      "msm-hausdorff 3e-4; measured for unorm16)";
   m.storages = {{Storage::F32, "", {}}, {Storage::Unorm16, "optimised moment quantisation", {}}};
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o,

@@ -22,12 +22,15 @@ def cell(r, key, scale=100.0, fmt="{:.2f}"):
 
 def main():
     before, after = defaults(sys.argv[1]), defaults(sys.argv[2])
-    scenes = sorted({s for s, _ in after}, key=lambda s: (int(s.rsplit("-", 1)[1]), s))
-    methods = []
-    for _, m in after:
+    # Scenes and methods in the order of the first file (the sweep's: built-in scenes, the mesh;
+    # the registry's methods, then the soft ones), those only in the second after them.
+    scenes, methods = [], []
+    for s, m in list(before) + list(after):
+        if s not in scenes:
+            scenes.append(s)
         if m not in methods:
             methods.append(m)
-    for size in sorted({s.rsplit("-", 1)[1] for s in scenes}, key=int):
+    for size in sorted({x.rsplit("-", 1)[1] for x in scenes}, key=int):
         print(f"\n{size} maps: acne % / leak % / soft RMSE, before -> after\n")
         print("| scene | method | acne % | leak % | soft RMSE |")
         print("|---|---|---|---|---|")

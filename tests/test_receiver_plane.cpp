@@ -152,9 +152,7 @@ TEST(ReceiverPlane, EveryMethodKeepsTiltedPlanesLit) {
         o.method = m.name;
         if (m.filtered) o.blur.radius = 2;
         const auto got = filter(runtime_ptr(), o, map, rx).visibility.data;
-        float worst = 1.0f;
-        for (float v : got) worst = std::min(worst, v);
-        EXPECT_GE(worst, 1.0f - 1.0f / 255.0f) << m.name << " " << what;
+        EXPECT_GE(*std::min_element(got.begin(), got.end()), 1.0f - 1.0f / 255.0f) << m.name << " " << what;
       }
       for (SoftMethod sm : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved}) {
         SoftOptions o;
@@ -162,9 +160,8 @@ TEST(ReceiverPlane, EveryMethodKeepsTiltedPlanesLit) {
         o.light.size = 0.1;
         o.light.extent = 1.0;
         const auto got = soft_filter(runtime_ptr(), o, map, rx).visibility.data;
-        float worst = 1.0f;
-        for (float v : got) worst = std::min(worst, v);
-        EXPECT_GE(worst, 1.0f - 1.0f / 255.0f) << soft_method_name(sm) << " " << what;
+        EXPECT_GE(*std::min_element(got.begin(), got.end()), 1.0f - 1.0f / 255.0f)
+            << soft_method_name(sm) << " " << what;
       }
     }
 }

@@ -60,7 +60,7 @@ Plane plane_level(const Plane& p, int W, int H, int w, int h) {
   return q;
 }
 
-double soft_horizon(const SoftOptions& o, const Plane& pl, double d, int W, int H) {
+double soft_horizon(const SoftOptions& o, const Plane& pl, int W, int H) {
   const SoftLight& L = o.light;
   double k, a, b;
   if (L.perspective) {
@@ -73,7 +73,7 @@ double soft_horizon(const SoftOptions& o, const Plane& pl, double d, int W, int 
     b = 1;
   }
   const double Gx = pl.gx * W, Gy = pl.gy * H, G = std::hypot(Gx, Gy);
-  const double DR = std::max(a + b * d, 1e-20);
+  const double DR = std::max(a + b * pl.d, 1e-20);
   const double wp = L.perspective ? k * b / (DR * DR) : k * b / DR;
   if (!(G > 0) || !(wp > 0)) return 1.0;
   const double t = -1.0 / (wp * G);
@@ -101,7 +101,7 @@ double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, 
   const int W = depth.width, H = depth.height;
   const double* img = depth.data.data();
   const double search = std::clamp(soft_width(o.light, d, 0.0) * W, 1.0, double(o.max_width));
-  const double horizon = soft_horizon(o, plane, d, W, H);
+  const double horizon = soft_horizon(o, plane, W, H);
   const BoxScan s = box_scan(img, W, H, u, v, search, plane, bias);
   if (!(s.blk > 0)) return horizon;
   const double width = std::clamp(std::max(soft_width(o.light, d, s.zavg) * W, fp_of(f)), 1.0, double(o.max_width));
@@ -115,7 +115,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
   const double n = o.ssmm_n;
   const double search = soft_width(o.light, d, 0.0);
-  const double horizon = soft_horizon(o, plane, d, W, H);
+  const double horizon = soft_horizon(o, plane, W, H);
   int last = 0;
   while (last < top && n * double(1 << last) / W < search) ++last;
   if (o.method == SoftMethod::SsmmImproved) {

@@ -21,7 +21,7 @@ Plane plane_level(const Plane& p, int W, int H, int w, int h);
 
 // The fraction of the light above the receiver's tangent plane (kernels/soft/soft_common.clh,
 // sf_soft_horizon): pcss and ssmm multiply their visibility by it.
-double soft_horizon(const SoftOptions& opt, const Plane& plane, double d, int W, int H);
+double soft_horizon(const SoftOptions& opt, const Plane& plane, int W, int H);
 
 // One receiver (background / outside = 1), tested against its plane (receiver_plane.hpp, in
 // level-0 texel coordinates) with the bias opt.bias plus the plane's slope-scaled term.

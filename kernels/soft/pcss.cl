@@ -20,7 +20,7 @@ __kernel void sf_pcss_points(__global const float* restrict depth, const int W, 
   const float dd = clamp(di, 0.0f, 1.0f);
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p, L.bias, P);
-  const float horizon = sf_soft_horizon(L, &p, dd, W, H);
+  const float horizon = sf_soft_horizon(L, &p, W, H);
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const float cx = ui * (float)W, cy = vi * (float)H;
   const float search = clamp(sf_soft_width(L, dd, 0.0f) * (float)W, 1.0f, L.max_width);

@@ -1,9 +1,10 @@
 // ssmm: soft shadow mip-maps (seed 003; methods.md sec. 4). Needs common.clh, receiver_plane.clh
-// and soft/soft_common.clh before it. Every texel is tested against the receiver's plane as its
-// level sees it (sf_plane_level: the plane's minimum over the texel's block), with the bias b
-// (the light's constant plus the plane's slope-scaled term); "z < d - bias" below reads so. The
-// result is times the fraction of the light above the receiver's horizon (sf_soft_horizon). Reads the raw depth (level 0) and its min-depth pyramid
-// (pyramid.cl, Reduce::Min; levels 1.. in `chain`, one plane each).
+// and soft/soft_common.clh before it. Reads the raw depth (level 0) and its min-depth pyramid
+// (pyramid.cl, Reduce::Min; levels 1.. in `chain`, one plane each). Every texel is tested against
+// the receiver's plane as its level sees it (sf_plane_level: the plane's minimum over the texel's
+// block), with the bias b (the light's constant plus the plane's slope-scaled term); "z < d -
+// bias" below reads so. The result is times the fraction of the light above the receiver's
+// horizon (sf_soft_horizon).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
 // (seed 003 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
 // Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh).
@@ -42,7 +43,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   const float dd = clamp(di, 0.0f, 1.0f);
   const sf_plane p0 = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p0, L.bias, P);
-  const float horizon = sf_soft_horizon(L, &p0, dd, W, H);  // as pcss
+  const float horizon = sf_soft_horizon(L, &p0, W, H);  // as pcss
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;

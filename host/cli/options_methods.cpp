@@ -6,6 +6,22 @@
 
 namespace sf::cli {
 
+void add_receiver_plane_options(CLI::App& c, ReceiverPlaneOptions& o, const std::string& methods) {
+  c.add_option_function<std::string>(
+      "--receiver-plane",
+      [&o](const std::string& s) {
+        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
+        o.enabled = s == "on";
+      },
+      methods + ": test each texel against the receiver's plane (on, default) or its depth d (off)");
+  c.add_option("--receiver-plane-max-slope", o.max_slope,
+               "Largest receiver-plane slope in depth per shadow-map texel (steeper is clamped)")
+      ->capture_default_str();
+  c.add_option("--slope-bias", o.slope_bias,
+               methods + ": texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
+      ->capture_default_str();
+}
+
 void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--method", o.method, "Filtering method (see `shadowfilter methods`)")->capture_default_str();
   c.add_option_function<std::string>(
@@ -15,19 +31,7 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
       "--bias", [&o](float b) { o.depth_test.bias = b; },
       "Depth bias b for sm, pcf (H(z - d_t + b)) and msm (default: sm, pcf 0.003 with the receiver plane, "
       "0 without; msm 0, msm-hausdorff 3e-4, unorm16: measured)");
-  c.add_option_function<std::string>(
-      "--receiver-plane",
-      [&o](const std::string& s) {
-        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
-        o.receiver_plane.enabled = s == "on";
-      },
-      "sm, pcf: test each texel against the receiver's plane (on, default) or its depth d (off)");
-  c.add_option("--receiver-plane-max-slope", o.receiver_plane.max_slope,
-               "Largest receiver-plane slope in depth per shadow-map texel (steeper is clamped)")
-      ->capture_default_str();
-  c.add_option("--slope-bias", o.receiver_plane.slope_bias,
-               "sm, pcf: texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
-      ->capture_default_str();
+  add_receiver_plane_options(c, o.receiver_plane, "sm, pcf");
   c.add_option("--esm-c", o.esm.c, "ESM exponent c")->capture_default_str();
   c.add_option("--vsm-min-variance", o.vsm.min_variance,
                "Minimum variance (vsm: absolute; evsm: relative); default per method and storage");

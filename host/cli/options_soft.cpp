@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "filter_options.hpp"
 #include "image_io.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
@@ -108,16 +109,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "Orthographic: map width in light units (default: header ortho_extents)");
   c->add_option("--soft-bias", a.options.bias, "Blocker test z < d_t - bias (d_t: the receiver's plane)")
       ->capture_default_str();
-  c->add_option_function<std::string>(
-      "--receiver-plane",
-      [&a](const std::string& s) {
-        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
-        a.options.receiver_plane.enabled = s == "on";
-      },
-      "pcss, ssmm: test each texel against the receiver's plane (on, default) or its depth d (off)");
-  c->add_option("--slope-bias", a.options.receiver_plane.slope_bias,
-                "pcss, ssmm: texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
-      ->capture_default_str();
+  add_receiver_plane_options(*c, a.options.receiver_plane, "pcss, ssmm");
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();

@@ -31,11 +31,11 @@ run: build
 	@mkdir -p $(OUT)
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receivers data/spheres/receivers.exr -o $(OUT)/spheres_esm.exr \
-	    --method esm --blur-radius 3
+	    --method esm --blur-radius 3 --preview
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receiver-depth data/spheres/receiver_depth.exr -o $(OUT)/spheres_esm_planar.exr \
 	    --method esm --blur-radius 3
-	@echo "output images: $(OUT)/spheres_esm.exr (camera view), $(OUT)/spheres_esm_planar.exr (planar receiver)"
+	@echo "output images: $(OUT)/spheres_esm.exr (camera view; $(OUT)/spheres_esm.png to look at), $(OUT)/spheres_esm_planar.exr (planar receiver)"
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j 2

@@ -35,14 +35,25 @@ void check_output_is_not_an_input(const std::string& out, const std::vector<std:
 
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
-  c->add_option("--shadow-map", a.shadow_map, "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel")->required();
+  auto* map = c->add_option("--shadow-map", a.shadow_maps,
+                            "Depth map (EXR, TIFF, PFM, PNG, HDR), one channel; several with --output-dir");
   auto* rx = c->add_option("--receivers", a.receivers,
                            "Receiver image: float EXR/TIFF/PFM with channels u v d [f [ndl]] (or RGB[A[5th]])");
   auto* rd =
       c->add_option("--receiver-depth", a.receiver_depth, "Planar-receiver depth image of the shadow map's size");
   rx->excludes(rd);
   rd->excludes(rx);
-  c->add_option("-o,--output", a.output, "Visibility image (.exr, .tif, .pfm, .png)")->required();
+  auto* out = c->add_option("-o,--output", a.output, "Visibility image (.exr, .tif, .pfm, .png)");
+  auto* frames = c->add_option("--frames", a.frames,
+                               "Batch: a list of frames, one a line: SHADOWMAP (RECEIVERS | depth=RECEIVER_DEPTH) "
+                               "OUTPUT (paths relative to the list, '#' comments)");
+  auto* dir = c->add_option("--output-dir", a.output_dir,
+                            "Batch: one output DIR/<map's stem>.exr per --shadow-map, the receivers shared");
+  frames->excludes(map)->excludes(rx)->excludes(rd)->excludes(out)->excludes(dir);
+  dir->excludes(out);
+  c->add_flag("--keep-going", a.keep_going,
+              "Batch: report a failed frame and carry on (the exit code is the number of failed frames)");
+  c->add_flag("--preview", a.preview, "Also write OUTPUT.png, the visibility as a 16-bit grey PNG");
   add_method_options(*c, a.options);
   add_prefilter_options(*c, a.options);
   c->add_option("--encoding", a.encoding, "Depth encoding of the inputs: linear|perspective|reversed")
@@ -70,17 +81,7 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   return c;
 }
 
-int run_filter(const FilterArgs& a) {
-  const auto t0 = Clock::now();
-  if (a.receivers.empty() == a.receiver_depth.empty())
-    throw InputError("give exactly one of --receivers or --receiver-depth");
-  check_output_is_not_an_input(a.output, {a.shadow_map, a.receivers, a.receiver_depth});
-  if (!a.flags_out.empty()) {
-    if (classify_mode(a.options) == EsmClassify::None)
-      throw InputError("--flags-out needs a classification (--method esm, or --esm-classify zmax or threshold)");
-    check_output_is_not_an_input(a.flags_out, {a.shadow_map, a.receivers, a.receiver_depth, a.output});
-  }
-
+io::DepthLoadOptions depth_load_options(const FilterArgs& a) {
   io::DepthLoadOptions load;
   load.encoding = io::parse_depth_encoding(a.encoding);
   load.near_plane = a.near_plane;
@@ -89,8 +90,31 @@ int run_filter(const FilterArgs& a) {
     load.nonfinite = io::NonFinitePolicy::Far;
   else if (a.nonfinite != "error")
     throw InputError("--nonfinite must be 'error' or 'far', got '" + a.nonfinite + "'");
+  return load;
+}
 
-  const HostImage depth = io::load_depth_map(a.shadow_map, load);
+int run_filter(const FilterArgs& a) {
+  if (!a.frames.empty() || !a.output_dir.empty()) return run_filter_batch(a);
+  const auto t0 = Clock::now();
+  if (a.shadow_maps.size() != 1)
+    throw InputError(a.shadow_maps.empty() ? "give --shadow-map (or --frames LIST)"
+                                           : "several --shadow-map files need --output-dir DIR (or use --frames LIST)");
+  const std::string& shadow_map = a.shadow_maps.front();
+  if (a.output.empty()) throw InputError("give -o/--output (or --output-dir DIR, or --frames LIST)");
+  if (a.keep_going) throw InputError("--keep-going is for a batch (--frames or --output-dir)");
+  if (a.receivers.empty() == a.receiver_depth.empty())
+    throw InputError("give exactly one of --receivers or --receiver-depth");
+  const std::string preview = a.preview ? io::preview_path(a.output) : "";
+  check_output_is_not_an_input(a.output, {shadow_map, a.receivers, a.receiver_depth});
+  if (!preview.empty()) check_output_is_not_an_input(preview, {shadow_map, a.receivers, a.receiver_depth});
+  if (!a.flags_out.empty()) {
+    if (classify_mode(a.options) == EsmClassify::None)
+      throw InputError("--flags-out needs a classification (--method esm, or --esm-classify zmax or threshold)");
+    check_output_is_not_an_input(a.flags_out, {shadow_map, a.receivers, a.receiver_depth, a.output});
+  }
+
+  const io::DepthLoadOptions load = depth_load_options(a);
+  const HostImage depth = io::load_depth_map(shadow_map, load);
   const Receivers receivers = a.receivers.empty()
                                   ? io::load_receiver_depth(a.receiver_depth, depth.width, depth.height, load)
                                   : io::load_receiver_image(a.receivers);
@@ -104,8 +128,11 @@ int run_filter(const FilterArgs& a) {
   const double run_ms = ms_since(t_run);
 
   const auto t_write = Clock::now();
-  io::write_image(a.output, r.visibility);
-  if (!a.flags_out.empty()) io::write_image(a.flags_out, r.flags);
+  // The visibility, its preview and the flags appear together or not at all.
+  std::vector<io::ImageToWrite> outputs{{a.output, &r.visibility}};
+  if (!preview.empty()) outputs.push_back({preview, &r.visibility});
+  if (!a.flags_out.empty()) outputs.push_back({a.flags_out, &r.flags});
+  io::write_images(outputs);
   const double write_ms = ms_since(t_write);
 
   if (!a.quiet) {

@@ -7,6 +7,7 @@
 
 #include <memory>
 
+#include "image_io.hpp"
 #include "shadowfilter/host_image.hpp"
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -38,7 +39,11 @@ void add_auto_options(CLI::App& cmd, AutoArgs& args);
 void add_auto_choice_options(CLI::App& cmd, AutoArgs& args);
 
 struct FilterArgs {
-  std::string shadow_map, receivers, receiver_depth, output, device;
+  std::vector<std::string> shadow_maps;  // one map, or several with --output-dir (a batch)
+  std::string receivers, receiver_depth, output, device;
+  std::string frames, output_dir;  // batch: --frames LIST, or --shadow-map A B ... --output-dir DIR
+  bool keep_going = false;         // batch: report a failed frame and carry on
+  bool preview = false;            // --preview: OUTPUT.png beside each output
   std::string encoding = "linear", nonfinite = "error";
   double near_plane = 0.1, far_plane = 100.0;
   bool quiet = false, verbose = false;
@@ -52,6 +57,11 @@ FilterOptions choose_auto_options(const FilterArgs& args, const HostImage& depth
                                   const std::shared_ptr<Runtime>& runtime);
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& args);
 int run_filter(const FilterArgs& args);
+// The batch (filter_batch.cpp): --frames LIST or --output-dir; the exit code is the number of
+// failed frames with --keep-going (at most 125), else 0 (a failure without it throws).
+int run_filter_batch(const FilterArgs& args);
+// --encoding, --near, --far and --nonfinite as the loaders take them (InputError when invalid).
+io::DepthLoadOptions depth_load_options(const FilterArgs& args);
 
 struct SceneArgs {
   std::string scene, out_dir, receivers = "1920x1080", light = "ortho";

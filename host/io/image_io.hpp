@@ -2,6 +2,7 @@
 // Image I/O: the only code in shadowfilter that touches files (OpenImageIO).
 // Every function throws sf::InputError with a one-line message naming the file on bad input.
 #include <string>
+#include <vector>
 
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/host_image.hpp"
@@ -42,5 +43,18 @@ Receivers load_receiver_depth(const std::string& path, int expected_w, int expec
 // Writes an image atomically (temporary file in the same directory, then rename).
 // Format from the extension: .exr (float32), .tif/.tiff (float32), .pfm, .png (16-bit).
 void write_image(const std::string& path, const HostImage& img);
+
+// Several images written as one: each to its temporary file first, then all moved into place, so
+// an image that cannot be written leaves none of them (a frame's visibility with its preview
+// and flags).
+struct ImageToWrite {
+  std::string path;
+  const HostImage* image = nullptr;
+};
+void write_images(const std::vector<ImageToWrite>& images);
+
+// The preview of a visibility image: OUTPUT with the extension .png (16-bit grey, [0,1]).
+// InputError when the output is a PNG already.
+std::string preview_path(const std::string& output);
 
 }  // namespace sf::io

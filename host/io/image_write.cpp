@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -101,6 +102,9 @@ OIIO::ImageSpec output_spec(const HostImage& img, OutputFormat format, const std
         fail(kOutputRole, path, "PNG holds 1 to 4 channels, the image has " + std::to_string(img.channels));
       break;
   }
+  // OpenImageIO stamps files with the current time unless DateTime is given: an empty one keeps
+  // an output a function of its input, byte for byte (a batch's frames equal single runs').
+  spec.attribute("DateTime", "");
   for (const auto& [name, value] : img.attributes) spec.attribute(name, value);
   return spec;
 }
@@ -198,18 +202,44 @@ void write_with_oiio(const fs::path& file, const HostImage& img, OutputFormat fo
 
 }  // namespace
 
-void write_image(const std::string& path, const HostImage& img) {
+namespace {
+
+// The finished file at its temporary path, not yet in place.
+std::unique_ptr<TemporaryFile> write_temporary(const std::string& path, const HostImage& img) {
   const OutputFormat format = format_from_extension(path);
   require_consistent_image(img, path);
-  TemporaryFile temporary(temporary_path_for(path));
+  auto temporary = std::make_unique<TemporaryFile>(temporary_path_for(path));
   if (format == OutputFormat::Pfm)
-    write_pfm(temporary.path(), img, path);
+    write_pfm(temporary->path(), img, path);
   else
-    write_with_oiio(temporary.path(), img, format, path);
+    write_with_oiio(temporary->path(), img, format, path);
+  return temporary;
+}
+
+void move_into_place(TemporaryFile& temporary, const std::string& path) {
   std::error_code ec;
   fs::rename(temporary.path(), path, ec);
   if (ec) fail(kOutputRole, path, "cannot move the finished file into place (" + ec.message() + ")");
   temporary.release();
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const HostImage& img) {
+  auto temporary = write_temporary(path, img);
+  move_into_place(*temporary, path);
+}
+
+std::string preview_path(const std::string& output) {
+  if (format_from_extension(output) == OutputFormat::Png)
+    fail(kOutputRole, output, "is a PNG already; --preview writes a PNG beside an .exr, .tif or .pfm output");
+  return fs::path(output).replace_extension(".png").string();
+}
+
+void write_images(const std::vector<ImageToWrite>& images) {
+  std::vector<std::unique_ptr<TemporaryFile>> written;
+  for (const ImageToWrite& out : images) written.push_back(write_temporary(out.path, *out.image));
+  for (size_t i = 0; i < images.size(); ++i) move_into_place(*written[i], images[i].path);
 }
 
 }  // namespace sf::io

@@ -10,7 +10,7 @@ Progress::Progress(std::string label, size_t total, bool enabled)
     : label_(std::move(label)), total_(total), enabled_(enabled), start_(Clock::now()), last_draw_(start_) {}
 
 Progress::~Progress() {
-  if (shown_) draw(total_, true);
+  if (shown_) draw(done_.load(), true);
 }
 
 void Progress::add(size_t done) {
@@ -24,13 +24,18 @@ void Progress::add(size_t done) {
   draw(now_done, false);
 }
 
+// The bar, the count, the rate and the time left at that rate.
 void Progress::draw(size_t done, bool final) {
   constexpr int kWidth = 40;
   const double fraction = total_ ? double(done) / double(total_) : 1.0;
   const int filled = int(fraction * kWidth + 0.5);
   const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
-  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %.1f s", label_.c_str(), std::string(filled, '#').c_str(),
-               std::string(kWidth - filled, ' ').c_str(), int(fraction * 100 + 0.5), seconds);
+  const double rate = seconds > 0 ? double(done) / seconds : 0.0;
+  char eta[32] = "";
+  if (!final && rate > 0) std::snprintf(eta, sizeof eta, ", %.0f s left", double(total_ - done) / rate);
+  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %zu/%zu  %.3g/s  %.1f s%s   ", label_.c_str(),
+               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), int(fraction * 100 + 0.5),
+               done, total_, rate, seconds, eta);
   if (final) std::fprintf(stderr, "\n");
   std::fflush(stderr);
   shown_ = true;

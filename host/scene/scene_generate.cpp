@@ -82,10 +82,8 @@ std::vector<OutputFile> output_files(bool has_ground) {
   return files;
 }
 
-// OpenImageIO stamps EXR files with the current time (capDate) unless DateTime is given: an
-// empty one keeps the files byte-identical between runs.
+// The scene's files carry its parameters; write_image keeps them byte-identical between runs.
 void write_deterministic(const std::string& path, HostImage image, std::map<std::string, std::string> attributes) {
-  attributes["DateTime"] = "";
   image.attributes = std::move(attributes);
   io::write_image(path, image);
 }

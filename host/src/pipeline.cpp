@@ -170,6 +170,12 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   detail::throw_device_error("Pipeline::prefilter", e);
 }
 
+void Pipeline::set_depth_range(const MapRange& range) {
+  const std::string why = sat_refusal(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
+  if (!why.empty()) throw InputError(why);
+  options_.depth_range = range;
+}
+
 cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) try {
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
@@ -220,18 +226,6 @@ StageTimes Pipeline::times() const try {
   detail::throw_device_error("Pipeline::times", e);
 }
 
-namespace {
-
-cl::Buffer upload(Runtime& rt, const std::vector<float>& host, EventList& events) {
-  cl::Buffer b(rt.context(), CL_MEM_READ_ONLY, host.size() * sizeof(float));
-  cl::Event e;
-  rt.queue().enqueueWriteBuffer(b, CL_FALSE, 0, host.size() * sizeof(float), host.data(), nullptr, &e);
-  events.push_back(e);
-  return b;
-}
-
-}  // namespace
-
 size_t shadow_facing_away(const Receivers& rx, std::vector<float>& visibility) {
   if (!rx.has_ndl) return 0;
   if (rx.ndl.size() != rx.count() || visibility.size() != rx.count())
@@ -243,73 +237,6 @@ size_t shadow_facing_away(const Receivers& rx, std::vector<float>& visibility) {
       ++n;
     }
   return n;
-}
-
-FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
-                    const Receivers& receivers) try {
-  Runtime& rt = *runtime;
-  if (depth.channels != 1) throw InputError("depth map must have one channel");
-  // The map's depth range from the host copy: the pipeline checks the lookup's limits before it
-  // allocates anything, and prefilter() needs no device reduction.
-  FilterOptions run = options;
-  if (!run.depth_range) run.depth_range = depth_range(depth);
-  Pipeline pipe(std::move(runtime), run, depth.width, depth.height);  // keeps the runtime alive
-
-  FilterResult result;
-  const size_t count = receivers.count();
-  const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
-  check_fits_device(rt, std::max(pipe.basis_shape().bytes(), count * sizeof(float)),
-                    pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes, "this run");
-  for (size_t i = 0; i < count; ++i) {
-    if (!std::isfinite(receivers.d[i])) {
-      ++result.background;
-    } else if (!receivers.grid && !(receivers.u[i] >= 0.0f && receivers.u[i] <= 1.0f && receivers.v[i] >= 0.0f &&
-                                    receivers.v[i] <= 1.0f)) {
-      ++result.outside;
-    }
-  }
-
-  EventList uploads;
-  cl::Buffer depth_buf = upload(rt, depth.data, uploads);
-  DeviceReceivers rx;
-  rx.grid = receivers.grid;
-  rx.count = count;
-  rx.row = receivers.grid ? 0 : receivers.width;
-  rx.d = upload(rt, receivers.d, uploads);
-  if (!receivers.grid) {
-    rx.u = upload(rt, receivers.u, uploads);
-    rx.v = upload(rt, receivers.v, uploads);
-    if (receivers.has_footprint && options.lookup.kind != Lookup::Bilinear) rx.f = upload(rt, receivers.f, uploads);
-  }
-  cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, count * sizeof(float));
-  cl::Event filtered = pipe.prefilter(depth_buf, &uploads);
-  EventList after{filtered};
-  cl::Event rec = pipe.reconstruct(rx, vis, &after);
-
-  result.visibility = HostImage(receivers.width, receivers.height, 1);
-  EventList after_rec{rec};
-  cl::Event download;
-  rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(), &after_rec,
-                               &download);
-  if (classify_mode(options) != EsmClassify::None) {
-    std::vector<unsigned char> flags(count);
-    if (count) rt.queue().enqueueReadBuffer(pipe.flags(), CL_TRUE, 0, count, flags.data(), &after_rec);
-    result.classified = true;
-    result.flags = HostImage(receivers.width, receivers.height, 1);
-    for (size_t i = 0; i < count; ++i) {
-      result.flags.data[i] = flags[i] ? 1.0f : 0.0f;
-      result.flagged += flags[i] ? 1 : 0;
-    }
-  }
-  if (options.facing_away_shadowed) result.facing_away = shadow_facing_away(receivers, result.visibility.data);
-  result.times = pipe.times();
-  result.times.upload = event_seconds(uploads.front(), uploads.back());
-  result.times.download = event_seconds(download);
-  result.device_bytes =
-      pipe.device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes + count * sizeof(float);
-  return result;
-} catch (const cl::Error& e) {
-  detail::throw_device_error("filter", e);
 }
 
 }  // namespace sf

@@ -86,6 +86,10 @@ class Pipeline {
   // blocking reduction, depth_range.hpp) and throws InputError, enqueuing nothing, when the
   // lookup cannot hold it; state the range in the options to keep prefilter() asynchronous.
   cl::Event prefilter(const cl::Buffer& depth, const EventList* wait = nullptr);
+  // States the depth range of the maps the next prefilter() calls read (a caller that knows it
+  // from its host copy, as FrameFilter does per frame): checked against the lookup's limit now
+  // (InputError, the pipeline unchanged) and prefilter() then needs no device reduction.
+  void set_depth_range(const MapRange& range);
   // Visibility per receiver into `visibility` (rx.count floats).
   cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
 

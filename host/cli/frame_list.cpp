@@ -1,0 +1,126 @@
+#include "frame_list.hpp"
+
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "shadowfilter/errors.hpp"
+
+namespace sf::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The fields of one line: blank-separated, "..." keeps blanks, '#' outside quotes ends the line.
+std::vector<std::string> split_fields(const std::string& line, const std::string& where) {
+  std::vector<std::string> fields;
+  size_t i = 0;
+  while (i < line.size()) {
+    const char c = line[i];
+    if (c == ' ' || c == '\t' || c == '\r') {
+      ++i;
+    } else if (c == '#') {
+      break;
+    } else if (c == '"') {
+      const size_t end = line.find('"', i + 1);
+      if (end == std::string::npos) throw InputError(where + ": a quote is not closed");
+      fields.push_back(line.substr(i + 1, end - i - 1));
+      i = end + 1;
+    } else {
+      size_t end = i;
+      while (end < line.size() && line[end] != ' ' && line[end] != '\t' && line[end] != '\r' && line[end] != '#')
+        ++end;
+      fields.push_back(line.substr(i, end - i));
+      i = end;
+    }
+  }
+  return fields;
+}
+
+std::string relative_to(const fs::path& dir, const std::string& path) {
+  const fs::path p(path);
+  return p.is_absolute() ? p.string() : (dir / p).lexically_normal().string();
+}
+
+// One key per file whatever the spelling of its path: device and inode where the file exists
+// (links included), else its normalised absolute path (an output not written yet).
+std::string file_key(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  return fs::absolute(path).lexically_normal().string();
+}
+
+}  // namespace
+
+std::vector<FrameSpec> read_frame_list(const std::string& list) {
+  std::ifstream in(list);
+  if (!in) throw InputError("frame list '" + list + "': cannot open it");
+  const fs::path dir = fs::path(list).parent_path();
+  std::vector<FrameSpec> frames;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::string where = list + ":" + std::to_string(number);
+    const std::vector<std::string> f = split_fields(line, where);
+    if (f.empty()) continue;
+    if (f.size() != 3)
+      throw InputError(where + ": expected 'SHADOWMAP RECEIVERS OUTPUT' or 'SHADOWMAP depth=RECEIVER_DEPTH OUTPUT', got " +
+                       std::to_string(f.size()) + " fields");
+    FrameSpec frame;
+    frame.where = where;
+    frame.shadow_map = relative_to(dir, f[0]);
+    const std::string depth_prefix = "depth=";
+    if (f[1].compare(0, depth_prefix.size(), depth_prefix) == 0) {
+      if (f[1].size() == depth_prefix.size()) throw InputError(where + ": 'depth=' names no file");
+      frame.receiver_depth = relative_to(dir, f[1].substr(depth_prefix.size()));
+    } else {
+      frame.receivers = relative_to(dir, f[1]);
+    }
+    frame.output = relative_to(dir, f[2]);
+    frames.push_back(std::move(frame));
+  }
+  if (in.bad()) throw InputError("frame list '" + list + "': read failed");
+  if (frames.empty()) throw InputError("frame list '" + list + "' holds no frames");
+  return frames;
+}
+
+std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, const std::string& receivers,
+                                      const std::string& receiver_depth, const std::string& output_dir,
+                                      const std::string& extension) {
+  std::vector<FrameSpec> frames;
+  for (const std::string& map : maps) {
+    FrameSpec frame;
+    frame.where = map;
+    frame.shadow_map = map;
+    frame.receivers = receivers;
+    frame.receiver_depth = receiver_depth;
+    frame.output = (fs::path(output_dir) / (fs::path(map).stem().string() + extension)).string();
+    frames.push_back(std::move(frame));
+  }
+  return frames;
+}
+
+void check_batch_outputs(const std::vector<FrameSpec>& frames,
+                         const std::vector<std::vector<std::string>>& extra_outputs) {
+  std::map<std::string, std::string> inputs;  // file -> the first frame reading it
+  for (const FrameSpec& f : frames)
+    for (const std::string* in : {&f.shadow_map, &f.receivers, &f.receiver_depth})
+      if (!in->empty()) inputs.emplace(file_key(*in), f.where);
+  std::map<std::string, std::string> outputs;  // file -> the frame writing it
+  for (size_t i = 0; i < frames.size(); ++i) {
+    std::vector<std::string> written{frames[i].output};
+    if (i < extra_outputs.size()) written.insert(written.end(), extra_outputs[i].begin(), extra_outputs[i].end());
+    for (const std::string& out : written) {
+      const std::string key = file_key(out);
+      if (const auto in = inputs.find(key); in != inputs.end())
+        throw InputError(frames[i].where + ": output '" + out + "' is an input of " + in->second +
+                         "; refusing to overwrite an input");
+      if (const auto [at, added] = outputs.emplace(key, frames[i].where); !added)
+        throw InputError(frames[i].where + ": output '" + out + "' is written by " + at->second + " too");
+    }
+  }
+}
+
+}  // namespace sf::cli

@@ -1,0 +1,30 @@
+#pragma once
+// The frames of a batch (`filter --frames LIST`, `--shadow-map A B ... --output-dir DIR`):
+// what each reads and writes, and where a message about it points.
+#include <string>
+#include <vector>
+
+namespace sf::cli {
+
+struct FrameSpec {
+  std::string where;  // "LIST:LINE" for a list's frame, the map's path for --output-dir frames
+  std::string shadow_map, receivers, receiver_depth, output;  // one of receivers, receiver_depth
+};
+
+// A frame list: one frame a line, `SHADOWMAP RECEIVERS OUTPUT` or `SHADOWMAP depth=RECEIVER_DEPTH
+// OUTPUT`, fields separated by blanks (a field with blanks in double quotes), paths relative to
+// the list's directory; blank lines and text after '#' are ignored. InputError naming the line
+// for any other line, and for a list without frames.
+std::vector<FrameSpec> read_frame_list(const std::string& list);
+
+// One frame per map, sharing one receiver file: the output is DIR/<map's stem><extension>.
+std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, const std::string& receivers,
+                                      const std::string& receiver_depth, const std::string& output_dir,
+                                      const std::string& extension);
+
+// Refuses a batch (InputError) where two frames write one file or a frame's output (or its
+// `extra` outputs, e.g. the preview) is any frame's input: checked before any frame runs.
+void check_batch_outputs(const std::vector<FrameSpec>& frames,
+                         const std::vector<std::vector<std::string>>& extra_outputs);
+
+}  // namespace sf::cli

@@ -1,0 +1,188 @@
+// FrameFilter (frame_filter.hpp) and filter(), which is one frame of it.
+#include "shadowfilter/frame_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "cl_errors.hpp"
+#include "shadowfilter/depth_range.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
+
+namespace sf {
+namespace {
+
+// Host memory the device reads in place: a CPU device runs on it, and a device that reports
+// unified memory maps it without a copy.
+bool shares_host_memory(const Runtime& rt) {
+  if (rt.info().type == "CPU") return true;
+  return rt.device().getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
+}
+
+// The receivers' vectors the reconstruction reads (footprints only for footprint lookups).
+bool reads_footprint(const Receivers& rx, const FilterOptions& o) {
+  return !rx.grid && rx.has_footprint && o.lookup.kind != Lookup::Bilinear;
+}
+
+}  // namespace
+
+// The frame buffers of one map size and receiver count (copy mode; zero-copy mode wraps each
+// frame's vectors instead and keeps only the sizes).
+struct FrameFilter::Buffers {
+  int width = 0, height = 0;
+  size_t count = 0;
+  bool grid = false, footprint = false;
+  cl::Buffer depth, u, v, d, f, visibility;
+
+  bool fits(const HostImage& map, const Receivers& rx, bool with_footprint) const {
+    return map.width == width && map.height == height && rx.count() == count && rx.grid == grid &&
+           with_footprint == footprint;
+  }
+};
+
+FrameFilter::FrameFilter(std::shared_ptr<Runtime> runtime, FilterOptions options, HostMemory memory)
+    : rt_(std::move(runtime)), options_(std::move(options)) {
+  // The options are checked as the pipeline will check them, before any frame is read.
+  require_finite_options(options_);
+  find_method(options_.method).validate(options_);
+  zero_copy_ = memory == HostMemory::ZeroCopy || (memory == HostMemory::Auto && shares_host_memory(*rt_));
+}
+
+FrameFilter::~FrameFilter() = default;
+
+// The pipeline follows the map's size, the frame buffers the map's size and the receivers.
+void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
+  const bool footprint = reads_footprint(receivers, options_);
+  const bool same_map = pipe_ && pipe_->basis_shape().width == depth.width && pipe_->basis_shape().height == depth.height;
+  if (same_map && buffers_ && buffers_->fits(depth, receivers, footprint)) return;
+  if (!same_map) {
+    pipe_.reset();
+    buffers_.reset();
+    pipe_ = std::make_unique<Pipeline>(rt_, options_, depth.width, depth.height);
+  }
+  buffers_.reset();
+  const size_t count = receivers.count();
+  const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
+  check_fits_device(*rt_, std::max(pipe_->basis_shape().bytes(), count * sizeof(float)),
+                    pipe_->device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes, "this run");
+  auto b = std::make_unique<Buffers>();
+  b->width = depth.width;
+  b->height = depth.height;
+  b->count = count;
+  b->grid = receivers.grid;
+  b->footprint = footprint;
+  if (!zero_copy_) {
+    const cl::Context& ctx = rt_->context();
+    auto alloc = [&ctx](cl_mem_flags flags, size_t floats) { return cl::Buffer(ctx, flags, floats * sizeof(float)); };
+    b->depth = alloc(CL_MEM_READ_ONLY, depth.data.size());
+    b->d = alloc(CL_MEM_READ_ONLY, count);
+    if (!receivers.grid) {
+      b->u = alloc(CL_MEM_READ_ONLY, count);
+      b->v = alloc(CL_MEM_READ_ONLY, count);
+      if (footprint) b->f = alloc(CL_MEM_READ_ONLY, count);
+    }
+    b->visibility = alloc(CL_MEM_WRITE_ONLY, count);
+  }
+  buffers_ = std::move(b);
+  ++allocations_;
+}
+
+FilterResult FrameFilter::run(const HostImage& depth, const Receivers& receivers) try {
+  Runtime& rt = *rt_;
+  if (depth.channels != 1) throw InputError("depth map must have one channel");
+  if (depth.data.size() != depth.texels()) throw InputError("depth map data does not match its size");
+  const size_t count = receivers.count();
+  if (receivers.d.size() != count || (!receivers.grid && (receivers.u.size() != count || receivers.v.size() != count)))
+    throw InputError("receivers' data does not match their size");
+  prepare(depth, receivers);
+  // The map's depth range from the host copy, where the lookup's limit depends on it: a frame
+  // the lookup cannot hold is refused before anything is enqueued, and prefilter() needs no
+  // device reduction.
+  if (options_.depth_range)
+    pipe_->set_depth_range(*options_.depth_range);
+  else if (options_.lookup.kind == Lookup::Sat && pipe_->method().sat_limit)
+    pipe_->set_depth_range(depth_range(depth));
+
+  FilterResult result;
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(receivers.d[i])) {
+      ++result.background;
+    } else if (!receivers.grid && !(receivers.u[i] >= 0.0f && receivers.u[i] <= 1.0f && receivers.v[i] >= 0.0f &&
+                                    receivers.v[i] <= 1.0f)) {
+      ++result.outside;
+    }
+  }
+  result.visibility = HostImage(receivers.width, receivers.height, 1);
+
+  // The frame's inputs as device buffers: the host vectors themselves, or copies into the
+  // buffers allocated for this size.
+  const Buffers& b = *buffers_;
+  EventList uploads;
+  auto input = [&](const std::vector<float>& host, const cl::Buffer& allocated) {
+    if (zero_copy_)
+      return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, host.size() * sizeof(float),
+                        const_cast<float*>(host.data()));  // read only: the kernels never write it
+    cl::Event e;
+    rt.queue().enqueueWriteBuffer(allocated, CL_FALSE, 0, host.size() * sizeof(float), host.data(), nullptr, &e);
+    uploads.push_back(e);
+    return allocated;
+  };
+  const cl::Buffer depth_buf = input(depth.data, b.depth);
+  DeviceReceivers rx;
+  rx.grid = receivers.grid;
+  rx.count = count;
+  rx.row = receivers.grid ? 0 : receivers.width;
+  rx.d = input(receivers.d, b.d);
+  if (!receivers.grid) {
+    rx.u = input(receivers.u, b.u);
+    rx.v = input(receivers.v, b.v);
+    if (b.footprint) rx.f = input(receivers.f, b.f);
+  }
+  const cl::Buffer vis = zero_copy_ ? cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR,
+                                                 count * sizeof(float), result.visibility.data.data())
+                                    : b.visibility;
+
+  cl::Event filtered = pipe_->prefilter(depth_buf, uploads.empty() ? nullptr : &uploads);
+  EventList after{filtered};
+  cl::Event rec = pipe_->reconstruct(rx, vis, &after);
+  EventList after_rec{rec};
+  cl::Event download;
+  if (zero_copy_) {
+    // Mapping a CL_MEM_USE_HOST_PTR buffer brings the device's writes into the host vector.
+    void* p = rt.queue().enqueueMapBuffer(vis, CL_TRUE, CL_MAP_READ, 0, count * sizeof(float), &after_rec, &download);
+    cl::Event unmapped;
+    rt.queue().enqueueUnmapMemObject(vis, p, nullptr, &unmapped);
+    unmapped.wait();
+  } else {
+    rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(), &after_rec,
+                                 &download);
+  }
+  if (classify_mode(options_) != EsmClassify::None) {
+    std::vector<unsigned char> flags(count);
+    if (count) rt.queue().enqueueReadBuffer(pipe_->flags(), CL_TRUE, 0, count, flags.data(), &after_rec);
+    result.classified = true;
+    result.flags = HostImage(receivers.width, receivers.height, 1);
+    for (size_t i = 0; i < count; ++i) {
+      result.flags.data[i] = flags[i] ? 1.0f : 0.0f;
+      result.flagged += flags[i] ? 1 : 0;
+    }
+  }
+  if (options_.facing_away_shadowed) result.facing_away = shadow_facing_away(receivers, result.visibility.data);
+  result.times = pipe_->times();
+  if (!uploads.empty()) result.times.upload = event_seconds(uploads.front(), uploads.back());
+  result.times.download = event_seconds(download);
+  const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
+  result.device_bytes =
+      pipe_->device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes + count * sizeof(float);
+  return result;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("FrameFilter::run", e);
+}
+
+FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
+                    const Receivers& receivers) {
+  return FrameFilter(std::move(runtime), options).run(depth, receivers);
+}
+
+}  // namespace sf

@@ -58,9 +58,8 @@ class BatchCli : public ::testing::Test {
   // The bytes a single run writes for one frame.
   std::string single_run(const std::string& map, const std::string& receivers_flag, const std::string& options) {
     const std::string out = path("single.exr");
-    const RunResult r = run_cli("filter --shadow-map " + path(map) + " " + receivers_flag + " -o " + out + " -q " +
-                                    options,
-                                dir_);
+    const RunResult r =
+        run_cli("filter --shadow-map " + path(map) + " " + receivers_flag + " -o " + out + " -q " + options, dir_);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::string b = bytes(out);
     fs::remove(out);
@@ -97,10 +96,10 @@ TEST_F(BatchCli, ListFramesEqualSingleRunsByteForByte) {
 }
 
 TEST_F(BatchCli, OutputDirFramesShareTheReceivers) {
-  const RunResult r = run_cli("filter --shadow-map " + path("map0.exr") + " " + path("map1.exr") + " " +
-                                  path("map3.exr") + " --receivers " + path("rx.exr") + " --output-dir " +
-                                  path("dir/sub") + " --preview -q",
-                              dir_);
+  const RunResult r =
+      run_cli("filter --shadow-map " + path("map0.exr") + " " + path("map1.exr") + " " + path("map3.exr") +
+                  " --receivers " + path("rx.exr") + " --output-dir " + path("dir/sub") + " --preview -q",
+              dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(files_in("dir/sub"),
             (std::vector<std::string>{"map0.exr", "map0.png", "map1.exr", "map1.png", "map3.exr", "map3.png"}));
@@ -175,12 +174,39 @@ TEST_F(BatchCli, BadListsAreRefusedBeforeAnyFrame) {
   const RunResult r = run_cli("filter --frames " + path("nosuch.txt"), dir_);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("cannot open"), std::string::npos) << r.err;
-  const RunResult two = run_cli(
-      "filter --shadow-map " + path("map0.exr") + " " + path("map1.exr") + " --receivers " + path("rx.exr") + " -o " +
-          path("out/x.exr"),
-      dir_);
+  const RunResult two = run_cli("filter --shadow-map " + path("map0.exr") + " " + path("map1.exr") + " --receivers " +
+                                    path("rx.exr") + " -o " + path("out/x.exr"),
+                                dir_);
   EXPECT_EQ(two.exit_code, 2);
   EXPECT_NE(two.err.find("need --output-dir"), std::string::npos) << two.err;
+}
+
+// soft --frames: each map's light from its header, the same bytes as single runs; a bad frame
+// is named by its line.
+TEST_F(BatchCli, SoftFramesEqualSingleRuns) {
+  const std::string spheres = data_path("spheres"), thin = data_path("thin");
+  write_list("soft.txt", spheres + "/shadowmap.exr " + spheres + "/receivers.exr out/s0.exr\n" + thin +
+                             "/shadowmap.exr depth=" + thin + "/receiver_depth.exr out/s1.exr\n");
+  RunResult r = run_cli("soft --method pcss --frames " + path("soft.txt"), dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("batch of 2 frames, 2 written, 0 failed"), std::string::npos) << r.out;
+  const auto single = [&](const std::string& dir, const std::string& rx) {
+    const RunResult one = run_cli(
+        "soft --method pcss -q --shadow-map " + dir + "/shadowmap.exr " + rx + " -o " + path("single.exr"), dir_);
+    EXPECT_EQ(one.exit_code, 0) << one.err;
+    return bytes(path("single.exr"));
+  };
+  EXPECT_EQ(bytes(path("out/s0.exr")), single(spheres, "--receivers " + spheres + "/receivers.exr"));
+  EXPECT_EQ(bytes(path("out/s1.exr")), single(thin, "--receiver-depth " + thin + "/receiver_depth.exr"));
+  EXPECT_NE(bytes(path("out/s0.exr")), bytes(path("out/s1.exr")));
+
+  write_list("soft.txt", spheres + "/shadowmap.exr " + spheres + "/receivers.exr out/s2.exr\n" + "nosuch.exr " +
+                             spheres + "/receivers.exr out/s3.exr\n");
+  r = run_cli("soft --frames " + path("soft.txt") + " --keep-going -q", dir_);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("soft.txt:2: "), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(path("out/s2.exr")));
+  EXPECT_FALSE(fs::exists(path("out/s3.exr")));
 }
 
 // --preview: the PNG beside the EXR, decodable, of the output's size, with the visibility in

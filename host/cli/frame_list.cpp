@@ -31,8 +31,7 @@ std::vector<std::string> split_fields(const std::string& line, const std::string
       i = end + 1;
     } else {
       size_t end = i;
-      while (end < line.size() && line[end] != ' ' && line[end] != '\t' && line[end] != '\r' && line[end] != '#')
-        ++end;
+      while (end < line.size() && line[end] != ' ' && line[end] != '\t' && line[end] != '\r' && line[end] != '#') ++end;
       fields.push_back(line.substr(i, end - i));
       i = end;
     }
@@ -66,7 +65,8 @@ std::vector<FrameSpec> read_frame_list(const std::string& list) {
     const std::vector<std::string> f = split_fields(line, where);
     if (f.empty()) continue;
     if (f.size() != 3)
-      throw InputError(where + ": expected 'SHADOWMAP RECEIVERS OUTPUT' or 'SHADOWMAP depth=RECEIVER_DEPTH OUTPUT', got " +
+      throw InputError(where +
+                       ": expected 'SHADOWMAP RECEIVERS OUTPUT' or 'SHADOWMAP depth=RECEIVER_DEPTH OUTPUT', got " +
                        std::to_string(f.size()) + " fields");
     FrameSpec frame;
     frame.where = where;

@@ -99,7 +99,13 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--lights", a.lights,
                 "Light list file instead of --shadow-map: one light a line, 'SHADOWMAP RECEIVERS "
                 "[weight=W] [size=L]' (paths relative to the file; # comments)");
-  c->add_option("-o,--output", a.output, "Visibility image")->required();
+  auto* out = c->add_option("-o,--output", a.output, "Visibility image");
+  c->add_option("--frames", a.frames,
+                "Batch: a list of frames, one a line: SHADOWMAP (RECEIVERS | depth=RECEIVER_DEPTH) OUTPUT "
+                "(paths relative to the list, '#' comments; the light from each map's header)")
+      ->excludes(out);
+  c->add_flag("--keep-going", a.keep_going,
+              "Batch: report a failed frame and carry on (the exit code is the number of failed frames)");
   c->add_option("--light-size", a.light_size, "Area light width in light-space units (default: header light_size)");
   c->add_option("--light-type", a.light_type, "ortho | perspective (default: header light_type)");
   c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
@@ -140,8 +146,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   return c;
 }
 
-int run_soft(const SoftArgs& a) {
-  const auto t0 = std::chrono::steady_clock::now();
+SoftOptions soft_options(const SoftArgs& a) {
   SoftOptions opt = a.options;
   if (!parse_soft_method(a.method, &opt.method))
     throw InputError("--method must be pcss, cssm, ssmm or ssmm-improved, got '" + a.method + "'");
@@ -155,6 +160,15 @@ int run_soft(const SoftArgs& a) {
     opt.cssm_sharpen_a = a.sharpen[0];
     opt.cssm_sharpen_b = a.sharpen[1];
   }
+  return opt;
+}
+
+int run_soft(const SoftArgs& a) {
+  if (!a.frames.empty()) return run_soft_batch(a);
+  if (a.keep_going) throw InputError("--keep-going is for a batch (--frames)");
+  const auto t0 = std::chrono::steady_clock::now();
+  SoftOptions opt = soft_options(a);
+  if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");
   io::DepthLoadOptions load;
   std::vector<SoftLightInput> lights;
   if (!a.lights.empty()) {

@@ -19,10 +19,17 @@ struct SoftArgs {
   std::string lookup = "sat";
   std::vector<float> sharpen;
   bool quiet = false, verbose = false;
+  std::string frames;       // --frames LIST: a batch (soft_batch.cpp)
+  bool keep_going = false;  // batch: report a failed frame and carry on
   SoftOptions options;
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);
 int run_soft(const SoftArgs& args);
+// The options of --method, --lookup, --cssm-sharpen and the rest (the light comes per map).
+SoftOptions soft_options(const SoftArgs& args);
+// `soft --frames LIST`: one frame a line as `filter --frames` reads it, each map's light from its
+// header; the exit code is the number of failed frames with --keep-going (at most 125).
+int run_soft_batch(const SoftArgs& args);
 
 // The light of a shadow map: its EXR header (light_type, near, far, ortho_extents, fov_degrees,
 // light_size; written by `shadowfilter scene`), overridden by the command line.

@@ -54,7 +54,8 @@ FrameFilter::~FrameFilter() = default;
 // The pipeline follows the map's size, the frame buffers the map's size and the receivers.
 void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   const bool footprint = reads_footprint(receivers, options_);
-  const bool same_map = pipe_ && pipe_->basis_shape().width == depth.width && pipe_->basis_shape().height == depth.height;
+  const bool same_map =
+      pipe_ && pipe_->basis_shape().width == depth.width && pipe_->basis_shape().height == depth.height;
   if (same_map && buffers_ && buffers_->fits(depth, receivers, footprint)) return;
   if (!same_map) {
     pipe_.reset();

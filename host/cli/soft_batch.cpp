@@ -1,0 +1,74 @@
+// `soft --frames LIST`: soft shadows of a sequence of frames on one warm device (programs built
+// once), decoding the next frame and encoding the last one on threads while the device runs the
+// current one (batch_runner.hpp). Each map's light comes from its header, as in a single run.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "batch_runner.hpp"
+#include "frame_list.hpp"
+#include "image_io.hpp"
+#include "options_soft.hpp"
+#include "verbose.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/runtime.hpp"
+
+namespace sf::cli {
+int run_soft_batch(const SoftArgs& a) {
+  if (!a.lights.empty() || !a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
+    throw InputError("--frames replaces --shadow-map, --receivers, --receiver-depth and --lights");
+  const SoftOptions opt = soft_options(a);
+  const std::vector<FrameSpec> frames = read_frame_list(a.frames);
+  check_batch_outputs(frames, {});
+  const io::DepthLoadOptions load;
+  auto runtime = Runtime::create(a.device);
+  apply_verbose(*runtime, a.verbose);
+  SoftTimes device;
+  size_t receivers_done = 0;
+
+  BatchSettings settings;
+  settings.keep_going = a.keep_going;
+  settings.progress = !a.quiet && ::isatty(STDERR_FILENO);
+  const BatchReport report = run_batch<std::vector<SoftLightInput>, HostImage>(
+      frames, settings,
+      [&](const FrameSpec& f) {
+        SoftLightInput frame;
+        frame.light = light_from_header(f.shadow_map, a);
+        frame.depth = io::load_depth_map(f.shadow_map, load);
+        frame.receivers = f.receivers.empty() ? io::load_receiver_depth(f.receiver_depth, frame.depth.width,
+                                                                        frame.depth.height, load)
+                                              : io::load_receiver_image(f.receivers);
+        return std::vector<SoftLightInput>{std::move(frame)};
+      },
+      [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
+        // One light through what a single run calls: the same bytes.
+        SoftOptions o = opt;
+        o.light = light.front().light;
+        validate(o);
+        SoftResult r = soft_filter_lights(runtime, o, light);
+        device.transform += r.times.transform;
+        device.pyramid += r.times.pyramid;
+        device.sat += r.times.sat;
+        device.reconstruct += r.times.reconstruct;
+        receivers_done += light.front().receivers.count();
+        return std::move(r.visibility);
+      },
+      [&](const FrameSpec& f, const HostImage& visibility) { io::write_image(f.output, visibility); });
+
+  if (!a.quiet) {
+    const double per_frame = 1e3 / double(std::max<size_t>(report.frames - report.failed, 1));
+    std::printf(
+        "shadowfilter soft: batch of %zu frames, %zu written, %zu failed | %s | device %s | device ms per frame: "
+        "transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | stage s in all: decode %.2f, run %.2f, encode %.2f "
+        "(decode and encode overlap the run) | wall %.2f s, %.1f frames/s, %.1f Mreceivers/s\n",
+        report.frames, report.written, report.failed, soft_method_name(opt.method),
+        runtime->info().device_name.c_str(), device.transform * per_frame, device.pyramid * per_frame,
+        device.sat * per_frame, device.reconstruct * per_frame, report.decode, report.process, report.encode,
+        report.wall, report.written / std::max(report.wall, 1e-9), receivers_done / std::max(report.wall, 1e-9) * 1e-6);
+  }
+  return static_cast<int>(std::min<size_t>(report.failed, 125));
+}
+
+}  // namespace sf::cli

@@ -1,11 +1,12 @@
 #pragma once
-// A batch of frames through three stages that overlap: decoding runs one frame ahead on a worker
-// thread, processing (the device) runs on the calling thread, encoding runs one frame behind on
-// another worker. What a stage throws as InputError fails its frame alone: with keep_going the
-// batch reports it and goes on, without it the batch stops there, after the frames before it are
-// written in full. Any other exception ends the batch (the frames before it still finish writing).
+// A batch of frames through three stages that overlap: decoding runs ahead on worker threads, processing (the device)
+// runs on the calling thread, encoding runs one frame behind on another worker. What a stage throws as InputError fails
+// its frame alone: with keep_going the batch reports it and goes on, without it the batch stops there, after the frames
+// before it are written in full. Any other exception ends the batch (the frames before it still finish writing).
 #include <chrono>
+#include <algorithm>
 #include <cstdio>
+#include <deque>
 #include <functional>
 #include <future>
 #include <optional>
@@ -22,6 +23,10 @@ namespace sf::cli {
 struct BatchSettings {
   bool keep_going = false;  // --keep-going: report failed frames and carry on
   bool progress = false;    // a progress bar on stderr
+  // Frames decoding at once ahead of the device: decoding is the longest stage of small frames
+  // with their own receiver files (docs/batch.md), and where cores outnumber the stages a second
+  // decoder keeps the device fed.
+  size_t decode_ahead = 2;
 };
 
 struct BatchReport {
@@ -59,8 +64,13 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
       return std::make_pair(std::move(loaded), seconds_since(t));
     });
   };
-  std::future<std::pair<Loaded, double>> next;
-  if (!frames.empty()) next = start_load(0);
+  std::deque<std::future<std::pair<Loaded, double>>> ahead;  // frames i, i + 1, ... decoding
+  size_t started = 0;
+  auto fill = [&] {
+    while (!stop && started < frames.size() && ahead.size() < std::max<size_t>(settings.decode_ahead, 1))
+      ahead.push_back(start_load(started++));
+  };
+  fill();
   std::future<double> writing;
   size_t writing_index = 0;
   auto finish_write = [&] {
@@ -76,13 +86,15 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
 
   for (size_t i = 0; i < frames.size() && !stop; ++i) {
     std::optional<std::pair<Loaded, double>> current;
+    std::future<std::pair<Loaded, double>> next = std::move(ahead.front());
+    ahead.pop_front();
     try {
       current.emplace(next.get());
       report.decode += current->second;
     } catch (const InputError& e) {
       failed(frames[i], e.what());
     }
-    if (i + 1 < frames.size() && !stop) next = start_load(i + 1);
+    fill();
     std::optional<Done> done;
     if (current) {
       const auto t = Clock::now();
@@ -107,7 +119,7 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
     });
   }
   finish_write();
-  if (next.valid()) next.wait();  // a frame decoded ahead of a stop is dropped
+  for (auto& f : ahead) f.wait();  // frames decoded ahead of a stop are dropped
   report.wall = seconds_since(t0);
   if (stop)
     throw InputError(*stop + " (batch stopped: " + std::to_string(report.written) + " frame" +

@@ -32,8 +32,9 @@ struct FilteredFrame {
 };
 
 // The receivers of the frame before, reused while frames name the same file (and, for planar
-// receivers, the same map size): a sequence over one camera decodes them once. Loads run one at
-// a time (batch_runner.hpp), the lock only states it.
+// receivers, the same map size): a sequence over one camera decodes them once. Frames decode on
+// several threads (batch_runner.hpp): the lock makes the second of two frames that need one
+// file wait for the first one's copy.
 class ReceiverCache {
  public:
   std::shared_ptr<const Receivers> get(const FrameSpec& f, const HostImage& depth, const io::DepthLoadOptions& load) {

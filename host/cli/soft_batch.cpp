@@ -37,9 +37,9 @@ int run_soft_batch(const SoftArgs& a) {
         SoftLightInput frame;
         frame.light = light_from_header(f.shadow_map, a);
         frame.depth = io::load_depth_map(f.shadow_map, load);
-        frame.receivers = f.receivers.empty() ? io::load_receiver_depth(f.receiver_depth, frame.depth.width,
-                                                                        frame.depth.height, load)
-                                              : io::load_receiver_image(f.receivers);
+        frame.receivers = f.receivers.empty()
+                              ? io::load_receiver_depth(f.receiver_depth, frame.depth.width, frame.depth.height, load)
+                              : io::load_receiver_image(f.receivers);
         return std::vector<SoftLightInput>{std::move(frame)};
       },
       [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
@@ -63,10 +63,10 @@ int run_soft_batch(const SoftArgs& a) {
         "shadowfilter soft: batch of %zu frames, %zu written, %zu failed | %s | device %s | device ms per frame: "
         "transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | stage s in all: decode %.2f, run %.2f, encode %.2f "
         "(decode and encode overlap the run) | wall %.2f s, %.1f frames/s, %.1f Mreceivers/s\n",
-        report.frames, report.written, report.failed, soft_method_name(opt.method),
-        runtime->info().device_name.c_str(), device.transform * per_frame, device.pyramid * per_frame,
-        device.sat * per_frame, device.reconstruct * per_frame, report.decode, report.process, report.encode,
-        report.wall, report.written / std::max(report.wall, 1e-9), receivers_done / std::max(report.wall, 1e-9) * 1e-6);
+        report.frames, report.written, report.failed, soft_method_name(opt.method), runtime->info().device_name.c_str(),
+        device.transform * per_frame, device.pyramid * per_frame, device.sat * per_frame,
+        device.reconstruct * per_frame, report.decode, report.process, report.encode, report.wall,
+        report.written / std::max(report.wall, 1e-9), receivers_done / std::max(report.wall, 1e-9) * 1e-6);
   }
   return static_cast<int>(std::min<size_t>(report.failed, 125));
 }

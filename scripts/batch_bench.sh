@@ -91,22 +91,24 @@ while [ $i -lt "$N2" ]; do
 done
 head -n 3 "$W/big.txt" >"$W/big3.txt"
 echo
-echo "| 2048x2048 map, 1920x1080 receivers | wall ms per frame | device ms per frame | decode ms per frame | encode ms per frame | wall / max(device, decode) |"
+# The map's decode alone (sf_measure Decode.*: the median of 5 on one thread, nothing else running).
+dec=$(SF_DECODE_MAP="$W/in/big_000.exr" "$B/tests/sf_measure" --gtest_filter='Decode.*' | sed -n 's/^decode_ms //p')
+echo "| 2048x2048 map, 1920x1080 receivers | wall ms per frame | device ms per frame | decode ms per frame, alone | wall / max(device, decode) | decode, encode ms per frame in the batch (threads) |"
 echo "|---|---|---|---|---|---|"
 r=0
 while [ $r -lt "$ROUNDS" ]; do
   l=$(loop "$W/big3.txt")
   t=$(batch "$W/big.txt")
-  python3 - "$W/big.txt.summary" "$t" "$N2" "$l" <<'PY'
+  python3 - "$W/big.txt.summary" "$t" "$N2" "$l" "$dec" <<'PY'
 import re, sys
 line = open(sys.argv[1]).read()
-wall, n, loop = float(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+wall, n, loop, alone = float(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5])
 dev = re.search(r"device ms per frame: ([^|]*)\|", line).group(1)
 device = sum(float(v) for v in re.findall(r"[a-z]+ ([0-9.]+)", dev))
 stage = dict(re.findall(r"(decode|run|encode) ([0-9.]+)", line.split("stage s in all:")[1]))
 decode, encode = float(stage["decode"]) * 1e3 / n, float(stage["encode"]) * 1e3 / n
 w = wall * 1e3 / n
-print(f"| batch of {n} (shell loop: {loop * 1e3 / 3:.0f} ms per frame) | {w:.0f} | {device:.0f} | {decode:.0f} | {encode:.0f} | {w / max(device, decode):.2f} |")
+print(f"| batch of {n} (shell loop: {loop * 1e3 / 3:.0f} ms per frame) | {w:.0f} | {device:.0f} | {alone:.0f} | {w / max(device, alone):.2f} | {decode:.0f}, {encode:.0f} |")
 PY
   r=$((r + 1))
 done

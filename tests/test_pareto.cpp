@@ -195,8 +195,8 @@ std::vector<eval::Row> sheet_rows(const eval::Scene& s) {
   rows[1].label = "esm b";
   rows[2].label = "vsm";
   rows[0].visibility = rows[1].visibility = rows[2].visibility = ref;
-  rows[1].visibility[5 * 40 + 25] = 1.0f + 0.3f;  // a leak of 0.3 at (25, 5): saturated red
-  rows[1].visibility[5 * 40 + 26] = NAN;          // NaN: the worst error, saturated red
+  rows[1].visibility[5 * 40 + 25] = 1.0f + 0.3f;    // a leak of 0.3 at (25, 5): saturated red
+  rows[1].visibility[5 * 40 + 26] = NAN;            // NaN: the worst error, saturated red
   for (float& v : rows[2].visibility) v -= 0.125f;  // darker by half the scale everywhere
   const double soft[] = {0.2, 0.1, 0.125};
   for (size_t i = 0; i < 3; ++i) {
@@ -241,7 +241,7 @@ TEST(ContactSheet, LayoutAndPixels) {
   EXPECT_EQ(l.tile_h, 240);
   EXPECT_EQ(l.columns, 5);
   EXPECT_EQ(l.rows, 2);
-  EXPECT_EQ(l.width, 10 + 5 * (320 + 10));              // 1660
+  EXPECT_EQ(l.width, 10 + 5 * (320 + 10));                       // 1660
   EXPECT_EQ(l.height, 56 + 2 * (36 + 240 + 4 + 240 + 10) + 64);  // 1180
   EXPECT_EQ(eval::contact_layout(1920, 1080, 3).shrink, 6);
   EXPECT_EQ(eval::contact_layout(1920, 1080, 3).tile_h, 180);
@@ -253,7 +253,7 @@ TEST(ContactSheet, LayoutAndPixels) {
   ASSERT_EQ(best, (std::vector<size_t>{1, 2}));
   l = eval::contact_layout(40, 20, 3);
   EXPECT_EQ(l.shrink, 1);
-  EXPECT_EQ(l.width, 10 + 3 * (260 + 10));  // cells of the least width, 820
+  EXPECT_EQ(l.width, 10 + 3 * (260 + 10));                 // cells of the least width, 820
   EXPECT_EQ(l.height, 56 + (36 + 20 + 4 + 20 + 10) + 64);  // 210
   const std::string path = temp_dir("contact_sheet") + "/contact_sheet.png";
   eval::write_contact_sheet(path, s, rows, best, eval::Reference::Soft, "rmse", {}, {});

@@ -14,7 +14,7 @@ namespace sf::eval {
 namespace {
 
 constexpr int kMargin = 10, kTitleBand = 56, kLabelBand = 36, kGap = 4, kLegendBand = 64;
-constexpr int kMinCellWidth = 260;  // room for a label such as "msm-hausdorff R=3 mips f32"
+constexpr int kMinCellWidth = 260;   // room for a label such as "msm-hausdorff R=3 mips f32"
 constexpr int kMinSheetWidth = 720;  // room for the legend
 constexpr size_t kMaxColumns = 5;
 
@@ -150,6 +150,12 @@ void write_contact_sheet(const std::string& path, const Scene& scene, const std:
       text(img, x, y + 14, "reference", black, 13);
       text(img, x, y + 30, reference_text(ref, target), dim, 11);
       draw_tile(x, pic_y, nullptr, false);
+      // The slot beneath the reference (no error map of its own) says how to read the others.
+      if (L.tile_h >= 80) {
+        const char* lines[] = {"beneath each output: output - reference", "blue: darker than the reference",
+                               "red: brighter (light leaks)", "white: equal; scale at the bottom"};
+        for (int k = 0; k < 4; ++k) text(img, x + 4, err_y + 18 + 18 * k, lines[k], dim, 12);
+      }
       continue;
     }
     const Row& r = rows[best[k - 1]];

@@ -207,9 +207,12 @@ void write_pareto_png(const std::string& path, const std::vector<Row>& rows, Ref
     return int(L + (std::log10(std::max(t, 1e-3)) - lt0) / std::max(lt1 - lt0, 1e-6) * (W - L - R));
   };
   auto py = [&](double e) { return int(H - B - std::min(e, emax) / emax * (H - T - B)); };
-  // Grid: decades (and 2x, 5x) on time, fifths on error.
+  // Grid: decades and 2x, 5x on time (finer when the axis spans about a decade or less), fifths
+  // on error.
+  const std::vector<double> marks =
+      lt1 - lt0 > 1.25 ? std::vector<double>{1, 2, 5} : std::vector<double>{1, 1.5, 2, 3, 4, 5, 6, 8};
   for (int k = int(std::floor(lt0)); k <= int(std::ceil(lt1)); ++k)
-    for (double m : {1.0, 2.0, 5.0}) {
+    for (double m : marks) {
       const double t = m * std::pow(10.0, k), lt = std::log10(t);
       if (lt < lt0 - 1e-9 || lt > lt1 + 1e-9) continue;
       const int x = px(t);

@@ -1,5 +1,6 @@
 // host/eval: error statistics, the grid, the Pareto front, --auto, and `shadowfilter evaluate`
 // end to end on a small synthetic scene directory.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -372,8 +373,9 @@ TEST(EvalAuto, MetricNamesTheBound) {
   EXPECT_THROW(eval::choose_auto(runtime_ptr(), s, bad), InputError);
 }
 
-// `shadowfilter evaluate` on a scene directory: CSV and JSON rows with the error columns, the
-// Pareto plot, exit 0; a missing directory exits 2.
+// `shadowfilter evaluate` on a scene directory: CSV and JSON rows with the error columns against
+// every reference, the Pareto plots (the default one against the ray-traced soft shadow, here the
+// target for lack of one, with a note) and the contact sheet, exit 0; bad options exit 2.
 TEST(EvalCli, WritesResults) {
   const std::string dir = temp_dir("eval_cli");
   const std::string scene = dir + "/tiny";
@@ -393,20 +395,63 @@ TEST(EvalCli, WritesResults) {
   io::write_image(scene + "/reference_hard.exr", hard);
   const std::string out = dir + "/out";
   const std::string cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
-                          " --methods sm,esm --grid quick --runs 1 -q -o " + out + " > " + dir + "/log.txt 2>&1";
+                          " --methods sm,esm --grid quick --runs 1 -q --target-blur-radius 1 --target-lookup bilinear "
+                          "-o " +
+                          out + " > " + dir + "/log.txt 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::ifstream csv(out + "/results.csv");
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_NE(header.find("sref_p99"), std::string::npos);
+  EXPECT_NE(header.find(",self_rmse,self_p99,"), std::string::npos) << header;
   EXPECT_NE(header.find("hard_rmse"), std::string::npos);
-  EXPECT_NE(header.find(",acne,umbra_leak,lit_inside,shadowed_inside"), std::string::npos);
+  EXPECT_NE(header.find(",acne,umbra_leak,lit_inside,shadowed_inside,target_filter,target_rmse,target_p99,"),
+            std::string::npos)
+      << header;
+  EXPECT_EQ(header.find("sref_"), std::string::npos) << "the self columns were renamed";
   int rows = 0;
-  while (std::getline(csv, line)) rows += !line.empty();
+  while (std::getline(csv, line)) {
+    if (line.empty()) continue;
+    ++rows;
+    EXPECT_NE(line.find(",\"R=1 bilinear\","), std::string::npos) << line;  // the target filter, on every row
+  }
   EXPECT_GE(rows, 5);  // sm + esm {40,80} x R {1,3} (x mips when footprints > 1)
   EXPECT_TRUE(std::filesystem::exists(out + "/results.json"));
-  EXPECT_TRUE(std::filesystem::exists(out + "/pareto_tiny.png"));
   EXPECT_TRUE(std::filesystem::exists(out + "/error_tiny_esm.png"));
+  // No reference_soft.exr: the default plot is against the target, and says so on stderr and in
+  // the plot; hard and self get their own plots; no soft one.
+  for (const char* f : {"pareto_tiny.png", "pareto_tiny_hard.png", "pareto_tiny_self.png", "contact_tiny.png"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  for (const char* f : {"pareto_tiny_soft.png", "pareto_tiny_target.png"})
+    EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
+  std::ifstream log(dir + "/log.txt");
+  const std::string log_text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(log_text.find("scene 'tiny' has no reference_soft.exr: errors against the target filter's s_ref instead"),
+            std::string::npos)
+      << log_text;
+  {
+    auto in = OIIO::ImageInput::open(out + "/pareto_tiny.png");
+    ASSERT_TRUE(in);
+    const std::string d = in->spec().get_string_attribute("ImageDescription");
+    EXPECT_NE(d.find("tiny: time vs RMSE against s_ref of the target filter R=1 bilinear"), std::string::npos) << d;
+    EXPECT_NE(d.find("no reference_soft.exr"), std::string::npos) << d;
+    in = OIIO::ImageInput::open(out + "/pareto_tiny_hard.png");
+    ASSERT_TRUE(in);
+    EXPECT_NE(in->spec().get_string_attribute("ImageDescription").find("against ray-traced hard shadow"),
+              std::string::npos);
+    in = OIIO::ImageInput::open(out + "/contact_tiny.png");
+    ASSERT_TRUE(in);
+    const eval::ContactLayout l = eval::contact_layout(32, 32, 3);  // the target, sm, esm
+    EXPECT_EQ(in->spec().width, l.width);
+    EXPECT_EQ(in->spec().height, l.height);
+    EXPECT_EQ(in->spec().nchannels, 3);
+  }
+  // A prefixed metric names the reference (the older spelling); one that contradicts
+  // --pareto-reference, an unknown reference and a radius that is no number exit 2.
+  const std::string base = std::string(SF_CLI_PATH) + " evaluate " + scene + " --methods sm --runs 1 -q -o " + out;
+  EXPECT_EQ(std::system((base + " --pareto-metric hard_p99 > /dev/null 2>&1").c_str()), 0);
+  for (const char* bad_option : {"--pareto-metric hard_rmse --pareto-reference soft", "--pareto-reference ray",
+                                 "--target-blur-radius nan", "--target-lookup trilinear", "--pareto-metric soft_p98"})
+    EXPECT_EQ(WEXITSTATUS(std::system((base + " " + bad_option + " > /dev/null 2>&1").c_str())), 2) << bad_option;
   // --auto with a named metric: auto.txt says what it chose under that metric.
   const std::string auto_out = dir + "/auto";
   const std::string auto_cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +

@@ -1,8 +1,9 @@
 // `shadowfilter evaluate DIR... -o OUT`: every method over a parameter grid on scene directories;
-// results.csv / results.json, pareto_<scene>.png and one error image per method (host/eval).
+// results.csv / results.json, per scene the Pareto plots (pareto_<scene>.png against the plot's
+// reference, pareto_<scene>_<reference>.png against each other one), the contact sheet
+// contact_<scene>.png and one error image per method (host/eval).
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 
 #include "commands.hpp"
@@ -17,7 +18,8 @@ namespace sf::cli {
 CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
   CLI::App* c = app.add_subcommand("evaluate",
                                    "Run methods over a parameter grid on scene directories: time, memory and errors "
-                                   "against s_ref and the ray-traced references; CSV, JSON and Pareto plots");
+                                   "against the ray-traced references, a target filter's s_ref and each "
+                                   "configuration's own s_ref; CSV, JSON, Pareto plots and contact sheets");
   c->add_option("dirs", a.dirs, "Scene directories (shadowmap.exr, receivers.exr, reference_*.exr)")
       ->required()
       ->check(CLI::ExistingDirectory);
@@ -29,8 +31,24 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
       ->check(CLI::Range(1, 1000));
   c->add_option("--warmup", a.warmup, "Untimed runs first")->capture_default_str()->check(CLI::Range(0, 100));
   c->add_option("--pareto-metric", a.pareto_metric,
-                "Error axis of the plots: METRIC against s_ref, or hard_METRIC / soft_METRIC")
+                "Error axis of the plots and the contact sheets: rmse | p99 | max | frac_1_255 | frac_005 | leak | "
+                "darken, against --pareto-reference; soft_METRIC, hard_METRIC, target_METRIC or self_METRIC "
+                "also names the reference")
       ->capture_default_str();
+  c->add_option("--pareto-reference", a.pareto_reference,
+                "What the plots' errors are measured against, the same for every configuration: soft (the "
+                "ray-traced reference_soft.exr, default) | hard (reference_hard.exr) | target (s_ref of "
+                "--target-blur-radius / --target-lookup) | self (each configuration's own s_ref: fidelity, "
+                "sm and pcf 0 by definition). A scene without the ray-traced image falls back to target")
+      ->check(CLI::IsMember({"soft", "hard", "target", "self"}));
+  c->add_option("--target-blur-radius", a.target_blur_radius,
+                "Gaussian radius of the target filter (the filter a renderer wants; its s_ref is the target "
+                "reference)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
+  c->add_option("--target-lookup", a.target_lookup, "Lookup of the target filter: bilinear | mips | sat")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"bilinear", "mips", "sat"}));
   c->add_option("--device", a.device, "OpenCL device (as for filter)");
   c->add_flag("--no-images", a.no_images, "Write no PNGs");
   c->add_flag("-q,--quiet", a.quiet, "No progress bar and no summary table");
@@ -61,11 +79,24 @@ int run_evaluate(const EvaluateArgs& a) {
   namespace fs = std::filesystem;
   const eval::Grid grid = eval::parse_grid(a.grid);
   const auto methods = eval::parse_methods(a.methods);
-  {
-    std::string m = a.pareto_metric;
-    if (m.rfind("hard_", 0) == 0 || m.rfind("soft_", 0) == 0) m = m.substr(5);
-    eval::check_metric(m);
+  // The plots' reference: --pareto-reference, or the one a prefixed --pareto-metric names
+  // (the older spelling, "hard_rmse"); both at once must agree.
+  std::string metric;
+  eval::Reference requested = eval::Reference::Soft, prefixed = eval::Reference::Soft;
+  const bool has_prefix = eval::split_metric(a.pareto_metric, &metric, &prefixed);
+  eval::check_metric(metric);
+  if (!a.pareto_reference.empty()) requested = eval::parse_reference(a.pareto_reference);
+  if (has_prefix) {
+    if (!a.pareto_reference.empty() && prefixed != requested)
+      throw InputError("--pareto-metric " + a.pareto_metric + " names the reference '" +
+                       eval::reference_name(prefixed) + "', --pareto-reference says '" + a.pareto_reference + "'");
+    requested = prefixed;
   }
+  eval::TargetFilter target;
+  target.blur.radius = a.target_blur_radius;
+  target.lookup = a.target_lookup == "bilinear" ? Lookup::Bilinear
+                  : a.target_lookup == "sat"    ? Lookup::Sat
+                                                : Lookup::Mips;
   if (a.auto_args.enabled) eval::check_metric(a.auto_args.metric);
   std::error_code ec;
   fs::create_directories(a.out_dir, ec);
@@ -86,32 +117,42 @@ int run_evaluate(const EvaluateArgs& a) {
     const double fp = a.auto_args.enabled ? scene.max_footprint : std::max(scene.max_footprint, 2.0);
     const auto configs = eval::make_grid(methods, grid, fp, a.auto_args.sref_bias);
     eval::SrefCache sref(scene, a.auto_args.sref_bias);
+    // One s_ref of the target filter per scene, the same reference for every configuration.
+    const std::vector<double>& target_ref = sref.get(target.blur, target.lookup);
     std::vector<eval::Row> rows;
     {
       scene::Progress bar(scene.name + " (" + std::to_string(configs.size()) + " configurations)", configs.size(),
                           !a.quiet);
       for (const auto& o : configs) {
         try {
-          rows.push_back(eval::evaluate_config(runtime, scene, o, sref, timing));
+          rows.push_back(eval::evaluate_config(runtime, scene, o, sref, timing, &target_ref));
         } catch (const InputError& e) {
           skipped.push_back({scene.name, eval::config_label(o), cli_message(e.what())});
         }
         bar.add(1);
       }
     }
+    std::string note;
+    const eval::Reference ref = eval::plot_reference(scene, requested, &note);
+    if (!note.empty()) std::fprintf(stderr, "shadowfilter evaluate: %s\n", note.c_str());
     if (!a.no_images && !rows.empty()) {
-      eval::write_pareto_png((fs::path(a.out_dir) / ("pareto_" + scene.name + ".png")).string(), scene.name, rows,
-                             a.pareto_metric);
-      // Error image of each method's best configuration (lowest pareto metric).
-      std::map<std::string, size_t> best;
-      for (size_t i = 0; i < rows.size(); ++i) {
-        auto it = best.find(rows[i].method);
-        if (it == best.end() ||
-            eval::row_metric(rows[i], a.pareto_metric) < eval::row_metric(rows[it->second], a.pareto_metric))
-          best[rows[i].method] = i;
-      }
-      for (const auto& [m, i] : best)
-        eval::write_error_png((fs::path(a.out_dir) / ("error_" + scene.name + "_" + m + ".png")).string(), scene,
+      const fs::path out(a.out_dir);
+      auto plot = [&](eval::Reference r, const std::string& file) {
+        eval::write_pareto_png((out / file).string(), rows, r, metric,
+                               eval::pareto_labels(scene, rows.size(), r, metric, target, r == ref ? note : ""));
+      };
+      plot(ref, "pareto_" + scene.name + ".png");
+      for (eval::Reference r :
+           {eval::Reference::Soft, eval::Reference::Hard, eval::Reference::Target, eval::Reference::Self})
+        if (r != ref && eval::has_reference(scene, r))
+          plot(r, "pareto_" + scene.name + "_" + eval::reference_name(r) + ".png");
+      const eval::Reference sheet = eval::contact_reference(scene, ref);
+      eval::write_contact_sheet((out / ("contact_" + scene.name + ".png")).string(), scene, rows,
+                                eval::best_per_method(rows, sheet, metric), sheet, metric, target, target_ref);
+      // |v - s_ref| of each method's most faithful configuration (lowest metric against its own
+      // s_ref): where a method departs from the filter it was asked for.
+      for (size_t i : eval::best_per_method(rows, eval::Reference::Self, metric))
+        eval::write_error_png((out / ("error_" + scene.name + "_" + rows[i].method + ".png")).string(), scene,
                               rows[i].visibility, sref.for_options(rows[i].options), 0.25);
     }
     if (a.auto_args.enabled) {
@@ -137,8 +178,8 @@ int run_evaluate(const EvaluateArgs& a) {
       all.push_back(std::move(r));
     }
   }
-  eval::write_csv((fs::path(a.out_dir) / "results.csv").string(), all);
-  eval::write_json((fs::path(a.out_dir) / "results.json").string(), all, skipped, runtime->info().device_name);
+  eval::write_csv((fs::path(a.out_dir) / "results.csv").string(), all, target);
+  eval::write_json((fs::path(a.out_dir) / "results.json").string(), all, skipped, runtime->info().device_name, target);
   if (a.auto_args.enabled) {
     const std::string path = (fs::path(a.out_dir) / "auto.txt").string();
     std::FILE* f = std::fopen(path.c_str(), "w");
@@ -148,12 +189,14 @@ int run_evaluate(const EvaluateArgs& a) {
   }
 
   if (!a.quiet) {
-    // acne% / leak%: eval::acne_leak against reference_hard (-1 without one).
-    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "p99", "rmse", "max",
-                "hard_rmse", "acne%", "leak%", "MiB");
+    // RMSE against each reference (-1 where the scene has none; self: the configuration's own
+    // s_ref, a fidelity figure); acne% / leak%: eval::acne_leak against reference_hard.
+    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "soft_rmse", "hard_rmse",
+                "tgt_rmse", "self_rmse", "acne%", "leak%", "MiB");
+    auto rmse = [](const eval::ErrorStats& e) { return e.valid ? e.rmse : -1.0; };
     for (const auto& r : all)
       std::printf("%-10s %-34s %9.3f %9.4f %9.4f %9.4f %9.4f %9.2f %9.2f %9.2f\n", r.scene.c_str(), r.label.c_str(),
-                  r.time_ms, r.sref.p99, r.sref.rmse, r.sref.max, r.hard.valid ? r.hard.rmse : -1.0,
+                  r.time_ms, rmse(r.soft), rmse(r.hard), rmse(r.target), rmse(r.sref),
                   r.acne_leak.valid ? 100.0 * r.acne_leak.acne : -1.0,
                   r.acne_leak.valid ? 100.0 * r.acne_leak.leak : -1.0, r.device_bytes / 1048576.0);
     for (const auto& s : skipped)

@@ -78,6 +78,11 @@ int run_scene(const SceneArgs& args);
 struct EvaluateArgs {
   std::vector<std::string> dirs;
   std::string methods = "all", grid = "quick", out_dir, device, pareto_metric = "rmse";
+  // The plots' reference: soft | hard | target | self; "" = soft, or the reference a prefixed
+  // --pareto-metric names ("hard_rmse").
+  std::string pareto_reference;
+  int target_blur_radius = 3;          // the target filter of the "target" reference
+  std::string target_lookup = "mips";  // bilinear | mips | sat
   int runs = 5, warmup = 1;
   bool quiet = false, no_images = false, verbose = false;
   AutoArgs auto_args;

@@ -134,12 +134,16 @@ struct Row {
   StageTimes stages;
   size_t device_bytes = 0;
   int runs = 0;
-  ErrorStats sref, hard, soft;    // hard, soft: over Scene::traced
+  // sref: against s_ref of the configuration's own weights (the "self" reference, a fidelity
+  // figure); target: against s_ref of the run's target filter (both over Scene::valid); hard,
+  // soft: against the ray-traced references over Scene::traced.
+  ErrorStats sref, hard, soft, target;
   AcneLeak acne_leak;             // against reference_hard over Scene::traced
   std::vector<float> visibility;  // kept for error images; cleared when not needed
 };
+// `target_ref` (may be null: Row::target stays invalid) is s_ref of the target filter.
 Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,
-                    const TimingSettings& t);
+                    const TimingSettings& t, const std::vector<double>* target_ref = nullptr);
 // A row's identity and timings from one measurement; the caller adds the errors it needs.
 Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m);
 
@@ -147,20 +151,101 @@ struct Skipped {
   std::string scene, label, reason;
 };
 
+// --- references and the Pareto front (pareto.cpp) ---------------------------------------------
+// What an error is measured against. A plot or a ranking needs one reference for every
+// configuration: the ray-traced shadows (what the scene looks like) or s_ref of one target filter
+// (what a renderer asked for). Self, s_ref with each configuration's own weights, differs per
+// configuration: sm and pcf compute it exactly and score 0 by definition, so it measures how well
+// a method approximates its own filtered test (fidelity), not which output looks closest.
+enum class Reference { Soft, Hard, Target, Self };
+Reference parse_reference(const std::string& name);  // soft | hard | target | self; InputError otherwise
+const char* reference_name(Reference r);             // the names above, also the CSV column prefixes
+// The filter a renderer wants: s_ref of these weights is the "target" reference.
+struct TargetFilter {
+  BlurOptions blur{3, 0.0f};
+  Lookup lookup = Lookup::Mips;
+};
+std::string target_text(const TargetFilter& t);  // "R=3 mips"
+// What the errors against `r` compare with, for titles and axes: "ray-traced soft shadow
+// (reference_soft.exr)", "s_ref of the target filter R=3 mips", ...
+std::string reference_text(Reference r, const TargetFilter& t);
+// Whether the scene holds the reference (soft, hard: the ray-traced image; target, self: always).
+bool has_reference(const Scene& s, Reference r);
+// The reference a scene's plot uses: `requested`, or the target s_ref when the scene lacks the
+// ray-traced image asked for; `note` (may be null) then says so in one line, else is cleared.
+Reference plot_reference(const Scene& s, Reference requested, std::string* note);
+// "rmse" -> "RMSE", "p99" -> "p99 |error|", ...; check_metric's names.
+std::string metric_text(const std::string& metric);
+// A metric name with an optional reference prefix ("hard_rmse", "self_p99"; "sref_" is self):
+// the bare metric, and the prefix's reference in `ref` when there is one (returns false without).
+bool split_metric(const std::string& name, std::string* metric, Reference* ref);
+
+const ErrorStats& row_errors(const Row& r, Reference ref);
+double row_error(const Row& r, Reference ref, const std::string& metric);
+// Prefixed name as split_metric reads it; a bare metric is against self (s_ref, own weights).
+double row_metric(const Row& r, const std::string& metric);
+
+// The non-dominated points of (time, error), fastest first (equal times: lower error first):
+// i is on the front unless some j has time_j <= time_i and error_j <= error_i with one of them
+// strictly smaller. Equal points are both on it. Points with a non-finite time or error are on
+// no front (a NaN compares with nothing).
+std::vector<size_t> pareto_front(const std::vector<double>& time, const std::vector<double>& error);
+std::vector<size_t> pareto_front(const std::vector<Row>& rows, Reference ref, const std::string& metric);
+std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string& metric);  // row_metric's names
+
+// The text of a Pareto plot; every line names the reference. Stored in the PNG as
+// "ImageDescription" (description()), so that a reader of the file finds what it shows.
+struct PlotLabels {
+  std::string title;     // "spheres: time vs RMSE against ray-traced soft shadow (reference_soft.exr)"
+  std::string subtitle;  // configurations, receivers counted, a fallback note
+  std::string x_axis, y_axis;
+  std::string description() const;  // the four lines, newline-separated
+};
+PlotLabels pareto_labels(const Scene& scene, size_t configurations, Reference ref, const std::string& metric,
+                         const TargetFilter& target, const std::string& note = "");
+
 // --- outputs ----------------------------------------------------------------------------------
-void write_csv(const std::string& path, const std::vector<Row>& rows);
+void write_csv(const std::string& path, const std::vector<Row>& rows, const TargetFilter& target = {});
 void write_json(const std::string& path, const std::vector<Row>& rows, const std::vector<Skipped>& skipped,
-                const std::string& device);
-// Time vs error (metric against s_ref, or "hard_<metric>" / "soft_<metric>"), one point per
-// configuration, methods coloured, the Pareto front drawn; log-scaled time axis.
-void write_pareto_png(const std::string& path, const std::string& scene, const std::vector<Row>& rows,
-                      const std::string& metric);
+                const std::string& device, const TargetFilter& target = {});
+// Time vs error against one reference, one point per configuration, methods coloured, the
+// Pareto front drawn; log-scaled time axis. 8-bit RGB PNG, written atomically, `labels` in its
+// text and in its "ImageDescription".
+void write_pareto_png(const std::string& path, const std::vector<Row>& rows, Reference ref, const std::string& metric,
+                      const PlotLabels& labels);
 // |v - s_ref| of one configuration as a heat image (black 0, white >= `full_scale`), PNG.
 void write_error_png(const std::string& path, const Scene& scene, const std::vector<float>& v,
                      const std::vector<double>& ref, double full_scale);
-// Indices of the rows on the Pareto front of (time_ms, metric), fastest first.
-std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string& metric);
-double row_metric(const Row& r, const std::string& metric);  // "p99", "hard_rmse", ...
+
+// --- contact sheets (contact_sheet.cpp) -----------------------------------------------------------
+// One picture per scene: the reference, then each method's best configuration, each with its
+// signed error map (output - reference) beneath, on a diverging scale (blue: darker than the
+// reference, white: equal, red: brighter; saturated at +-kContactErrorScale) with a legend bar.
+constexpr double kContactErrorScale = 0.25;
+// Where the cells of a sheet lie: `tiles` cells (the reference and one per method), at most
+// `columns` per row, each image reduced by `shrink` (an integer, so that no cell is wider than
+// kContactTileWidth) and shown as tile_w x tile_h.
+constexpr int kContactTileWidth = 320;
+struct ContactLayout {
+  int shrink = 1, tile_w = 0, tile_h = 0, columns = 0, rows = 0;
+  int cell_w = 0, cell_h = 0;  // a label band, the picture, the error map beneath
+  int width = 0, height = 0;   // the sheet, title band included
+  int cell_x(size_t k) const;  // left edge of cell k
+  int cell_y(size_t k) const;  // top edge of cell k (its label band)
+};
+ContactLayout contact_layout(int receivers_w, int receivers_h, size_t tiles);
+// The sheet's reference image (soft, hard: the ray-traced picture; target: its s_ref) and the
+// receivers it counts; self has no single picture, so a sheet asked for self shows the soft
+// reference (the target where there is none).
+Reference contact_reference(const Scene& s, Reference plot_ref);
+// Per method, the configuration of lowest `metric` against `ref` (faster on ties), in the order
+// the methods first appear in `rows`; rows without the reference are skipped.
+std::vector<size_t> best_per_method(const std::vector<Row>& rows, Reference ref, const std::string& metric);
+// Writes the sheet of `best` (indices into rows, their visibility kept) against `ref` for the
+// scene; `target_ref` is the target's s_ref (needed when ref is Target). 8-bit RGB PNG, atomic.
+void write_contact_sheet(const std::string& path, const Scene& scene, const std::vector<Row>& rows,
+                         const std::vector<size_t>& best, Reference ref, const std::string& metric,
+                         const TargetFilter& target, const std::vector<double>& target_ref);
 
 // --- --auto -----------------------------------------------------------------------------------
 // The search: every candidate (method x parameters x lookup x storage, esm also x classification)

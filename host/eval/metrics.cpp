@@ -1,5 +1,5 @@
-// Errors against a reference: the statistics, the metrics by name, the Pareto front, and s_ref
-// for the weights a configuration approximates.
+// Errors against a reference: the statistics, the metrics by name, and s_ref for the weights a
+// configuration approximates.
 #include <algorithm>
 #include <cmath>
 #include <thread>
@@ -113,12 +113,6 @@ double metric_value(const ErrorStats& e, const std::string& m) {
   return e.darken;
 }
 
-double row_metric(const Row& r, const std::string& metric) {
-  if (metric.rfind("hard_", 0) == 0) return metric_value(r.hard, metric.substr(5));
-  if (metric.rfind("soft_", 0) == 0) return metric_value(r.soft, metric.substr(5));
-  return metric_value(r.sref, metric);
-}
-
 // --- s_ref -----------------------------------------------------------------------------------------
 
 std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
@@ -155,27 +149,6 @@ const std::vector<double>& SrefCache::for_options(const FilterOptions& o) {
   BlurOptions blur = o.blur;
   if (!m.filtered) blur = BlurOptions{};
   return get(blur, m.raw_depth ? Lookup::Bilinear : o.lookup.kind);
-}
-
-// --- pareto -----------------------------------------------------------------------------------------
-
-std::vector<size_t> pareto_front(const std::vector<Row>& rows, const std::string& metric) {
-  std::vector<size_t> idx(rows.size());
-  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
-    if (rows[a].time_ms != rows[b].time_ms) return rows[a].time_ms < rows[b].time_ms;
-    return row_metric(rows[a], metric) < row_metric(rows[b], metric);
-  });
-  std::vector<size_t> front;
-  double best = INFINITY;
-  for (size_t i : idx) {
-    const double e = row_metric(rows[i], metric);
-    if (e < best) {
-      front.push_back(i);
-      best = e;
-    }
-  }
-  return front;
 }
 
 }  // namespace sf::eval

@@ -1,4 +1,4 @@
-// evaluate's outputs: results.csv, results.json, pareto_<scene>.png and error images.
+// evaluate's outputs: results.csv, results.json, the Pareto plots and error images.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "drawing.hpp"
 #include "evaluate.hpp"
 #include "image_io.hpp"
 #include "shadowfilter/errors.hpp"
@@ -54,23 +55,6 @@ void stats_json(std::ostream& f, const char* name, const ErrorStats& e) {
     << ", \"darken\": " << e.darken << "}";
 }
 
-std::vector<float> method_colour(const std::string& m) {
-  const auto& c = find_method(m).colour;
-  return {c[0], c[1], c[2]};
-}
-
-std::string font_path() {
-  for (const char* p :
-       {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"})
-    if (std::filesystem::exists(p)) return p;
-  return "";  // OIIO's default font search
-}
-
-void text(OIIO::ImageBuf& img, int x, int y, const std::string& s, const std::vector<float>& col, int size = 14) {
-  // Text is a nicety: a machine without fonts still gets the points and the front.
-  OIIO::ImageBufAlgo::render_text(img, x, y, s, size, font_path(), col);
-}
-
 }  // namespace
 
 // The method's parameters in effect, "key=value" separated by spaces (the registry's names).
@@ -84,16 +68,29 @@ std::string parameter_text(const FilterOptions& o) {
   return s;
 }
 
-void write_csv(const std::string& path, const std::vector<Row>& rows) {
+// Error columns: "self" (s_ref of the configuration's own weights; the files before the target
+// column called it "sref"), hard and soft (ray-traced), then after every older column the target
+// (s_ref of the run's target filter, named in target_filter).
+void write_csv(const std::string& path, const std::vector<Row>& rows, const TargetFilter& target) {
   auto f = open_out(path);
   f << "scene,method,config,blur_radius,lookup,storage,parameters,time_ms,min_ms,runs,"
        "transform_ms,blur_ms,mips_ms,sat_ms,zmax_ms,reconstruct_ms,classify_ms,device_bytes";
-  for (const char* ref : {"sref", "hard", "soft"})
-    for (const char* m : {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"})
-      f << "," << ref << "_" << m;
+  static const char* metrics[] = {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"};
+  for (const char* ref : {"self", "hard", "soft"})
+    for (const char* m : metrics) f << "," << ref << "_" << m;
   // Acne and umbra leaks against reference_hard (eval::acne_leak), after every older column.
   f << ",acne,umbra_leak,lit_inside,shadowed_inside";
+  f << ",target_filter";
+  for (const char* m : metrics) f << ",target_" << m;
   f << "\n";
+  auto stats = [&f](const ErrorStats& e) {
+    if (!e.valid) {
+      f << ",,,,,,,";
+      return;
+    }
+    f << "," << e.rmse << "," << e.p99 << "," << e.max << "," << e.frac_1_255 << "," << e.frac_005 << "," << e.leak
+      << "," << e.darken;
+  };
   for (const auto& r : rows) {
     const auto& o = r.options;
     f << r.scene << "," << r.method << "," << csv_quote(r.label) << "," << o.blur.radius << ","
@@ -101,35 +98,33 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
       << r.time_ms << "," << r.min_ms << "," << r.runs << "," << r.stages.transform * 1e3 << "," << r.stages.blur * 1e3
       << "," << r.stages.pyramid * 1e3 << "," << r.stages.sat * 1e3 << "," << r.stages.zmax * 1e3 << ","
       << r.stages.reconstruct * 1e3 << "," << r.stages.classify * 1e3 << "," << r.device_bytes;
-    for (const ErrorStats* e : {&r.sref, &r.hard, &r.soft}) {
-      if (!e->valid) {
-        f << ",,,,,,,";
-        continue;
-      }
-      f << "," << e->rmse << "," << e->p99 << "," << e->max << "," << e->frac_1_255 << "," << e->frac_005 << ","
-        << e->leak << "," << e->darken;
-    }
+    for (const ErrorStats* e : {&r.sref, &r.hard, &r.soft}) stats(*e);
     const AcneLeak& al = r.acne_leak;
     if (al.valid)
       f << "," << al.acne << "," << al.leak << "," << al.lit << "," << al.shadowed;
     else
       f << ",,,,";
+    f << "," << csv_quote(r.target.valid ? target_text(target) : "");
+    stats(r.target);
     f << "\n";
   }
   if (!f) throw InputError("cannot write '" + path + "'");
 }
 
 void write_json(const std::string& path, const std::vector<Row>& rows, const std::vector<Skipped>& skipped,
-                const std::string& device) {
+                const std::string& device, const TargetFilter& target) {
   auto f = open_out(path);
   f << "{\n  \"device\": \"" << json_escape(device) << "\",\n"
     << "  \"time\": \"median wall ms of prefilter + reconstruct + finish with the inputs on the device, "
        "after warm-up; stage times are device profiling medians\",\n"
-    << "  \"errors\": \"sref: against s_ref with the configuration's own weights; hard/soft: against the "
-       "ray-traced camera-view references over the receivers that face the light (ndl > 0); receivers with "
-       "finite depth inside the light frustum only; acne / umbra_leak: receivers lit / shadowed in reference_hard "
-       "at every counted receiver of their 7x7 window that come out below / above 0.5, as fractions of "
-       "lit_inside / shadowed_inside\",\n"
+    << "  \"errors\": \"self: against s_ref with the configuration's own weights (fidelity to its own filter; "
+       "sm and pcf are 0 by definition); target: against s_ref of target_filter, the same for every "
+       "configuration; hard/soft: against the ray-traced camera-view references over the receivers that face "
+       "the light (ndl > 0); receivers with finite depth inside the light frustum only; acne / umbra_leak: "
+       "receivers lit / shadowed in reference_hard at every counted receiver of their 7x7 window that come out "
+       "below / above 0.5, as fractions of lit_inside / shadowed_inside\",\n"
+    << "  \"target_filter\": {\"blur_radius\": " << target.blur.radius << ", \"lookup\": \""
+    << lookup_name(target.lookup) << "\"},\n"
     << "  \"results\": [\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -144,7 +139,9 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
       << ", \"mips\": " << r.stages.pyramid * 1e3 << ", \"sat\": " << r.stages.sat * 1e3
       << ", \"zmax\": " << r.stages.zmax * 1e3 << ", \"reconstruct\": " << r.stages.reconstruct * 1e3
       << ", \"classify\": " << r.stages.classify * 1e3 << "}, \"device_bytes\": " << r.device_bytes << ", ";
-    stats_json(f, "sref", r.sref);
+    stats_json(f, "self", r.sref);
+    f << ", ";
+    stats_json(f, "target", r.target);
     f << ", ";
     stats_json(f, "hard", r.hard);
     f << ", ";
@@ -165,35 +162,57 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
   if (!f) throw InputError("cannot write '" + path + "'");
 }
 
-void write_pareto_png(const std::string& path, const std::string& scene, const std::vector<Row>& rows,
-                      const std::string& metric) {
+void write_pareto_png(const std::string& path, const std::vector<Row>& rows, Reference ref, const std::string& metric,
+                      const PlotLabels& labels) {
   namespace IBA = OIIO::ImageBufAlgo;
-  const int W = 960, H = 640, L = 80, R = 180, T = 50, B = 60;  // plot area margins (legend right)
+  using draw::text;
+  const int W = 1200, H = 700, L = 80, R = 180, T = 90, B = 60;  // plot area margins (legend right)
   OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
   IBA::fill(img, {1.0f, 1.0f, 1.0f});
-  if (rows.empty()) {
-    img.write(path);
+  const std::vector<float> black{0, 0, 0}, grey{0.85f, 0.85f, 0.85f}, dim{0.35f, 0.35f, 0.35f};
+  text(img, 12, 26, labels.title, black, 17);
+  text(img, 12, 48, labels.subtitle, dim, 13);
+  text(img, L, T - 12, "error: " + labels.y_axis, black, 13);
+  text(img, std::max(L, (L + W - R) / 2 - draw::text_width(labels.x_axis, 14) / 2), H - 15, labels.x_axis, black, 14);
+  std::vector<size_t> shown;  // rows measured against the reference
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (std::isfinite(row_error(rows[i], ref, metric)) && std::isfinite(rows[i].time_ms)) shown.push_back(i);
+  if (shown.empty()) {
+    IBA::render_box(img, L, T, W - R, H - B, black);
+    draw::write_png8(path, img, labels.description());
     return;
   }
   double tmin = INFINITY, tmax = 0, emax = 0;
-  for (const auto& r : rows) {
-    tmin = std::min(tmin, r.time_ms);
-    tmax = std::max(tmax, r.time_ms);
-    const double e = row_metric(r, metric);
-    if (std::isfinite(e)) emax = std::max(emax, e);
+  for (size_t i : shown) {
+    tmin = std::min(tmin, rows[i].time_ms);
+    tmax = std::max(tmax, rows[i].time_ms);
+    emax = std::max(emax, row_error(rows[i], ref, metric));
   }
   tmin = std::max(tmin, 1e-3);
   const double lt0 = std::floor(std::log10(tmin) * 4) / 4,
                lt1 = std::ceil(std::log10(std::max(tmax, tmin * 1.01)) * 4) / 4;
-  emax = emax > 0 ? emax * 1.08 : 1.0;
+  // Error axis from 0 in five steps of a round size (1 to 8 times a power of ten).
+  double step = 0.2;
+  if (emax > 0) {
+    const double raw = emax * 1.04 / 5, decade = std::pow(10.0, std::floor(std::log10(raw)));
+    step = 10 * decade;
+    for (double m : {1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0})
+      if (m * decade >= raw) {
+        step = m * decade;
+        break;
+      }
+  }
+  emax = 5 * step;
   auto px = [&](double t) {
     return int(L + (std::log10(std::max(t, 1e-3)) - lt0) / std::max(lt1 - lt0, 1e-6) * (W - L - R));
   };
   auto py = [&](double e) { return int(H - B - std::min(e, emax) / emax * (H - T - B)); };
-  const std::vector<float> black{0, 0, 0}, grey{0.85f, 0.85f, 0.85f};
-  // Grid: decades (and 2x, 5x) on time, fifths on error.
+  // Grid: decades and 2x, 5x on time (finer when the axis spans about a decade or less), fifths
+  // on error.
+  const std::vector<double> marks =
+      lt1 - lt0 > 1.25 ? std::vector<double>{1, 2, 5} : std::vector<double>{1, 1.5, 2, 3, 4, 5, 6, 8};
   for (int k = int(std::floor(lt0)); k <= int(std::ceil(lt1)); ++k)
-    for (double m : {1.0, 2.0, 5.0}) {
+    for (double m : marks) {
       const double t = m * std::pow(10.0, k), lt = std::log10(t);
       if (lt < lt0 - 1e-9 || lt > lt1 + 1e-9) continue;
       const int x = px(t);
@@ -203,7 +222,7 @@ void write_pareto_png(const std::string& path, const std::string& scene, const s
       text(img, x - 8, H - B + 18, s.str(), black, 13);
     }
   for (int k = 0; k <= 5; ++k) {
-    const double e = emax * k / 5;
+    const double e = step * k;
     const int y = py(e);
     IBA::render_line(img, L, y, W - R, y, grey);
     std::ostringstream s;
@@ -212,40 +231,47 @@ void write_pareto_png(const std::string& path, const std::string& scene, const s
     text(img, 8, y + 5, s.str(), black, 13);
   }
   IBA::render_box(img, L, T, W - R, H - B, black);
-  text(img, L, 30, scene + ": time vs " + metric + " error (" + std::to_string(rows.size()) + " configurations)", black,
-       18);
-  text(img, (W - R) / 2 - 60, H - 15, "median time per frame, ms (log)", black, 14);
-  // Pareto front.
-  const auto front = pareto_front(rows, metric);
-  for (size_t i = 1; i < front.size(); ++i) {
-    const Row &a = rows[front[i - 1]], &b = rows[front[i]];
-    IBA::render_line(img, px(a.time_ms), py(row_metric(a, metric)), px(b.time_ms), py(row_metric(a, metric)),
-                     {0.2f, 0.2f, 0.2f});
-    IBA::render_line(img, px(b.time_ms), py(row_metric(a, metric)), px(b.time_ms), py(row_metric(b, metric)),
-                     {0.2f, 0.2f, 0.2f});
+  auto err = [&](size_t i) { return row_error(rows[i], ref, metric); };
+  const auto front = pareto_front(rows, ref, metric);
+  for (size_t k = 1; k < front.size(); ++k) {  // the front as a staircase
+    const size_t a = front[k - 1], b = front[k];
+    IBA::render_line(img, px(rows[a].time_ms), py(err(a)), px(rows[b].time_ms), py(err(a)), {0.2f, 0.2f, 0.2f});
+    IBA::render_line(img, px(rows[b].time_ms), py(err(a)), px(rows[b].time_ms), py(err(b)), {0.2f, 0.2f, 0.2f});
   }
-  for (const auto& r : rows) {
-    const int x = px(r.time_ms), y = py(row_metric(r, metric));
-    IBA::render_box(img, x - 3, y - 3, x + 3, y + 3, method_colour(r.method), true);
+  for (size_t i : shown) {
+    const int x = px(rows[i].time_ms), y = py(err(i));
+    IBA::render_box(img, x - 3, y - 3, x + 3, y + 3, draw::method_colour(rows[i].method), true);
   }
-  for (size_t i : front) {  // circle-ish outline on front points + label
-    const Row& r = rows[i];
-    const int x = px(r.time_ms), y = py(row_metric(r, metric));
+  // Outline and label on the front points; a label that would cover an earlier one moves to the
+  // next free line above or below its point.
+  std::vector<OIIO::ROI> placed;
+  for (size_t i : front) {
+    const int x = px(rows[i].time_ms), y = py(err(i));
     IBA::render_box(img, x - 6, y - 6, x + 6, y + 6, black, false);
-    text(img, x + 8, y - 8, r.label, black, 11);
+    const int w = draw::text_width(rows[i].label, 11);
+    for (int dy : {-8, 16, -22, 30, -36, 44, -50}) {
+      const OIIO::ROI box(x + 8, x + 8 + w, y + dy - 10, y + dy + 3);
+      const bool free = std::none_of(placed.begin(), placed.end(), [&](const OIIO::ROI& p) {
+        return box.xbegin < p.xend && p.xbegin < box.xend && box.ybegin < p.yend && p.ybegin < box.yend;
+      });
+      if (free || dy == -50) {
+        text(img, box.xbegin, y + dy, rows[i].label, black, 11);
+        placed.push_back(box);
+        break;
+      }
+    }
   }
-  // Legend.
-  std::vector<std::string> seen;
-  for (const auto& r : rows)
-    if (std::find(seen.begin(), seen.end(), r.method) == seen.end()) seen.push_back(r.method);
+  std::vector<std::string> seen;  // legend
+  for (size_t i : shown)
+    if (std::find(seen.begin(), seen.end(), rows[i].method) == seen.end()) seen.push_back(rows[i].method);
   int ly = T + 10;
   for (const auto& m : seen) {
-    IBA::render_box(img, W - R + 15, ly - 8, W - R + 25, ly + 2, method_colour(m), true);
+    IBA::render_box(img, W - R + 15, ly - 8, W - R + 25, ly + 2, draw::method_colour(m), true);
     text(img, W - R + 32, ly + 2, m, black, 14);
     ly += 22;
   }
   text(img, W - R + 15, ly + 10, "box = Pareto front", black, 12);
-  if (!img.write(path)) throw InputError("cannot write '" + path + "': " + img.geterror());
+  draw::write_png8(path, img, labels.description());
 }
 
 void write_error_png(const std::string& path, const Scene& scene, const std::vector<float>& v,

@@ -94,10 +94,12 @@ Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
 }
 
 Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,
-                    const TimingSettings& t) {
+                    const TimingSettings& t, const std::vector<double>* target_ref) {
   Measured m = measure(rt, o, scene, t);
   Row row = timed_row(scene, o, m);
   row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);
+  // The target, like self, is s_ref: defined on every valid receiver, facing the light or not.
+  if (target_ref) row.target = error_stats(m.visibility, *target_ref, scene.valid);
   auto vs_image = [&](const HostImage& img) {
     if (img.texels() != m.visibility.size()) return ErrorStats{};
     return error_stats(m.visibility, std::vector<double>(img.data.begin(), img.data.end()), scene.traced);

@@ -115,9 +115,7 @@ int run_filter(const FilterArgs& a) {
 
   const io::DepthLoadOptions load = depth_load_options(a);
   const HostImage depth = io::load_depth_map(shadow_map, load);
-  const Receivers receivers = a.receivers.empty()
-                                  ? io::load_receiver_depth(a.receiver_depth, depth.width, depth.height, load)
-                                  : io::load_receiver_image(a.receivers);
+  const Receivers receivers = io::load_receivers(a.receivers, a.receiver_depth, depth, load);
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);

@@ -44,9 +44,7 @@ class ReceiverCache {
     std::lock_guard<std::mutex> lock(mutex_);
     if (key != key_ || !receivers_) {
       receivers_.reset();
-      receivers_ = std::make_shared<const Receivers>(
-          f.receivers.empty() ? io::load_receiver_depth(f.receiver_depth, depth.width, depth.height, load)
-                              : io::load_receiver_image(f.receivers));
+      receivers_ = std::make_shared<const Receivers>(io::load_receivers(f.receivers, f.receiver_depth, depth, load));
       key_ = key;
     }
     return receivers_;

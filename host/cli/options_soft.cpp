@@ -146,6 +146,16 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   return c;
 }
 
+SoftLightInput load_soft_light(const std::string& shadow_map, const std::string& receivers,
+                               const std::string& receiver_depth, const SoftArgs& overrides) {
+  const io::DepthLoadOptions load;
+  SoftLightInput li;
+  li.light = light_from_header(shadow_map, overrides);
+  li.depth = io::load_depth_map(shadow_map, load);
+  li.receivers = io::load_receivers(receivers, receiver_depth, li.depth, load);
+  return li;
+}
+
 SoftOptions soft_options(const SoftArgs& a) {
   SoftOptions opt = a.options;
   if (!parse_soft_method(a.method, &opt.method))
@@ -169,7 +179,6 @@ int run_soft(const SoftArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   SoftOptions opt = soft_options(a);
   if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");
-  io::DepthLoadOptions load;
   std::vector<SoftLightInput> lights;
   if (!a.lights.empty()) {
     if (!a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
@@ -206,11 +215,8 @@ int run_soft(const SoftArgs& a) {
           throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");
       }
       const std::string mp = (dir / map).string(), rp = (dir / rxf).string();
-      SoftLightInput li;
-      li.light = light_from_header(mp, over);
+      SoftLightInput li = load_soft_light(mp, rp, "", over);
       li.light.weight = weight;
-      li.depth = io::load_depth_map(mp, load);
-      li.receivers = io::load_receiver_image(rp);
       lights.push_back(std::move(li));
     }
     if (lights.empty()) throw InputError("the light list '" + a.lights + "' holds no light");
@@ -218,13 +224,7 @@ int run_soft(const SoftArgs& a) {
     if (a.shadow_map.empty()) throw InputError("give --shadow-map (or --lights)");
     if (a.receivers.empty() == a.receiver_depth.empty())
       throw InputError("give exactly one of --receivers or --receiver-depth");
-    SoftLightInput li;
-    li.light = light_from_header(a.shadow_map, a);
-    li.depth = io::load_depth_map(a.shadow_map, load);
-    li.receivers = a.receivers.empty()
-                       ? io::load_receiver_depth(a.receiver_depth, li.depth.width, li.depth.height, load)
-                       : io::load_receiver_image(a.receivers);
-    lights.push_back(std::move(li));
+    lights.push_back(load_soft_light(a.shadow_map, a.receivers, a.receiver_depth, a));
   }
   opt.light = lights.front().light;
   validate(opt);

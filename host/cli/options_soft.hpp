@@ -25,6 +25,10 @@ struct SoftArgs {
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);
 int run_soft(const SoftArgs& args);
+// One light's inputs: its map, the light from the map's header with the command line's overrides,
+// and its receivers (the image, or when `receivers` is empty the planar `receiver_depth`).
+SoftLightInput load_soft_light(const std::string& shadow_map, const std::string& receivers,
+                               const std::string& receiver_depth, const SoftArgs& overrides);
 // The options of --method, --lookup, --cssm-sharpen and the rest (the light comes per map).
 SoftOptions soft_options(const SoftArgs& args);
 // `soft --frames LIST`: one frame a line as `filter --frames` reads it, each map's light from its

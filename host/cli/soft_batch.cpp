@@ -22,7 +22,6 @@ int run_soft_batch(const SoftArgs& a) {
   const SoftOptions opt = soft_options(a);
   const std::vector<FrameSpec> frames = read_frame_list(a.frames);
   check_batch_outputs(frames, {});
-  const io::DepthLoadOptions load;
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
   SoftTimes device;
@@ -34,13 +33,7 @@ int run_soft_batch(const SoftArgs& a) {
   const BatchReport report = run_batch<std::vector<SoftLightInput>, HostImage>(
       frames, settings,
       [&](const FrameSpec& f) {
-        SoftLightInput frame;
-        frame.light = light_from_header(f.shadow_map, a);
-        frame.depth = io::load_depth_map(f.shadow_map, load);
-        frame.receivers = f.receivers.empty()
-                              ? io::load_receiver_depth(f.receiver_depth, frame.depth.width, frame.depth.height, load)
-                              : io::load_receiver_image(f.receivers);
-        return std::vector<SoftLightInput>{std::move(frame)};
+        return std::vector<SoftLightInput>{load_soft_light(f.shadow_map, f.receivers, f.receiver_depth, a)};
       },
       [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
         // One light through what a single run calls: the same bytes.

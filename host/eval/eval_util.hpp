@@ -1,9 +1,12 @@
 #pragma once
-// Small helpers evaluate's parts share: medians of timings and numbers as labels print them.
+// Small helpers evaluate's parts share: medians of timings, numbers and lookups as labels print
+// them.
 #include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "shadowfilter/options.hpp"
 
 namespace sf::eval::detail {
 
@@ -14,6 +17,8 @@ double median(std::vector<T> v) {
   const size_t n = v.size();
   return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + double(v[n / 2]));
 }
+
+inline const char* lookup_name(Lookup k) { return k == Lookup::Mips ? "mips" : k == Lookup::Sat ? "sat" : "bilinear"; }
 
 inline std::string fmt(double v, int prec = 4) {
   std::ostringstream s;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "eval_util.hpp"
 #include "evaluate.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -32,7 +33,7 @@ const char* reference_name(Reference r) {
 std::string target_text(const TargetFilter& t) {
   std::string s = "R=" + std::to_string(t.blur.radius);
   if (t.blur.radius > 0 && t.blur.sigma > 0) s += " sigma=" + std::to_string(t.blur.sigma);
-  return s + (t.lookup == Lookup::Mips ? " mips" : t.lookup == Lookup::Sat ? " sat" : " bilinear");
+  return s + " " + detail::lookup_name(t.lookup);
 }
 
 std::string reference_text(Reference r, const TargetFilter& t) {

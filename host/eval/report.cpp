@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "drawing.hpp"
+#include "eval_util.hpp"
 #include "evaluate.hpp"
 #include "image_io.hpp"
 #include "shadowfilter/errors.hpp"
@@ -17,6 +18,8 @@
 
 namespace sf::eval {
 namespace {
+
+using detail::lookup_name;
 
 std::ofstream open_out(const std::string& path) {
   std::ofstream f(path);
@@ -26,8 +29,6 @@ std::ofstream open_out(const std::string& path) {
 }
 
 std::string csv_quote(const std::string& s) { return "\"" + s + "\""; }
-
-const char* lookup_name(Lookup k) { return k == Lookup::Mips ? "mips" : k == Lookup::Sat ? "sat" : "bilinear"; }
 
 std::string json_escape(const std::string& s) {
   std::string o;

@@ -285,4 +285,10 @@ Receivers load_receiver_depth(const std::string& path, int expected_w, int expec
   return rec;
 }
 
+Receivers load_receivers(const std::string& receivers, const std::string& receiver_depth, const HostImage& depth,
+                         const DepthLoadOptions& opt) {
+  return receivers.empty() ? load_receiver_depth(receiver_depth, depth.width, depth.height, opt)
+                           : load_receiver_image(receivers);
+}
+
 }  // namespace sf::io

@@ -40,6 +40,11 @@ Receivers load_receiver_image(const std::string& path);
 // decoded with the same encoding as the shadow map; non-finite texels are background.
 Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h, const DepthLoadOptions& opt);
 
+// The receivers of a run: the receiver image `receivers`, or, when that is empty, the planar
+// receivers of `receiver_depth` on the grid of `depth` (decoded with `opt`, as the map).
+Receivers load_receivers(const std::string& receivers, const std::string& receiver_depth, const HostImage& depth,
+                         const DepthLoadOptions& opt);
+
 // Writes an image atomically (temporary file in the same directory, then rename).
 // Format from the extension: .exr (float32), .tif/.tiff (float32), .pfm, .png (16-bit).
 void write_image(const std::string& path, const HostImage& img);

@@ -200,10 +200,6 @@ void write_with_oiio(const fs::path& file, const HostImage& img, OutputFormat fo
         "write failed" + details_suffix(with_output_path(write_error.empty() ? close_error : write_error, file, path)));
 }
 
-}  // namespace
-
-namespace {
-
 // The finished file at its temporary path, not yet in place.
 std::unique_ptr<TemporaryFile> write_temporary(const std::string& path, const HostImage& img) {
   const OutputFormat format = format_from_extension(path);

@@ -33,6 +33,7 @@ struct FrameFilter::Buffers {
   int width = 0, height = 0;
   size_t count = 0;
   bool grid = false, footprint = false;
+  size_t input_bytes = 0;  // the depth map and the receivers on the device (as filter() counts them)
   cl::Buffer depth, u, v, d, f, visibility;
 
   bool fits(const HostImage& map, const Receivers& rx, bool with_footprint) const {
@@ -64,10 +65,10 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   }
   buffers_.reset();
   const size_t count = receivers.count();
-  const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
-  check_fits_device(*rt_, std::max(pipe_->basis_shape().bytes(), count * sizeof(float)),
-                    pipe_->device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes, "this run");
   auto b = std::make_unique<Buffers>();
+  b->input_bytes = (depth.data.size() + count * (receivers.grid ? 2 : 4)) * sizeof(float);
+  check_fits_device(*rt_, std::max(pipe_->basis_shape().bytes(), count * sizeof(float)),
+                    pipe_->device_bytes() + b->input_bytes, "this run");
   b->width = depth.width;
   b->height = depth.height;
   b->count = count;
@@ -173,9 +174,7 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& receivers
   result.times = pipe_->times();
   if (!uploads.empty()) result.times.upload = event_seconds(uploads.front(), uploads.back());
   result.times.download = event_seconds(download);
-  const size_t receiver_bytes = count * sizeof(float) * (receivers.grid ? 2 : 4);
-  result.device_bytes =
-      pipe_->device_bytes() + depth.data.size() * sizeof(float) + receiver_bytes + count * sizeof(float);
+  result.device_bytes = pipe_->device_bytes() + b.input_bytes + count * sizeof(float);
   return result;
 } catch (const cl::Error& e) {
   detail::throw_device_error("FrameFilter::run", e);

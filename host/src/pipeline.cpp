@@ -51,6 +51,12 @@ size_t joined_level0_bytes(const Runtime& rt, const ImageShape& shape) {
   return (shape.bytes() + align - 1) / align * align;
 }
 
+// A lookup that cannot hold a map of this depth range and size is refused (methods.hpp).
+void require_sat_holds(const FilterOptions& options, const SatMap& map) {
+  const std::string why = sat_refusal(options, map);
+  if (!why.empty()) throw InputError(why);
+}
+
 }  // namespace
 
 // Only what the options need: a mean pyramid for mips, a SAT for sat, a z-max pyramid of the
@@ -65,10 +71,7 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
   // A stated depth range is checked here, before anything is allocated; else prefilter() checks
   // each map's own.
-  if (options.depth_range) {
-    const std::string why = sat_refusal(options, SatMap{*options.depth_range, width, height, rt.info().fp64});
-    if (!why.empty()) throw InputError(why);
-  }
+  if (options.depth_range) require_sat_holds(options, SatMap{*options.depth_range, width, height, rt.info().fp64});
   BufferPlan plan;
   plan.shape = {width, height, method.channels(options), method.raw_depth ? 4 : storage_bytes(options.storage)};
   const ImageShape& shape = plan.shape;
@@ -130,8 +133,7 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   // (blocking) and refuses it before anything is enqueued.
   if (sat_() && !options_.depth_range && method_->sat_limit) {
     const MapRange range = depth_range(*rt_, depth, shape_.plane_texels(), wait);
-    const std::string why = sat_refusal(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
-    if (!why.empty()) throw InputError(why);
+    require_sat_holds(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
   }
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
@@ -171,8 +173,7 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
 }
 
 void Pipeline::set_depth_range(const MapRange& range) {
-  const std::string why = sat_refusal(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
-  if (!why.empty()) throw InputError(why);
+  require_sat_holds(options_, SatMap{range, shape_.width, shape_.height, rt_->info().fp64});
   options_.depth_range = range;
 }
 

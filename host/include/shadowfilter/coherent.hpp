@@ -1,0 +1,111 @@
+#pragma once
+// Coherent shadow maps (methods.md sec. 5; seed 002, Ritschel et al.): a stack of N orthographic
+// dual-depth maps rendered from a lat-long grid of directions around an object, ordered so that
+// neighbours in the sequence look alike, and compressed per texel into piecewise-constant
+// segments that separate the first surface (z1) from the second (z2, or the third for closed
+// meshes). Visibility of a point toward a direction is a depth test in the view whose grid cell
+// holds the direction. docs/coherent.md has the file format and the measured figures.
+//
+// This header is the layout, the view geometry and the device API; the scalar compression and
+// lookup are in host/reference/coherent_reference.hpp, the file in host/io/coherent_file.hpp, the
+// Embree renderer of stacks in host/scene/coherent_stack.hpp.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/runtime.hpp"
+
+namespace sf::coherent {
+
+// Depths are linear along a view and quantised over the bounding sphere's diameter: 0 on the
+// view's camera plane (tangent to the sphere, in front of it), kDepthMax on the plane behind it.
+// A depth of kDepthMax + 1 = kNoSurface marks "no surface before the far plane" in z1 and
+// "+infinity" in z2, so that a texel that misses the object is lit for every query.
+inline constexpr uint32_t kDepthMax = 65534;
+inline constexpr uint16_t kNoSurface = 65535;
+// Views in one stack: a segment packs its last view index in 16 bits (kSegment* below).
+inline constexpr int kMaxViews = 65536;
+
+// The enumeration of the grid's views into a sequence (seed 002 sec. 4.4, fig. 8).
+enum class Ordering : uint32_t { ScanLine = 0, ZigZag = 1, Hilbert = 2 };
+// Which surfaces bound the separating depth: the first and second hit (any mesh), or the first
+// and third (closed meshes: the second is the first surface's own back; sec. 3.1).
+enum class DepthPair : uint32_t { FirstSecond = 12, FirstThird = 13 };
+// A missing upper surface: the exit from the bounding sphere (keeps z_avg on the object, right for
+// several objects, sec. 3.1 and 4.6), or +infinity (longer segments).
+enum class FarPlane : uint32_t { Sphere = 0, Infinite = 1 };
+
+const char* ordering_name(Ordering o);  // "scanline", "zigzag", "hilbert"
+bool parse_ordering(const std::string& s, Ordering* o);
+const char* far_plane_name(FarPlane f);  // "sphere", "infinite"
+bool parse_far_plane(const std::string& s, FarPlane* f);
+
+// The views and their maps. Grid cell (row j, column k), grid index j * views_phi + k, looks
+// along -dir from the sphere's surface, dir = (sin t cos p, cos t, sin t sin p) (y up) at the
+// cell's centre t = (j + 1/2) pi / views_theta, p = (k + 1/2) 2 pi / views_phi.
+struct StackLayout {
+  int views_theta = 32;  // grid rows (polar angle)
+  int views_phi = 32;    // grid columns (azimuth)
+  int resolution = 128;  // M: texels per side of each map
+  Ordering ordering = Ordering::Hilbert;
+  DepthPair depth_pair = DepthPair::FirstSecond;
+  FarPlane far_plane = FarPlane::Sphere;
+  std::array<double, 3> center{0.0, 0.0, 0.0};  // bounding sphere of the object
+  double radius = 1.0;
+
+  int views() const { return views_theta * views_phi; }
+  size_t texels() const { return size_t(resolution) * size_t(resolution); }
+  // What the seed's Table 1 counts as uncompressed: one 16-bit depth per texel of every map.
+  size_t uncompressed_bytes() const { return size_t(views()) * texels() * 2; }
+};
+// Throws InputError naming the field: grid sides >= 1 and views() <= kMaxViews; Hilbert needs a
+// square grid whose side is a power of two; resolution in [1, 4096]; radius finite and > 0.
+void validate(const StackLayout& layout);
+
+// sequence[i] = grid index of the i-th map of the stack (a permutation of 0 .. views() - 1).
+std::vector<uint32_t> enumerate_views(const StackLayout& layout);
+// position[g] = where grid index g stands in the sequence (the inverse permutation).
+std::vector<uint32_t> sequence_positions(const StackLayout& layout);
+
+// A view's frame: dir from the centre toward the camera, right and up span its map (texel x
+// along right, y along up; right = d dir / d p normalised, up = dir x right).
+struct ViewFrame {
+  std::array<double, 3> dir, right, up;
+};
+ViewFrame view_frame(const StackLayout& layout, uint32_t grid_index);
+// The grid cell that holds direction d (any length > 0): the view of a query toward d.
+uint32_t view_of_direction(const StackLayout& layout, const std::array<double, 3>& d);
+
+// A point in a view: texel (x, y), possibly outside the map, and its quantised depth
+// q = round(depth kDepthMax) clamped to [0, kDepthMax].
+struct ViewPoint {
+  int x = 0, y = 0;
+  uint32_t q = 0;
+  bool inside(int resolution) const { return x >= 0 && y >= 0 && x < resolution && y < resolution; }
+};
+ViewPoint project(const StackLayout& layout, uint32_t grid_index, const std::array<double, 3>& p);
+
+// The uncompressed stack: z1 and z2 of map i (position in the sequence) at texel t are
+// z1[i * texels() + t], z2[...]. Invariant per element: z1 < z2, or z1 == z2 == kNoSurface (a
+// surface pair thinner than one depth step is stored as z2 = z1 + 1).
+struct DualDepthStack {
+  StackLayout layout;
+  std::vector<uint16_t> z1, z2;
+};
+
+// The compressed stack: texel t's segments are segments[offsets[t] .. offsets[t + 1]), in
+// sequence order; each packs (z_avg << 16) | i_last, the segment covering the maps up to and
+// including i_last. The last segment of every texel ends at views() - 1.
+inline constexpr uint32_t kSegmentDepthShift = 16;
+inline constexpr uint32_t kSegmentIndexMask = 0xffffu;
+struct CompressedStack {
+  StackLayout layout;
+  std::vector<uint32_t> offsets;   // texels() + 1
+  std::vector<uint32_t> segments;  // offsets.back()
+  // Bytes of the compressed data (offsets and segments), what Table 1's "compressed" compares.
+  size_t compressed_bytes() const { return offsets.size() * 4 + segments.size() * 4; }
+};
+
+}  // namespace sf::coherent

@@ -1,0 +1,36 @@
+#pragma once
+// Scalar reference of coherent shadow maps (methods.md sec. 5; seed 002 sec. 3): the greedy
+// segment fit, the segment lookup and the visibility tests, plain loops the device kernels are
+// compared against byte for byte.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "shadowfilter/coherent.hpp"
+
+namespace sf::ref::coherent {
+
+using sf::coherent::CompressedStack;
+using sf::coherent::DualDepthStack;
+
+// Seed 002 eq. (1), per texel: from the first map not yet covered, the longest run of maps whose
+// max z1 < min z2 (z2 = kNoSurface counts as +infinity, 65536), stored with
+// z_avg = floor((max z1 + min z2) / 2), so max z1 <= z_avg < min z2 over the run.
+CompressedStack compress(const DualDepthStack& stack);
+
+// z_avg of the segment of texel t that holds map i (binary search over i_last).
+uint16_t segment_depth(const CompressedStack& c, size_t texel, uint32_t i);
+
+// The uncompressed dual-depth test of depth q in map i at texel t: +1 lit (q <= z1), 0 blocked
+// (q >= z2), -1 between the two surfaces (inside the object: either answer is right there).
+int stack_test(const DualDepthStack& s, uint32_t i, size_t texel, uint32_t q);
+// The compressed test: lit when q <= z_avg. Lossless: equals stack_test wherever that is not -1.
+bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t q);
+
+// Visibility of point p toward direction d (any length): the view whose cell holds d, p's texel
+// and depth there, the compressed test; 1 outside the map. (seed 002 sec. 3.2, fig. 6)
+// positions: sf::coherent::sequence_positions(c.layout), computed once by the caller.
+double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
+                  const std::array<double, 3>& d);
+
+}  // namespace sf::ref::coherent

@@ -1,0 +1,160 @@
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "shadowfilter/coherent.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::coherent {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// Hilbert curve of a side x side grid (side a power of two): the cell (x, y) of curve index d.
+void hilbert_cell(int side, uint32_t d, int* x, int* y) {
+  int cx = 0, cy = 0;
+  uint32_t t = d;
+  for (int s = 1; s < side; s *= 2) {
+    const int rx = 1 & int(t / 2);
+    const int ry = 1 & int(t ^ uint32_t(rx));
+    if (ry == 0) {  // rotate the quadrant
+      if (rx == 1) {
+        cx = s - 1 - cx;
+        cy = s - 1 - cy;
+      }
+      std::swap(cx, cy);
+    }
+    cx += s * rx;
+    cy += s * ry;
+    t /= 4;
+  }
+  *x = cx;
+  *y = cy;
+}
+
+double dot3(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+}  // namespace
+
+const char* ordering_name(Ordering o) {
+  switch (o) {
+    case Ordering::ScanLine: return "scanline";
+    case Ordering::ZigZag: return "zigzag";
+    case Ordering::Hilbert: return "hilbert";
+  }
+  return "?";
+}
+
+bool parse_ordering(const std::string& s, Ordering* o) {
+  for (Ordering c : {Ordering::ScanLine, Ordering::ZigZag, Ordering::Hilbert})
+    if (s == ordering_name(c)) {
+      *o = c;
+      return true;
+    }
+  return false;
+}
+
+const char* far_plane_name(FarPlane f) { return f == FarPlane::Sphere ? "sphere" : "infinite"; }
+
+bool parse_far_plane(const std::string& s, FarPlane* f) {
+  for (FarPlane c : {FarPlane::Sphere, FarPlane::Infinite})
+    if (s == far_plane_name(c)) {
+      *f = c;
+      return true;
+    }
+  return false;
+}
+
+void validate(const StackLayout& l) {
+  if (l.views_theta < 1 || l.views_phi < 1)
+    throw InputError("coherent: views_theta and views_phi must be >= 1, got " + std::to_string(l.views_theta) + "x" +
+                     std::to_string(l.views_phi));
+  if (long(l.views_theta) * l.views_phi > kMaxViews)
+    throw InputError("coherent: at most " + std::to_string(kMaxViews) + " views (a segment holds a 16-bit index), got " +
+                     std::to_string(long(l.views_theta) * l.views_phi));
+  if (l.ordering == Ordering::Hilbert && (l.views_theta != l.views_phi || !power_of_two(l.views_theta)))
+    throw InputError("coherent: the hilbert ordering needs a square grid with a power-of-two side, got " +
+                     std::to_string(l.views_theta) + "x" + std::to_string(l.views_phi));
+  if (l.ordering != Ordering::ScanLine && l.ordering != Ordering::ZigZag && l.ordering != Ordering::Hilbert)
+    throw InputError("coherent: unknown ordering " + std::to_string(uint32_t(l.ordering)));
+  if (l.depth_pair != DepthPair::FirstSecond && l.depth_pair != DepthPair::FirstThird)
+    throw InputError("coherent: depth_pair must be 12 or 13, got " + std::to_string(uint32_t(l.depth_pair)));
+  if (l.far_plane != FarPlane::Sphere && l.far_plane != FarPlane::Infinite)
+    throw InputError("coherent: unknown far_plane " + std::to_string(uint32_t(l.far_plane)));
+  if (l.resolution < 1 || l.resolution > 4096)
+    throw InputError("coherent: resolution must be in [1, 4096], got " + std::to_string(l.resolution));
+  if (!std::isfinite(l.radius) || l.radius <= 0.0)
+    throw InputError("coherent: radius must be finite and > 0, got " + std::to_string(l.radius));
+  for (double c : l.center)
+    if (!std::isfinite(c)) throw InputError("coherent: center must be finite");
+}
+
+std::vector<uint32_t> enumerate_views(const StackLayout& l) {
+  validate(l);
+  const int rows = l.views_theta, cols = l.views_phi;
+  std::vector<uint32_t> seq(size_t(rows) * cols);
+  for (int j = 0, i = 0; j < rows; ++j)
+    for (int k = 0; k < cols; ++k, ++i) {
+      switch (l.ordering) {
+        case Ordering::ScanLine: seq[i] = uint32_t(j * cols + k); break;
+        case Ordering::ZigZag: seq[i] = uint32_t(j * cols + ((j & 1) ? cols - 1 - k : k)); break;
+        case Ordering::Hilbert: {
+          int x = 0, y = 0;
+          hilbert_cell(cols, uint32_t(i), &x, &y);
+          seq[i] = uint32_t(y * cols + x);
+          break;
+        }
+      }
+    }
+  return seq;
+}
+
+std::vector<uint32_t> sequence_positions(const StackLayout& l) {
+  const std::vector<uint32_t> seq = enumerate_views(l);
+  std::vector<uint32_t> pos(seq.size());
+  for (size_t i = 0; i < seq.size(); ++i) pos[seq[i]] = uint32_t(i);
+  return pos;
+}
+
+ViewFrame view_frame(const StackLayout& l, uint32_t g) {
+  const int j = int(g) / l.views_phi, k = int(g) % l.views_phi;
+  const double t = (j + 0.5) * kPi / l.views_theta;
+  const double p = (k + 0.5) * 2.0 * kPi / l.views_phi;
+  ViewFrame f;
+  f.dir = {std::sin(t) * std::cos(p), std::cos(t), std::sin(t) * std::sin(p)};
+  f.right = {-std::sin(p), 0.0, std::cos(p)};
+  f.up = {f.dir[1] * f.right[2] - f.dir[2] * f.right[1], f.dir[2] * f.right[0] - f.dir[0] * f.right[2],
+          f.dir[0] * f.right[1] - f.dir[1] * f.right[0]};
+  return f;
+}
+
+uint32_t view_of_direction(const StackLayout& l, const std::array<double, 3>& d) {
+  const double n = std::sqrt(dot3(d, d));
+  const double t = std::acos(std::clamp(d[1] / n, -1.0, 1.0));
+  double p = std::atan2(d[2], d[0]);
+  if (p < 0.0) p += 2.0 * kPi;
+  const int j = std::clamp(int(t / kPi * l.views_theta), 0, l.views_theta - 1);
+  const int k = std::clamp(int(p / (2.0 * kPi) * l.views_phi), 0, l.views_phi - 1);
+  return uint32_t(j * l.views_phi + k);
+}
+
+ViewPoint project(const StackLayout& l, uint32_t g, const std::array<double, 3>& p) {
+  const ViewFrame f = view_frame(l, g);
+  const std::array<double, 3> r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
+  const double scale = 1.0 / (2.0 * l.radius);
+  const double u = dot3(r, f.right) * scale + 0.5, v = dot3(r, f.up) * scale + 0.5;
+  const double depth = (l.radius - dot3(r, f.dir)) * scale;
+  ViewPoint vp;
+  // Far outside the map stays outside (and fits an int).
+  vp.x = int(std::floor(std::clamp(u, -1.0, 2.0) * l.resolution));
+  vp.y = int(std::floor(std::clamp(v, -1.0, 2.0) * l.resolution));
+  vp.q = uint32_t(std::clamp(std::nearbyint(depth * kDepthMax), 0.0, double(kDepthMax)));
+  return vp;
+}
+
+}  // namespace sf::coherent

@@ -157,4 +157,10 @@ ViewPoint project(const StackLayout& l, uint32_t g, const std::array<double, 3>&
   return vp;
 }
 
+DeviceLayout device_layout(const StackLayout& l) {
+  validate(l);
+  return {float(l.center[0]), float(l.center[1]), float(l.center[2]), float(l.radius),
+          l.resolution,       l.views_theta,      l.views_phi,        l.views()};
+}
+
 }  // namespace sf::coherent

@@ -1,6 +1,7 @@
 #include "coherent_reference.hpp"
 
 #include <algorithm>
+#include <vector>
 
 namespace sf::ref::coherent {
 
@@ -15,27 +16,39 @@ CompressedStack compress(const DualDepthStack& s) {
   validate(s.layout);
   const size_t texels = s.layout.texels();
   const uint32_t n = uint32_t(s.layout.views());
+  // Every texel's run is grown map by map in sequence order (the stack is read once, in memory
+  // order): a map that leaves no separating depth closes the run before it and starts the next.
+  std::vector<uint32_t> lo(texels), hi(texels);
+  std::vector<std::vector<uint32_t>> runs(texels);
+  for (size_t t = 0; t < texels; ++t) {
+    lo[t] = s.z1[t];
+    hi[t] = upper(s.z2[t]);
+  }
+  for (uint32_t i = 1; i < n; ++i) {
+    const uint16_t* z1 = s.z1.data() + size_t(i) * texels;
+    const uint16_t* z2 = s.z2.data() + size_t(i) * texels;
+    for (size_t t = 0; t < texels; ++t) {
+      const uint32_t l2 = std::max(lo[t], uint32_t(z1[t])), h2 = std::min(hi[t], upper(z2[t]));
+      if (l2 < h2) {
+        lo[t] = l2;
+        hi[t] = h2;
+        continue;
+      }
+      runs[t].push_back((((lo[t] + hi[t]) / 2) << kSegmentDepthShift) | (i - 1));
+      lo[t] = z1[t];
+      hi[t] = upper(z2[t]);
+    }
+  }
   CompressedStack c;
   c.layout = s.layout;
   c.offsets.assign(texels + 1, 0);
+  size_t total = texels;
+  for (const auto& r : runs) total += r.size();
+  c.segments.reserve(total);
   for (size_t t = 0; t < texels; ++t) {
     c.offsets[t] = uint32_t(c.segments.size());
-    uint32_t i = 0;
-    while (i < n) {
-      uint32_t lo = s.z1[size_t(i) * texels + t], hi = upper(s.z2[size_t(i) * texels + t]);
-      uint32_t end = i;
-      while (end + 1 < n) {
-        const uint32_t l2 = std::max(lo, uint32_t(s.z1[size_t(end + 1) * texels + t]));
-        const uint32_t h2 = std::min(hi, upper(s.z2[size_t(end + 1) * texels + t]));
-        if (l2 >= h2) break;
-        lo = l2;
-        hi = h2;
-        ++end;
-      }
-      const uint32_t z_avg = (lo + hi) / 2;
-      c.segments.push_back((z_avg << kSegmentDepthShift) | end);
-      i = end + 1;
-    }
+    c.segments.insert(c.segments.end(), runs[t].begin(), runs[t].end());
+    c.segments.push_back((((lo[t] + hi[t]) / 2) << kSegmentDepthShift) | (n - 1));
   }
   c.offsets[texels] = uint32_t(c.segments.size());
   return c;

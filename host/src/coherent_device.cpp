@@ -8,6 +8,7 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "schedule_defaults.hpp"
 #include "shadowfilter/coherent_device.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -55,8 +56,16 @@ void need_queries(const char* fn, const cl::Buffer& points, const cl::Buffer& se
   need_bytes(fn, "out", out, count * sizeof(float), "count float");
 }
 
+// Texels per work-item of the count and write passes (csm_compress.cl SF_CSM_LANES): 32 on CPU
+// devices (a 64-byte line of each map per step of a work-item's walk), 1 elsewhere (coalesced
+// across work-items).
+uint32_t compress_lanes(const Runtime& rt) {
+  return resolve_family(rt, ScheduleFamily::Auto) == ScheduleFamily::Cpu ? 32 : 1;
+}
+
 cl::Program compress_program(Runtime& rt) {
-  return rt.program({"coherent/csm_compress.cl"}, detail::BuildOptions().str());
+  return rt.program({"coherent/csm_compress.cl"},
+                    detail::BuildOptions().define("SF_CSM_LANES", int(compress_lanes(rt))).str());
 }
 
 cl::Program query_program(Runtime& rt) {
@@ -158,7 +167,8 @@ cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const c
       .value(uint32_t(layout.texels()))
       .value(uint32_t(layout.views()))
       .buffer(offsets);
-  return launch(rt, k, layout.texels(), wait);
+  const uint32_t lanes = compress_lanes(rt);
+  return launch(rt, k, (layout.texels() + lanes - 1) / lanes, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_compress_count", e);
 }
@@ -205,7 +215,8 @@ cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const c
       .buffer(offsets)
       .buffer(segments)
       .value(uint32_t(capacity));
-  return launch(rt, k, layout.texels(), wait);
+  const uint32_t lanes = compress_lanes(rt);
+  return launch(rt, k, (layout.texels() + lanes - 1) / lanes, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_compress_write", e);
 }

@@ -56,11 +56,12 @@ void need_queries(const char* fn, const cl::Buffer& points, const cl::Buffer& se
   need_bytes(fn, "out", out, count * sizeof(float), "count float");
 }
 
-// Texels per work-item of the count and write passes (csm_compress.cl SF_CSM_LANES): 32 on CPU
-// devices (a 64-byte line of each map per step of a work-item's walk), 1 elsewhere (coalesced
-// across work-items).
+// Texels per work-item of the count and write passes (csm_compress.cl SF_CSM_LANES): 256 on CPU
+// devices (512 contiguous bytes of each map per step of a work-item's walk, which the
+// prefetcher follows; 32, 64 and 128 measured slower on PoCL, docs/coherent_device.md), 1
+// elsewhere (coalesced across work-items).
 uint32_t compress_lanes(const Runtime& rt) {
-  return resolve_family(rt, ScheduleFamily::Auto) == ScheduleFamily::Cpu ? 32 : 1;
+  return resolve_family(rt, ScheduleFamily::Auto) == ScheduleFamily::Cpu ? 256 : 1;
 }
 
 cl::Program compress_program(Runtime& rt) {

@@ -2,8 +2,9 @@
 // texel the greedy piecewise-constant fit of sf::ref::coherent::compress, byte for byte. A
 // work-item walks the stack's N maps in sequence order for SF_CSM_LANES neighbouring texels;
 // z1 and z2 are ushort [i * texels + t]. Lanes: 1 on GPUs (neighbouring work-items read
-// neighbouring words of every map, coalesced); 32 on CPUs, where a work-item runs alone and one
-// texel per item would read one word per cache line of every map: 32 texels read the line whole.
+// neighbouring words of every map, coalesced); 256 on CPUs, where a work-item runs alone and one
+// texel per item would read one word per cache line of every map: 256 texels read 512
+// contiguous bytes of each map, a stream the prefetcher follows.
 // Three passes: count (segments per texel into offsets[t]), an exclusive scan of the counts in
 // place (offsets[texels] = the total), write (the segments at offsets[t]).
 // Every kernel guards its index: any global size (rounded up to whole work-groups) is correct.

@@ -1,4 +1,5 @@
 // Coherent shadow maps (methods.md sec. 5, docs/coherent_device.md) on the device.
+//   coherent/query_geometry_bound: the nearest query's geometry without the stack (a bound).
 //   coherent/compress: the device compression of a 32x32-view, M = 128 stack (16.8 M texels of
 //     z1 and z2, 64 MiB), count + scan + write; scan 0: the scan on the device (three small
 //     launches), scan 1: the counts read back, scanned on the host and written again. bytes: z1
@@ -260,6 +261,39 @@ void BM_Query(benchmark::State& state) {
   set_throughput(state, bytes * kQueries, kQueries, s);
 }
 
+// The query's geometry alone (csm_query.clh: the view of the direction, the point's map
+// coordinates and depth in it; no stack read): what a nearest query costs at least, the bound
+// that says whether the queries wait on memory or on arithmetic.
+const char* kGeometrySource = R"CLC(
+__kernel void geometry(const sf_csm_layout L, __global const float4* restrict points,
+                       __global const float4* restrict dirs, __global float* restrict out) {
+  const uint i = get_global_id(0);
+  uint q;
+  const float2 uv = sf_csm_map_coords(L, sf_csm_view_of(L, dirs[i].xyz), points[i].xyz, &q);
+  out[i] = uv.x + uv.y + (float)q;
+}
+)CLC";
+
+void BM_QueryGeometry(benchmark::State& state) {
+  Fixture& f = fixture();
+  const bool coherent = state.range(0) == 1;
+  cl::Program p(runtime().context(), kernel_source("coherent/csm_query.clh") + kGeometrySource);
+  p.build({runtime().device()}, "-cl-std=CL1.2");
+  cl::Kernel k(p, "geometry");
+  k.setArg(0, sizeof(DeviceLayout), &f.compressed.device);
+  k.setArg(1, coherent ? f.d_points_c : f.d_points);
+  k.setArg(2, coherent ? f.d_dirs_c : f.d_dirs);
+  k.setArg(3, f.d_out);
+  const double s = time_runs(state, [&] {
+    cl::Event e;
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kQueries), cl::NullRange, nullptr, &e);
+    e.wait();
+    return event_seconds(e);
+  });
+  state.counters["ns_per_query"] = s * 1e9 / kQueries;
+  set_throughput(state, 36.0 * kQueries, kQueries, s);
+}
+
 // The compression: count + scan + write on the resident stack, with the segments buffer
 // allocated beforehand; the time runs from the count's start to the write's end on the device's
 // clock, so the read of the total (or the host scan) in between is part of it: the host needs
@@ -330,6 +364,10 @@ const bool registered = [] {
   configure(benchmark::RegisterBenchmark("coherent/query_32x32_M128", BM_Query))
       ->ArgNames({"filter", "rx"})
       ->ArgsProduct({{0, 1}, {0, 1}});
+  configure(benchmark::RegisterBenchmark("coherent/query_geometry_bound", BM_QueryGeometry))
+      ->ArgName("rx")
+      ->Arg(0)
+      ->Arg(1);
   configure(benchmark::RegisterBenchmark("coherent/compress_32x32_M128", BM_Compress))->ArgName("scan")->Arg(0)->Arg(1);
   configure(benchmark::RegisterBenchmark("coherent/compress_reference_32x32_M128", BM_CompressReference))
       ->Repetitions(std::min(2, repetitions()));

@@ -93,7 +93,8 @@ cl::Buffer upload_positions(Runtime& rt, const StackLayout& layout) try {
   detail::throw_device_error("coherent::upload_positions", e);
 }
 
-DeviceStack upload(Runtime& rt, const CompressedStack& c) try {
+DeviceStack upload(Runtime& rt, const CompressedStack& stack) try {
+  const CompressedStack& c = stack;
   validate(c.layout);
   const size_t texels = c.layout.texels();
   if (c.offsets.size() != texels + 1)
@@ -120,7 +121,8 @@ DeviceStack upload(Runtime& rt, const CompressedStack& c) try {
   detail::throw_device_error("coherent::upload", e);
 }
 
-DeviceDualDepth upload(Runtime& rt, const DualDepthStack& s) try {
+DeviceDualDepth upload(Runtime& rt, const DualDepthStack& stack) try {
+  const DualDepthStack& s = stack;
   validate(s.layout);
   const size_t n = size_t(s.layout.views()) * s.layout.texels();
   if (s.z1.size() != n || s.z2.size() != n)
@@ -138,7 +140,8 @@ DeviceDualDepth upload(Runtime& rt, const DualDepthStack& s) try {
   detail::throw_device_error("coherent::upload", e);
 }
 
-CompressedStack download(Runtime& rt, const DeviceStack& d) try {
+CompressedStack download(Runtime& rt, const DeviceStack& stack) try {
+  const DeviceStack& d = stack;
   validate(d.layout);
   need_offsets("download", d.layout, d.offsets);
   need_bytes("download", "segments", d.segments, d.segment_count * sizeof(uint32_t), "segment_count uint");
@@ -222,7 +225,8 @@ cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const c
   detail::throw_device_error("coherent::enqueue_compress_write", e);
 }
 
-DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& s, const EventList* wait) try {
+DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const EventList* wait) try {
+  const DeviceDualDepth& s = stack;
   const StackLayout& l = s.layout;
   need_stack_input("compress_on_device", l, s.z1, s.z2);
   need_bytes("compress_on_device", "positions", s.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");

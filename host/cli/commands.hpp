@@ -1,6 +1,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -91,5 +92,13 @@ struct EvaluateArgs {
 };
 CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& args);
 int run_evaluate(const EvaluateArgs& args);
+
+// `coherent` (cmd_coherent.cpp): its subcommands, each with the function that runs it.
+struct CoherentCommands {
+  CLI::App* app = nullptr;
+  std::vector<std::pair<CLI::App*, std::function<int()>>> subcommands;
+};
+void add_coherent_command(CLI::App& app, CoherentCommands& out);
+int run_coherent(const CoherentCommands& commands);
 
 }  // namespace sf::cli

@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   CLI::App* evaluate = sf::cli::add_evaluate_command(app, evaluate_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
+  sf::cli::CoherentCommands coherent;
+  sf::cli::add_coherent_command(app, coherent);
   sf::cli::require_finite_numbers(app);
   try {
     app.parse(argc, argv);
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     if (scene->parsed()) return sf::cli::run_scene(scene_args);
     if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
     if (soft->parsed()) return sf::cli::run_soft(soft_args);
+    if (coherent.app->parsed()) return sf::cli::run_coherent(coherent);
   } catch (const sf::InputError& e) {
     std::cerr << "shadowfilter: error: " << sf::cli::cli_message(e.what()) << "\n";
     return 2;

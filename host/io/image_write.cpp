@@ -1,10 +1,8 @@
 // Atomic image writing: a temporary file in the output's directory, renamed over the output only
 // once it is complete, so a failed write never leaves a partial file or clobbers an old one.
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
@@ -25,6 +23,8 @@ namespace {
 
 using detail::details_suffix;
 using detail::fail;
+using detail::temporary_path_for;
+using detail::TemporaryFile;
 namespace fs = std::filesystem;
 
 const char* const kOutputRole = "output image";
@@ -117,35 +117,6 @@ std::vector<float> png_values(const std::vector<float>& data) {
   return clamped;
 }
 
-// ".<stem>.tmp.<pid>.<n><ext>" next to the output: same file system (rename stays atomic), the
-// real extension last (OIIO picks the format from it), unique per process and per call.
-fs::path temporary_path_for(const std::string& path) {
-  static std::atomic<unsigned> counter{0};
-  const fs::path target(path);
-  const std::string name = "." + target.stem().string() + ".tmp." + std::to_string(::getpid()) + "." +
-                           std::to_string(counter++) + target.extension().string();
-  return target.parent_path() / name;
-}
-
-// Removes the temporary file when the write is abandoned (error or exception).
-class TemporaryFile {
- public:
-  explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
-  TemporaryFile(const TemporaryFile&) = delete;
-  TemporaryFile& operator=(const TemporaryFile&) = delete;
-  ~TemporaryFile() {
-    if (!path_.empty()) {
-      std::error_code ignored;
-      fs::remove(path_, ignored);
-    }
-  }
-  const fs::path& path() const { return path_; }
-  void release() { path_.clear(); }
-
- private:
-  fs::path path_;
-};
-
 bool little_endian_host() {
   const std::uint32_t one = 1;
   unsigned char first_byte = 0;
@@ -212,18 +183,11 @@ std::unique_ptr<TemporaryFile> write_temporary(const std::string& path, const Ho
   return temporary;
 }
 
-void move_into_place(TemporaryFile& temporary, const std::string& path) {
-  std::error_code ec;
-  fs::rename(temporary.path(), path, ec);
-  if (ec) fail(kOutputRole, path, "cannot move the finished file into place (" + ec.message() + ")");
-  temporary.release();
-}
-
 }  // namespace
 
 void write_image(const std::string& path, const HostImage& img) {
   auto temporary = write_temporary(path, img);
-  move_into_place(*temporary, path);
+  detail::move_into_place(*temporary, path, kOutputRole);
 }
 
 std::string preview_path(const std::string& output) {
@@ -235,7 +199,7 @@ std::string preview_path(const std::string& output) {
 void write_images(const std::vector<ImageToWrite>& images) {
   std::vector<std::unique_ptr<TemporaryFile>> written;
   for (const ImageToWrite& out : images) written.push_back(write_temporary(out.path, *out.image));
-  for (size_t i = 0; i < images.size(); ++i) move_into_place(*written[i], images[i].path);
+  for (size_t i = 0; i < images.size(); ++i) detail::move_into_place(*written[i], images[i].path, kOutputRole);
 }
 
 }  // namespace sf::io

@@ -1,5 +1,10 @@
 #include "io_detail.hpp"
 
+#include <unistd.h>
+
+#include <atomic>
+#include <system_error>
+
 namespace sf::io::detail {
 
 std::string one_line(const std::string& text) {
@@ -32,6 +37,28 @@ std::string details_suffix(const std::string& details) {
   if (line.empty()) return "";
   if (line.size() > kMaxDetails) line = line.substr(0, kMaxDetails) + "...";
   return " (" + line + ")";
+}
+
+std::filesystem::path temporary_path_for(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path target(path);
+  const std::string name = "." + target.stem().string() + ".tmp." + std::to_string(::getpid()) + "." +
+                           std::to_string(counter++) + target.extension().string();
+  return target.parent_path() / name;
+}
+
+TemporaryFile::~TemporaryFile() {
+  if (!path_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+  }
+}
+
+void move_into_place(TemporaryFile& temporary, const std::string& path, const std::string& role) {
+  std::error_code ec;
+  std::filesystem::rename(temporary.path(), path, ec);
+  if (ec) fail(role, path, "cannot move the finished file into place (" + ec.message() + ")");
+  temporary.release();
 }
 
 }  // namespace sf::io::detail

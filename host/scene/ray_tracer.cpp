@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -113,6 +114,64 @@ bool RayTracer::occluded(const Ray& ray, double t_min, double t_max, unsigned ma
   fill_ray(r, ray, t_min, t_max, mask);
   rtcOccluded1(impl_->scene, &context, &r);
   return r.tfar == -std::numeric_limits<float>::infinity();
+}
+
+void RayTracer::hits_along(const Ray* rays, size_t count, int hits, double gap, double* t) const {
+  constexpr size_t kLanes = 16;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (size_t first = 0; first < count; first += kLanes) {
+    const size_t lanes = std::min(kLanes, count - first);
+    alignas(64) int valid[kLanes];
+    alignas(64) RTCRayHit16 rh;
+    float tnear[kLanes];
+    for (size_t l = 0; l < kLanes; ++l) {
+      valid[l] = l < lanes ? -1 : 0;
+      tnear[l] = 0.0f;
+    }
+    for (int h = 0; h < hits; ++h) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      for (size_t l = 0; l < kLanes; ++l) {
+        const Ray& ray = rays[first + std::min(l, lanes - 1)];
+        rh.ray.org_x[l] = float(ray.origin.x);
+        rh.ray.org_y[l] = float(ray.origin.y);
+        rh.ray.org_z[l] = float(ray.origin.z);
+        rh.ray.dir_x[l] = float(ray.direction.x);
+        rh.ray.dir_y[l] = float(ray.direction.y);
+        rh.ray.dir_z[l] = float(ray.direction.z);
+        rh.ray.tnear[l] = tnear[l];
+        rh.ray.tfar[l] = kInf;
+        rh.ray.time[l] = 0.0f;
+        rh.ray.mask[l] = kMaskAll;
+        rh.ray.id[l] = 0;
+        rh.ray.flags[l] = 0;
+        rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect16(valid, impl_->scene, &context, &rh);
+      bool any = false;
+      for (size_t l = 0; l < lanes; ++l) {
+        if (!valid[l]) {
+          t[(first + l) * hits + h] = std::numeric_limits<double>::infinity();
+          continue;
+        }
+        if (rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID) {
+          valid[l] = 0;
+          t[(first + l) * hits + h] = std::numeric_limits<double>::infinity();
+          continue;
+        }
+        t[(first + l) * hits + h] = rh.ray.tfar[l];
+        tnear[l] = float(rh.ray.tfar[l] + gap);
+        any = true;
+      }
+      if (!any) {
+        for (int k = h + 1; k < hits; ++k)
+          for (size_t l = 0; l < lanes; ++l) t[(first + l) * hits + k] = std::numeric_limits<double>::infinity();
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace sf::scene

@@ -30,6 +30,10 @@ class RayTracer {
   std::optional<Hit> closest(const Ray& ray, double t_min, double t_max, unsigned mask = kMaskAll) const;
   // True when anything with t in (t_min, t_max) blocks the ray.
   bool occluded(const Ray& ray, double t_min, double t_max, unsigned mask = kMaskAll) const;
+  // The first `hits` surface crossings along each of `count` rays, in packets of 16 coherent
+  // rays: t[r * hits + h] is the h-th hit of ray r, +infinity when there is none. A later hit is
+  // searched from `gap` past the earlier one, so coincident surfaces count once.
+  void hits_along(const Ray* rays, size_t count, int hits, double gap, double* t) const;
 
  private:
   struct Impl;

@@ -43,9 +43,12 @@ double dot3(const std::array<double, 3>& a, const std::array<double, 3>& b) {
 
 const char* ordering_name(Ordering o) {
   switch (o) {
-    case Ordering::ScanLine: return "scanline";
-    case Ordering::ZigZag: return "zigzag";
-    case Ordering::Hilbert: return "hilbert";
+    case Ordering::ScanLine:
+      return "scanline";
+    case Ordering::ZigZag:
+      return "zigzag";
+    case Ordering::Hilbert:
+      return "hilbert";
   }
   return "?";
 }
@@ -75,7 +78,8 @@ void validate(const StackLayout& l) {
     throw InputError("coherent: views_theta and views_phi must be >= 1, got " + std::to_string(l.views_theta) + "x" +
                      std::to_string(l.views_phi));
   if (long(l.views_theta) * l.views_phi > kMaxViews)
-    throw InputError("coherent: at most " + std::to_string(kMaxViews) + " views (a segment holds a 16-bit index), got " +
+    throw InputError("coherent: at most " + std::to_string(kMaxViews) +
+                     " views (a segment holds a 16-bit index), got " +
                      std::to_string(long(l.views_theta) * l.views_phi));
   if (l.ordering == Ordering::Hilbert && (l.views_theta != l.views_phi || !power_of_two(l.views_theta)))
     throw InputError("coherent: the hilbert ordering needs a square grid with a power-of-two side, got " +
@@ -101,8 +105,12 @@ std::vector<uint32_t> enumerate_views(const StackLayout& l) {
   for (int j = 0, i = 0; j < rows; ++j)
     for (int k = 0; k < cols; ++k, ++i) {
       switch (l.ordering) {
-        case Ordering::ScanLine: seq[i] = uint32_t(j * cols + k); break;
-        case Ordering::ZigZag: seq[i] = uint32_t(j * cols + ((j & 1) ? cols - 1 - k : k)); break;
+        case Ordering::ScanLine:
+          seq[i] = uint32_t(j * cols + k);
+          break;
+        case Ordering::ZigZag:
+          seq[i] = uint32_t(j * cols + ((j & 1) ? cols - 1 - k : k));
+          break;
         case Ordering::Hilbert: {
           int x = 0, y = 0;
           hilbert_cell(cols, uint32_t(i), &x, &y);

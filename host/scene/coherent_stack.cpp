@@ -1,0 +1,143 @@
+#include "coherent_stack.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+#include <vector>
+
+#include "ray_tracer.hpp"
+#include "scene_library.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace sf::scene {
+
+using coherent::DualDepthStack;
+using coherent::kDepthMax;
+using coherent::kNoSurface;
+using coherent::StackLayout;
+
+SceneGeometry load_coherent_object(const std::string& source) {
+  SceneGeometry object;
+  if (source == "sphere") {
+    object.name = "sphere";
+    add_sphere(object, "sphere", {0.0, 0.0, 0.0}, 1.0);
+    return object;
+  }
+  if (source == "box") {
+    object.name = "box";
+    add_box(object, "box", {-1.0, -0.5, -0.75}, {1.0, 0.5, 0.75});
+    return object;
+  }
+  std::error_code ec;
+  if (is_builtin_scene(source) || std::filesystem::is_regular_file(source, ec)) {
+    const SceneDefaults scene = is_builtin_scene(source) ? make_builtin_scene(source) : load_mesh_scene(source);
+    object.name = scene.geometry.name;
+    for (const TriMesh& m : scene.geometry.meshes)
+      if (!m.ground) object.meshes.push_back(m);
+    object.spheres = scene.geometry.spheres;
+    if (object.meshes.empty() && object.spheres.empty())
+      throw InputError("coherent object '" + source + "': nothing but a floor");
+    return object;
+  }
+  throw InputError("coherent object '" + source +
+                   "': no such file, and not a built-in object (sphere, box, or a scene)");
+}
+
+void fit_bounding_sphere(const SceneGeometry& object, StackLayout& layout) {
+  constexpr double kBig = 1e300;
+  Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
+  auto grow = [&](Vec3 p, double r) {
+    lo = {std::min(lo.x, p.x - r), std::min(lo.y, p.y - r), std::min(lo.z, p.z - r)};
+    hi = {std::max(hi.x, p.x + r), std::max(hi.y, p.y + r), std::max(hi.z, p.z + r)};
+  };
+  for (const TriMesh& m : object.meshes)
+    for (const Vec3& v : m.vertices) grow(v, 0.0);
+  for (const Sphere& s : object.spheres) grow(s.center, s.radius);
+  if (!(hi.x >= lo.x)) throw InputError("coherent object '" + object.name + "' is empty");
+  const Vec3 c = 0.5 * (lo + hi);
+  double r = 0.0;
+  for (const TriMesh& m : object.meshes)
+    for (const Vec3& v : m.vertices) r = std::max(r, length(v - c));
+  for (const Sphere& s : object.spheres) r = std::max(r, length(s.center - c) + s.radius);
+  if (!(r > 0.0) || !std::isfinite(r)) throw InputError("coherent object '" + object.name + "' has no extent");
+  layout.center = {c.x, c.y, c.z};
+  layout.radius = r * (1.0 + 1e-4);
+}
+
+namespace {
+
+// Depth t along a view's ray (from its camera plane) quantised as ViewPoint::q.
+uint16_t quantise(double t, double diameter) {
+  return uint16_t(std::clamp(std::nearbyint(t / diameter * kDepthMax), 0.0, double(kDepthMax)));
+}
+
+}  // namespace
+
+DualDepthStack render_stack(const SceneGeometry& object, const StackLayout& layout, int threads,
+                            const std::function<void(size_t)>& progress) {
+  coherent::validate(layout);
+  const RayTracer tracer(object);
+  const std::vector<uint32_t> sequence = coherent::enumerate_views(layout);
+  const int m = layout.resolution;
+  const size_t texels = layout.texels();
+  const double radius = layout.radius, diameter = 2.0 * radius;
+  const int hits = layout.depth_pair == coherent::DepthPair::FirstThird ? 3 : 2;
+  const Vec3 center{layout.center[0], layout.center[1], layout.center[2]};
+  // A later hit starts this far past the earlier one: far below a depth step (diameter / 65534).
+  const double gap = diameter * 1e-7;
+
+  DualDepthStack stack;
+  stack.layout = layout;
+  stack.z1.assign(size_t(layout.views()) * texels, kNoSurface);
+  stack.z2.assign(size_t(layout.views()) * texels, kNoSurface);
+
+  std::atomic<size_t> next{0};
+  auto work = [&]() {
+    std::vector<Ray> rays(static_cast<size_t>(m));
+    std::vector<double> t(size_t(m) * hits);
+    for (size_t i = next++; i < sequence.size(); i = next++) {
+      const coherent::ViewFrame f = coherent::view_frame(layout, sequence[i]);
+      const Vec3 dir{f.dir[0], f.dir[1], f.dir[2]}, right{f.right[0], f.right[1], f.right[2]},
+          up{f.up[0], f.up[1], f.up[2]};
+      uint16_t* z1 = stack.z1.data() + i * texels;
+      uint16_t* z2 = stack.z2.data() + i * texels;
+      for (int y = 0; y < m; ++y) {
+        const double b = ((y + 0.5) / m - 0.5) * diameter;
+        for (int x = 0; x < m; ++x) {
+          const double a = ((x + 0.5) / m - 0.5) * diameter;
+          rays[size_t(x)] = {center + radius * dir + a * right + b * up, -dir};
+        }
+        tracer.hits_along(rays.data(), size_t(m), hits, gap, t.data());
+        for (int x = 0; x < m; ++x) {
+          const double* h = t.data() + size_t(x) * hits;
+          const size_t at = size_t(y) * m + size_t(x);
+          if (!std::isfinite(h[0])) continue;  // a miss: kNoSurface twice, lit for every query
+          const uint16_t first = quantise(h[0], diameter);
+          uint32_t second = kNoSurface;
+          if (std::isfinite(h[hits - 1])) {
+            second = quantise(h[hits - 1], diameter);
+          } else if (layout.far_plane == coherent::FarPlane::Sphere) {
+            // The ray leaves the bounding sphere at t = R + sqrt(R^2 - r^2), r its distance from
+            // the centre's line (sec. 3.1, "spherical far plane").
+            const double a = ((x + 0.5) / m - 0.5) * diameter, b = ((y + 0.5) / m - 0.5) * diameter;
+            second = quantise(radius + std::sqrt(std::max(0.0, radius * radius - a * a - b * b)), diameter);
+          }
+          // A pair thinner than one depth step still separates: z2 = z1 + 1.
+          z1[at] = first;
+          z2[at] = uint16_t(std::max<uint32_t>(second, uint32_t(first) + 1));
+        }
+      }
+      if (progress) progress(1);
+    }
+  };
+  const int n = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int k = 1; k < n; ++k) pool.emplace_back(work);
+  work();
+  for (std::thread& th : pool) th.join();
+  return stack;
+}
+
+}  // namespace sf::scene

@@ -1,0 +1,316 @@
+// Coherent shadow maps on the host (methods.md sec. 5; seed 002): the view orderings, the greedy
+// segment fit and its losslessness, the Embree-rendered stacks against Embree ray casts, and the
+// .csm file with its refusals.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "coherent_file.hpp"
+#include "coherent_reference.hpp"
+#include "coherent_stack.hpp"
+#include "ray_tracer.hpp"
+#include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
+
+namespace {
+
+using namespace sf::coherent;
+namespace fs = std::filesystem;
+using sf::ref::coherent::compress;
+
+StackLayout grid_layout(int rows, int cols, Ordering o, int m = 8) {
+  StackLayout l;
+  l.views_theta = rows;
+  l.views_phi = cols;
+  l.ordering = o;
+  l.resolution = m;
+  return l;
+}
+
+int manhattan(const StackLayout& l, uint32_t a, uint32_t b) {
+  return std::abs(int(a) / l.views_phi - int(b) / l.views_phi) + std::abs(int(a) % l.views_phi - int(b) % l.views_phi);
+}
+
+TEST(CoherentLayout, OrderingsArePermutationsWalkingToNeighbours) {
+  for (Ordering o : {Ordering::ScanLine, Ordering::ZigZag, Ordering::Hilbert}) {
+    const StackLayout l = grid_layout(16, 16, o);
+    const std::vector<uint32_t> seq = enumerate_views(l);
+    ASSERT_EQ(seq.size(), 256u);
+    EXPECT_EQ(std::set<uint32_t>(seq.begin(), seq.end()).size(), 256u) << ordering_name(o);
+    const std::vector<uint32_t> pos = sequence_positions(l);
+    for (size_t i = 0; i < seq.size(); ++i) EXPECT_EQ(pos[seq[i]], i);
+    int jumps = 0;
+    for (size_t i = 1; i < seq.size(); ++i) jumps += manhattan(l, seq[i - 1], seq[i]) != 1;
+    // Scan-line jumps back at the end of every row; zig-zag and Hilbert step to a neighbour.
+    EXPECT_EQ(jumps, o == Ordering::ScanLine ? 15 : 0) << ordering_name(o);
+  }
+  EXPECT_THROW(enumerate_views(grid_layout(16, 8, Ordering::Hilbert)), sf::InputError);
+  EXPECT_THROW(enumerate_views(grid_layout(12, 12, Ordering::Hilbert)), sf::InputError);
+  EXPECT_NO_THROW(enumerate_views(grid_layout(12, 7, Ordering::ZigZag)));
+  EXPECT_THROW(validate(grid_layout(512, 512, Ordering::ScanLine)), sf::InputError);  // > 65536 views
+}
+
+TEST(CoherentLayout, EveryViewHoldsItsOwnDirectionAndProjectsTheCentreMidMap) {
+  StackLayout l = grid_layout(8, 16, Ordering::ZigZag, 64);
+  l.center = {1.0, -2.0, 0.5};
+  l.radius = 3.0;
+  for (uint32_t g = 0; g < uint32_t(l.views()); ++g) {
+    const ViewFrame f = view_frame(l, g);
+    EXPECT_EQ(view_of_direction(l, f.dir), g);
+    EXPECT_NEAR(f.dir[0] * f.right[0] + f.dir[1] * f.right[1] + f.dir[2] * f.right[2], 0.0, 1e-12);
+    const ViewPoint c = project(l, g, l.center);
+    EXPECT_EQ(c.x, 32);
+    EXPECT_EQ(c.y, 32);
+    EXPECT_EQ(c.q, (kDepthMax + 1) / 2);  // half the diameter deep, rounded
+    // The point on the sphere toward the camera is at depth 0, the far one at kDepthMax.
+    const std::array<double, 3> near{l.center[0] + 3.0 * f.dir[0], l.center[1] + 3.0 * f.dir[1],
+                                     l.center[2] + 3.0 * f.dir[2]};
+    EXPECT_EQ(project(l, g, near).q, 0u);
+  }
+}
+
+// A stack with coherent depth functions: smooth surfaces that drift from view to view, thin
+// pairs (z2 = z1 + 1) and misses.
+DualDepthStack synthetic_stack(const StackLayout& l, unsigned seed) {
+  DualDepthStack s;
+  s.layout = l;
+  const size_t texels = l.texels();
+  s.z1.resize(size_t(l.views()) * texels);
+  s.z2.resize(s.z1.size());
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> phase(texels), thick(texels);
+  for (size_t t = 0; t < texels; ++t) {
+    phase[t] = 6.28 * u(rng);
+    thick[t] = u(rng) < 0.2 ? 0.0 : 2000.0 + 20000.0 * u(rng);
+  }
+  for (int i = 0; i < l.views(); ++i)
+    for (size_t t = 0; t < texels; ++t) {
+      const size_t at = size_t(i) * texels + t;
+      const double z = 20000.0 + 15000.0 * std::sin(0.05 * i + phase[t]) + 300.0 * u(rng);
+      if (std::sin(0.03 * i + 2.0 * phase[t]) > 0.8) {  // a miss
+        s.z1[at] = s.z2[at] = kNoSurface;
+        continue;
+      }
+      s.z1[at] = uint16_t(z);
+      s.z2[at] = uint16_t(std::min(65535.0, z + std::max(1.0, thick[t])));
+    }
+  return s;
+}
+
+TEST(CoherentReference, SegmentsAreLongestSeparatingRunsAndLossless) {
+  for (Ordering o : {Ordering::ScanLine, Ordering::ZigZag, Ordering::Hilbert}) {
+    const DualDepthStack s = synthetic_stack(grid_layout(16, 16, o, 6), 7);
+    const CompressedStack c = compress(s);
+    const size_t texels = s.layout.texels();
+    const uint32_t n = uint32_t(s.layout.views());
+    ASSERT_EQ(c.offsets.size(), texels + 1);
+    size_t undefined = 0, checked = 0;
+    for (size_t t = 0; t < texels; ++t) {
+      uint32_t first = 0;
+      for (uint32_t k = c.offsets[t]; k < c.offsets[t + 1]; ++k) {
+        const uint32_t last = c.segments[k] & kSegmentIndexMask, z = c.segments[k] >> kSegmentDepthShift;
+        uint32_t lo = 0, hi = 65536;
+        for (uint32_t i = first; i <= last; ++i) {
+          lo = std::max<uint32_t>(lo, s.z1[i * texels + t]);
+          const uint16_t z2 = s.z2[i * texels + t];
+          hi = std::min<uint32_t>(hi, z2 == kNoSurface ? 65536u : z2);
+        }
+        EXPECT_LE(lo, z);
+        EXPECT_LT(z, hi);
+        if (last + 1 < n) {  // greedy: one more map would leave no separating depth
+          const uint16_t z2 = s.z2[(last + 1) * texels + t];
+          EXPECT_GE(std::max<uint32_t>(lo, s.z1[(last + 1) * texels + t]),
+                    std::min<uint32_t>(hi, z2 == kNoSurface ? 65536u : z2));
+        }
+        first = last + 1;
+      }
+      EXPECT_EQ(first, n);
+      // Lossless, exhaustively over the depths around both surfaces of every map.
+      for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t q : {0u, uint32_t(s.z1[i * texels + t]) - 1u, uint32_t(s.z1[i * texels + t]),
+                           uint32_t(s.z1[i * texels + t]) + 1u, uint32_t(s.z2[i * texels + t]) - 1u,
+                           uint32_t(s.z2[i * texels + t]), uint32_t(s.z2[i * texels + t]) + 1u, kDepthMax}) {
+          if (q > kDepthMax) continue;
+          const int want = sf::ref::coherent::stack_test(s, i, t, q);
+          if (want < 0) {
+            ++undefined;
+            continue;
+          }
+          ++checked;
+          ASSERT_EQ(sf::ref::coherent::compressed_lit(c, i, t, q) ? 1 : 0, want)
+              << ordering_name(o) << " texel " << t << " map " << i << " q " << q;
+        }
+    }
+    EXPECT_GT(checked, 10000u);
+    EXPECT_GT(undefined, 1000u);  // the band between the surfaces was exercised too
+  }
+}
+
+TEST(CoherentReference, CoherentOrderingsCompressBetterOnARealObject) {
+  // The box seen from 16 x 16 directions at M = 32: a neighbour-walking ordering never needs
+  // more segments than scan-line, whose row ends jump across the sphere.
+  size_t segments[3] = {};
+  for (Ordering o : {Ordering::ScanLine, Ordering::ZigZag, Ordering::Hilbert}) {
+    StackLayout l = grid_layout(16, 16, o, 32);
+    const sf::scene::SceneGeometry box = sf::scene::load_coherent_object("box");
+    sf::scene::fit_bounding_sphere(box, l);
+    segments[int(o)] = compress(sf::scene::render_stack(box, l, 2)).segments.size();
+  }
+  EXPECT_LT(segments[int(Ordering::ZigZag)], segments[int(Ordering::ScanLine)]);
+  EXPECT_LT(segments[int(Ordering::Hilbert)], segments[int(Ordering::ScanLine)]);
+}
+
+// Points on the object (first hits of random rays into its bounding sphere, moved
+// `offset_texels` map texels along the normal, as a renderer's queries are) and random light
+// directions above their horizon (below it a renderer weighs the light by cos = 0): the
+// compressed stack's answer against an Embree ray cast from the point along the direction of the
+// view that answers (the snapped direction). 16 x 16 views, M = 64.
+struct Agreement {
+  double agree = 0.0, blocked = 0.0;  // fractions of the queries: equal answers, Embree blocked
+  double blocked_found = 0.0;         // of those Embree blocks, the fraction the stack blocks too
+};
+Agreement agreement_with_embree(const std::string& object_name, size_t queries, double offset_texels) {
+  const sf::scene::SceneGeometry object = sf::scene::load_coherent_object(object_name);
+  StackLayout l = grid_layout(16, 16, Ordering::Hilbert, 64);
+  sf::scene::fit_bounding_sphere(object, l);
+  const CompressedStack c = compress(sf::scene::render_stack(object, l, 2));
+  const std::vector<uint32_t> pos = sequence_positions(l);
+  const sf::scene::RayTracer tracer(object);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto random_dir = [&] {
+    sf::scene::Vec3 d{n(rng), n(rng), n(rng)};
+    return sf::scene::normalize(d);
+  };
+  const sf::scene::Vec3 centre{l.center[0], l.center[1], l.center[2]};
+  size_t agree = 0, blocked = 0, found = 0, total = 0;
+  while (total < queries) {
+    const sf::scene::Vec3 d = random_dir();
+    const sf::scene::Ray probe{centre - (2.0 * l.radius) * d, d};
+    const auto hit = tracer.closest(probe, 0.0, 4.0 * l.radius);
+    if (!hit) continue;
+    const sf::scene::Vec3 p = probe.at(hit->t);
+    const sf::scene::Vec3 light = random_dir();
+    const ViewFrame f = view_frame(l, view_of_direction(l, {light.x, light.y, light.z}));
+    const sf::scene::Vec3 snapped{f.dir[0], f.dir[1], f.dir[2]};
+    if (sf::scene::dot(snapped, hit->normal) <= 0.0) continue;
+    const bool embree_lit = !tracer.occluded({p, snapped}, 1e-4 * l.radius, 4.0 * l.radius);
+    const sf::scene::Vec3 q = p + (offset_texels * 2.0 * l.radius / l.resolution) * hit->normal;
+    const bool csm_lit = sf::ref::coherent::visibility(c, pos, {q.x, q.y, q.z}, {light.x, light.y, light.z}) > 0.5;
+    agree += embree_lit == csm_lit;
+    blocked += !embree_lit;
+    found += !embree_lit && !csm_lit;
+    ++total;
+  }
+  return {double(agree) / double(total), double(blocked) / double(total),
+          blocked > 0 ? double(found) / double(blocked) : 0.0};
+}
+
+TEST(CoherentReference, AgreesWithEmbreeOnASphereABoxAndSpheresShadowingEachOther) {
+  // With a half-texel normal offset, disagreement is left only where a map texel straddles a
+  // silhouette; without it the box's faces seen at grazing angles shadow themselves (acne).
+  const Agreement sphere = agreement_with_embree("sphere", 10000, 0.5);
+  const Agreement box = agreement_with_embree("box", 10000, 0.5);
+  const Agreement box_no_offset = agreement_with_embree("box", 10000, 0.0);
+  const Agreement spheres = agreement_with_embree("spheres", 10000, 0.5);
+  RecordProperty("sphere_agreement", std::to_string(sphere.agree));
+  RecordProperty("box_agreement", std::to_string(box.agree));
+  RecordProperty("spheres_agreement", std::to_string(spheres.agree));
+  EXPECT_GE(sphere.agree, 0.99);
+  EXPECT_GE(box.agree, 0.99);
+  EXPECT_LT(box_no_offset.agree, 0.99);
+  EXPECT_GE(spheres.agree, 0.99);
+  // The scene's spheres do shadow each other, and the stack finds those shadows.
+  EXPECT_GT(spheres.blocked, 0.01);
+  EXPECT_GE(spheres.blocked_found, 0.9);
+}
+
+// --- the .csm file -----------------------------------------------------------------------
+CompressedStack small_compressed() { return compress(synthetic_stack(grid_layout(8, 8, Ordering::Hilbert, 4), 3)); }
+
+std::vector<char> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+void write_bytes(const std::string& path, const std::vector<char>& b) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(b.data(), std::streamsize(b.size()));
+}
+std::string refusal(const std::string& path) {
+  try {
+    sf::io::read_coherent(path);
+  } catch (const sf::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
+  const std::string dir = sf::test::temp_dir("coherent_file");
+  const std::string path = dir + "/s.csm";
+  sf::io::CoherentFile f;
+  f.stack = small_compressed();
+  f.source = "box";
+  sf::io::write_coherent(path, f);
+  const sf::io::CoherentFile back = sf::io::read_coherent(path);
+  EXPECT_EQ(back.source, "box");
+  EXPECT_EQ(back.stack.offsets, f.stack.offsets);
+  EXPECT_EQ(back.stack.segments, f.stack.segments);
+  EXPECT_EQ(back.stack.layout.views_theta, 8);
+  EXPECT_EQ(back.stack.layout.ordering, Ordering::Hilbert);
+  EXPECT_EQ(fs::directory_iterator(dir)->path().filename(), "s.csm");  // no temporary left
+
+  const std::vector<char> good = read_bytes(path);
+  const std::string bad = dir + "/bad.csm";
+  std::vector<char> b(good.begin(), good.end() - 9);
+  write_bytes(bad, b);
+  EXPECT_NE(refusal(bad).find("truncated"), std::string::npos) << refusal(bad);
+  b = good;
+  b[good.size() - 20] ^= 0x10;
+  write_bytes(bad, b);
+  EXPECT_NE(refusal(bad).find("CRC-32"), std::string::npos) << refusal(bad);
+  b = good;
+  b[8] = 2;  // version 2
+  write_bytes(bad, b);
+  EXPECT_NE(refusal(bad).find("version 2"), std::string::npos) << refusal(bad);
+  b = good;
+  b[0] = 'X';
+  write_bytes(bad, b);
+  EXPECT_NE(refusal(bad).find("bad magic"), std::string::npos) << refusal(bad);
+  b.assign(good.begin(), good.begin() + 20);
+  write_bytes(bad, b);
+  EXPECT_NE(refusal(bad).find("truncated"), std::string::npos) << refusal(bad);
+}
+
+TEST(CoherentCli, BuildInfoAndRefusals) {
+  const std::string dir = sf::test::temp_dir("coherent_cli");
+  const std::string out = dir + "/box.csm";
+  auto r = sf::test::run_cli("coherent build box -o " + out + " --views 8x8 --res 16 -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = sf::test::run_cli("coherent info " + out, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("8x8 views (64), M = 16, hilbert"), std::string::npos) << r.out;
+  const std::vector<char> good = read_bytes(out);
+  write_bytes(dir + "/cut.csm", std::vector<char>(good.begin(), good.end() - 1));
+  r = sf::test::run_cli("coherent info " + dir + "/cut.csm", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(sf::test::count_lines(r.err), 1u) << r.err;
+  for (const char* args : {"coherent build box --views 8x6 --ordering hilbert", "coherent build box --views 8x",
+                           "coherent build box --depth-pair 23", "coherent build nosuch.off",
+                           "coherent build box --views 512x512 --ordering zigzag"}) {
+    r = sf::test::run_cli(std::string(args) + " -o " + dir + "/x.csm -q", dir);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(sf::test::count_lines(r.err), 1u) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/x.csm")) << args;
+  }
+}
+
+}  // namespace

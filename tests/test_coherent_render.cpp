@@ -13,8 +13,10 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "coherent_file.hpp"
 #include "coherent_reference.hpp"
 #include "coherent_render.hpp"
+#include "coherent_stack.hpp"
 #include "envmap.hpp"
 #include "image_io.hpp"
 #include "ray_tracer.hpp"
@@ -226,9 +228,9 @@ TEST(CoherentRender, SyntheticSkyIsDeterministicAndBundled) {
 
 // Uniform env = 1, albedo 1, a convex object: every point sees radiance 1. Per sample the
 // estimate is 4 cos (or 0 below the horizon): sd 1.29 a sample, at 64 stratified samples at
-// most 0.16 a pixel. Bounds: the mean over the object within 0.01 of 1 ray-traced; the CSM's
-// grazing samples snap to a view up to half a cell away and some read as blocked, a bias that is
-// stated here as at most 0.03 for 32 x 32 views.
+// most 0.16 a pixel. Bounds: the mean over the object within 0.01 of 1, ray-traced and with the
+// CSM (whose grazing samples snap to a view up to half a cell away and may read as blocked: a
+// bias, measured 0.0005 for 32 x 32 views), every ray-traced pixel within 0.5.
 TEST(CoherentRender, WhiteFurnace) {
   SceneGeometry ball;
   add_sphere(ball, "ball", {0, 0, 0}, 0.6);
@@ -259,8 +261,7 @@ TEST(CoherentRender, WhiteFurnace) {
   std::printf("furnace: mean traced %.4f, csm %.4f, worst traced pixel %.3f off\n", mean_t, mean_c, worst);
   EXPECT_NEAR(mean_t, 1.0, 0.01);
   EXPECT_LT(worst, 0.5);
-  EXPECT_LE(mean_c, mean_t + 1e-3);
-  EXPECT_NEAR(mean_c, 1.0, 0.03);
+  EXPECT_NEAR(mean_c, 1.0, 0.01);
 }
 
 // The CSM render against the ray-traced render of the same samples: they differ where a sample's
@@ -339,6 +340,87 @@ TEST(CoherentRender, AreaLightsInsideTheBoundingSphereAreRefused) {
   AreaLight nan{{-1, 2, -1}, {2, 0, 0}, {0, 0, 2}};
   nan.radiance[1] = std::nan("");
   EXPECT_THROW(validate_area_light(nan, {0, 0, 0}, 1.0), InputError);
+}
+
+// --- the command -----------------------------------------------------------------------------
+
+// A small .csm of the built-in sphere (8 x 8 views of 16 x 16 texels) and a sky, in `dir`.
+void write_inputs(const std::string& dir) {
+  const SceneGeometry object = load_coherent_object("sphere");
+  co::StackLayout layout;
+  layout.views_theta = layout.views_phi = 8;
+  layout.resolution = 16;
+  fit_bounding_sphere(object, layout);
+  io::CoherentFile file;
+  file.stack = ref::coherent::compress(render_stack(object, layout, 1));
+  file.source = "sphere";
+  io::write_coherent(dir + "/sphere.csm", file);
+  SkyOptions sky;
+  sky.width = 32;
+  sky.height = 16;
+  io::write_image(dir + "/sky.exr", synthetic_sky(sky));
+}
+
+TEST(CoherentRender, CommandWritesImageAndPreview) {
+  const std::string dir = temp_dir("coherent_render_cli");
+  write_inputs(dir);
+  const RunResult r = run_cli("coherent render " + dir + "/sphere.csm --envmap " + dir + "/sky.exr -o " + dir +
+                                  "/out.exr --width 24 --height 16 --samples 4 --preview "
+                                  "--area-light -1 3 -1 2 0 0 0 0 2 5",
+                              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("M samples/s"), std::string::npos) << r.out;
+  ASSERT_TRUE(std::filesystem::exists(dir + "/out.exr"));
+  ASSERT_TRUE(std::filesystem::exists(dir + "/out.png"));
+  auto in = OIIO::ImageInput::open(dir + "/out.exr");
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 24);
+  EXPECT_EQ(in->spec().nchannels, 3);
+  std::vector<float> px(24 * 16 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
+  for (float v : px) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f);
+  // The reference on the same samples runs too.
+  EXPECT_EQ(run_cli("coherent render " + dir + "/sphere.csm --envmap " + dir + "/sky.exr -o " + dir +
+                        "/ref.exr --width 8 --height 8 --samples 2 --reference embree -q",
+                    dir)
+                .exit_code,
+            0);
+  EXPECT_EQ(run_cli("coherent sky -o " + dir + "/gen.exr --width 16 --height 8", dir).exit_code, 0);
+  EXPECT_NO_THROW(load_envmap(dir + "/gen.exr"));
+}
+
+TEST(CoherentRender, CommandRefusesBadInputWritingNothing) {
+  const std::string dir = temp_dir("coherent_render_bad");
+  write_inputs(dir);
+  {
+    std::ofstream cut(dir + "/cut.csm", std::ios::binary);
+    std::ifstream whole(dir + "/sphere.csm", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+    cut << bytes.substr(0, bytes.size() / 2);
+  }
+  std::filesystem::copy_file(dir + "/sky.exr", dir + "/cut.exr");
+  std::filesystem::resize_file(dir + "/cut.exr", std::filesystem::file_size(dir + "/sky.exr") / 2);
+  const std::string csm = dir + "/sphere.csm", env = " --envmap " + dir + "/sky.exr";
+  const std::string out = " -o " + dir + "/out.exr --width 8 --height 8 --samples 2";
+  const std::vector<std::string> bad = {
+      dir + "/missing.csm" + env + out,
+      dir + "/cut.csm" + env + out,
+      csm + " --envmap " + dir + "/cut.exr" + out,
+      csm + env + " -o " + dir + "/out.exr --samples 0",
+      csm + env + out + " --camera-fov nan",
+      csm + env + out + " --area-light 0 0 0 0.5 0 0 0 0 0.5 1",  // inside the bounding sphere
+      csm + env + out + " --mesh box",                            // not the object of the stack
+  };
+  for (const std::string& args : bad) {
+    const RunResult r = run_cli("coherent render " + args, dir);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out.exr")) << args;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out.png")) << args;
+  }
+  size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 4u);  // the inputs alone: no temporary left behind
 }
 
 }  // namespace

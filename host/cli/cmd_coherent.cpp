@@ -136,6 +136,8 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
   CLI::App* i = c->add_subcommand("info", "Describe a .csm file: layout, object, sizes and compression ratio");
   i->add_option("file", info->file, ".csm file")->required();
   out.subcommands.push_back({i, [info] { return run_info(*info); }});
+
+  add_coherent_render_commands(*c, out);
 }
 
 int run_coherent(const CoherentCommands& commands) {

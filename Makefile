@@ -6,7 +6,7 @@ OUT ?= out
 # stop `make run`.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: deps deps-bench deps-dev configure build run test bench data meshes mesh-scenes clean
+.PHONY: deps deps-bench deps-dev configure build run test bench data meshes mesh-scenes coherent-table clean
 .PHONY: fresh-check oclgrind sanitize tidy format format-check
 
 deps:
@@ -115,6 +115,11 @@ mesh-scenes: meshes
 	@for m in $(MESHES); do \
 	  $(BUILD)/shadowfilter scene $(BUILD)/meshes/$$m.off -o $(OUT)/mesh-scenes/$$m $(MESH_ARGS) || exit 1; \
 	done
+
+# Seed 002's Table 1 (coherent shadow maps): compression of the scanned meshes at 32x32 and
+# 128x128 views, M = 128, scan-line and Hilbert (docs/coherent.md; ~15 minutes on 2 cores).
+coherent-table: meshes
+	@scripts/coherent_table.sh $(BUILD)
 
 # The launch-shape tests and the small kernel tests under Oclgrind (scripts/oclgrind-check.sh;
 # slow, not part of CI; docs/gpu.md, "Launch shapes").

@@ -12,6 +12,7 @@
 #include "coherent_stack.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
+#include "shadowfilter/coherent_device.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::cli {
@@ -19,6 +20,7 @@ namespace {
 
 struct BuildArgs {
   std::string source, output, views = "32x32", ordering = "hilbert", far_plane = "sphere";
+  std::string compress = "device", device;
   int resolution = 128, depth_pair = 12, threads = 0;
   bool quiet = false;
 };
@@ -72,6 +74,10 @@ int run_build(const BuildArgs& a) {
   if (!coherent::parse_far_plane(a.far_plane, &layout.far_plane))
     throw InputError("--far-plane must be sphere or infinite, got '" + a.far_plane + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0");
+  if (a.compress != "device" && a.compress != "host")
+    throw InputError("--compress must be device or host, got '" + a.compress + "'");
+  // The device is chosen before the long render, so a bad --device fails at once.
+  std::shared_ptr<Runtime> runtime = a.compress == "device" ? Runtime::create(a.device) : nullptr;
   coherent::validate(layout);
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
   scene::fit_bounding_sphere(object, layout);
@@ -85,13 +91,14 @@ int run_build(const BuildArgs& a) {
   const double render_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   io::CoherentFile file;
-  file.stack = ref::coherent::compress(stack);
+  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
   const double compress_s = seconds_since(t1);
   file.source = a.source;
   io::write_coherent(a.output, file);
   if (!a.quiet)
     std::cout << "coherent build: " << a.output << ": " << size_summary(file.stack) << "; render " << fixed(render_s, 2)
-              << " s, compress " << fixed(compress_s, 2) << " s, total " << fixed(render_s + compress_s, 2) << " s\n";
+              << " s, compress " << fixed(compress_s, 2) << " s, total " << fixed(render_s + compress_s, 2)
+              << " s, compressed on " << (runtime ? runtime->info().device_name : std::string("the host")) << "\n";
   return 0;
 }
 
@@ -129,6 +136,10 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
                 "A missing upper surface: sphere (the bounding sphere's exit) or infinite")
       ->capture_default_str();
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")->capture_default_str();
+  b->add_option("--compress", build->compress,
+                "Where the segments are fitted: device (OpenCL kernel) or host (the scalar reference); same bytes")
+      ->capture_default_str();
+  b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
   b->add_flag("-q,--quiet", build->quiet, "No progress bar or summary");
   out.subcommands.push_back({b, [build] { return run_build(*build); }});
 

@@ -33,4 +33,13 @@ bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t
 double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
                   const std::array<double, 3>& d);
 
+// Generalized PCF (seed 002 sec. 4.5), the twin of csm_query.clh's sf_csm_visibility_filtered:
+// the 2x2 views nearest to d in continuous lat-long coordinates (row t / pi T - 1/2 clamped to
+// [0, T - 1], column p / (2 pi) P - 1/2 wrapping around), in each the 2x2 texels nearest to p
+// (x = u M - 1/2; outside the map lit) tested at p's depth in that view, weighted bilinearly:
+// lerp(lerp(.., fx), lerp(.., fx), fy) at both levels, so that 16 equal tests give exactly that
+// value.
+double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions,
+                           const std::array<double, 3>& p, const std::array<double, 3>& d);
+
 }  // namespace sf::ref::coherent

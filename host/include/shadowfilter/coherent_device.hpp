@@ -1,0 +1,92 @@
+#pragma once
+// Coherent shadow maps on the device (methods.md sec. 5; docs/coherent_device.md): the
+// compression of a dual-depth stack (kernels/coherent/csm_compress.cl, byte for byte the scalar
+// reference's greedy fit) and the visibility queries of points (kernels/coherent/
+// csm_visibility.cl over csm_query.clh). Thin wrappers in the toolkit's style: buffers are the
+// caller's, every enqueue_* call enqueues after `wait` and returns its event. Bad sizes or empty
+// buffers throw InputError naming the field; OpenCL failures DeviceError.
+#include <cstddef>
+
+#include "shadowfilter/coherent.hpp"
+#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/pyramids.hpp"  // PassEvents
+
+namespace sf::coherent {
+
+// A compressed stack in device memory: what the query kernels read.
+struct DeviceStack {
+  StackLayout layout;
+  DeviceLayout device{};     // device_layout(layout): the kernels' sf_csm_layout
+  cl::Buffer offsets;        // uint, texels() + 1
+  cl::Buffer segments;       // uint, segment_count: (z_avg << 16) | i_last
+  cl::Buffer positions;      // uint, views(): sequence_positions(layout)
+  size_t segment_count = 0;  // offsets[texels()]
+  size_t compressed_bytes() const { return (layout.texels() + 1 + segment_count) * 4; }
+};
+
+// The uncompressed stack in device memory (ushort z1, z2 of views() x texels() each, map i of the
+// sequence at [i * texels + t]) and its positions: the compression's input and the lossless
+// tests' ground truth.
+struct DeviceDualDepth {
+  StackLayout layout;
+  DeviceLayout device{};
+  cl::Buffer z1, z2;     // ushort, views() texels()
+  cl::Buffer positions;  // uint, views()
+};
+
+// Copies to and from the device (blocking). upload checks the stack against its layout
+// (offsets of texels() + 1 ascending words ending at segments.size(); z1, z2 of views() texels()).
+DeviceStack upload(Runtime& rt, const CompressedStack& stack);
+DeviceDualDepth upload(Runtime& rt, const DualDepthStack& stack);
+CompressedStack download(Runtime& rt, const DeviceStack& stack);
+// positions = sequence_positions(layout) in a new device buffer.
+cl::Buffer upload_positions(Runtime& rt, const StackLayout& layout);
+
+// --- compression (seed 002 eq. (1)) ------------------------------------------------------------
+// Three passes on caller buffers, each an enqueue:
+//   enqueue_compress_count: the segments of every texel into offsets[0 .. texels) (z1, z2 as in
+//     DeviceDualDepth; offsets holds texels() + 1 uint);
+//   enqueue_compress_scan: the exclusive scan of those counts in place, offsets[texels] = the
+//     total; `scratch` (compress_scratch_bytes) ends with the total as a 64-bit word
+//     (compress_total_offset), which the host reads before it sizes the segments;
+//   enqueue_compress_write: the segments (capacity words at least the total; words past
+//     `capacity` are dropped, so a short buffer loses segments, never memory).
+size_t compress_scratch_bytes(const StackLayout& layout);
+size_t compress_total_offset(const StackLayout& layout);  // bytes into scratch
+cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
+                                 const cl::Buffer& offsets, const EventList* wait = nullptr);
+PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
+                                 const cl::Buffer& scratch, const EventList* wait = nullptr);
+cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
+                                 const cl::Buffer& offsets, const cl::Buffer& segments, size_t capacity,
+                                 const EventList* wait = nullptr);
+// The three passes with the total read in between (blocks until the stack is compressed).
+// Throws InputError when the stack holds more segments than 32-bit offsets address.
+DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const EventList* wait = nullptr);
+// Upload, compress, download: equal to sf::ref::coherent::compress(stack) byte for byte.
+CompressedStack compress_on_device(Runtime& rt, const DualDepthStack& stack);
+
+// --- queries ------------------------------------------------------------------------------------
+// Nearest: the view whose lat-long cell holds the direction, the texel holding the point, one
+// binary test (0 or 1; sf::ref::coherent::visibility). Pcf: generalized PCF, the 2x2 nearest
+// views x their 2x2 nearest texels, 16 tests weighted bilinearly (seed 002 sec. 4.5;
+// sf::ref::coherent::visibility_filtered), in [0, 1].
+enum class CsmFilter { Nearest = 0, Pcf = 1 };
+// What the second float4 of a query holds (w ignored in both): the direction toward a distant
+// light, or the position l of a light sample (semi-local light, direction l - p).
+enum class CsmToward { Direction = 0, Point = 1 };
+
+// Visibility of `count` points (float4, w ignored) toward `second` (float4: directions or light
+// positions) -> out (count floats). A point outside the view's map is lit. count 0 enqueues a
+// marker.
+cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
+                             const cl::Buffer& out, size_t count, CsmFilter filter = CsmFilter::Nearest,
+                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+// The uncompressed dual-depth test with the same projection (nearest view and texel): out = +1
+// lit (q <= z1, or outside the map), 0 blocked (q >= z2), -1 between the two surfaces, where
+// either answer is right (sf::ref::coherent::stack_test).
+cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl::Buffer& points,
+                             const cl::Buffer& second, const cl::Buffer& out, size_t count,
+                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+
+}  // namespace sf::coherent

@@ -301,6 +301,12 @@ TEST(CoherentRender, CsmMatchesTracedOnSameSamples) {
   std::printf("hits %zu, equal to traced %zu, to the host twin %zu; rmse %.4f (mean %.3f)\n", g.hits, exact_traced,
               exact_twin, rmse, mean);
   EXPECT_GE(double(exact_twin), 0.99 * double(g.hits));
+  // The filtered lookup: fractional visibility, finite, closer to the ray-traced render.
+  const HostImage pcf = render_csm(runtime(), stack(), g, sky_env(), s, nullptr, true);
+  for (float v : pcf.data) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f);
+  const double rmse_pcf = rmse_on_object(pcf, traced, g);
+  std::printf("pcf: rmse against traced %.4f\n", rmse_pcf);
+  EXPECT_LT(rmse_pcf, 0.1 * mean);
   EXPECT_GE(double(exact_traced), 0.7 * double(g.hits));
   EXPECT_LT(rmse, 0.1 * mean);
 }

@@ -68,8 +68,10 @@ int run_render(const RenderArgs& a) {
     throw InputError("--width and --height must be in [1, 8192]");
   if (!(a.camera_fov > 0.0 && a.camera_fov < 180.0)) throw InputError("--camera-fov must be in (0, 180) degrees");
   if (a.threads < 0) throw InputError("--threads must be >= 0");
-  if (a.filter != "nearest")
-    throw InputError("--filter " + a.filter + ": only nearest is available (the filtered query is not built in)");
+  if (a.filter != "nearest" && a.filter != "pcf")
+    throw InputError("--filter must be nearest or pcf, got '" + a.filter + "'");
+  if (a.filter == "pcf" && a.reference == "embree")
+    throw InputError("--filter pcf is a CSM lookup; --reference embree has none");
   if (!a.reference.empty() && a.reference != "embree")
     throw InputError("--reference must be embree, got '" + a.reference + "'");
   for (double c : a.albedo)
@@ -128,8 +130,8 @@ int run_render(const RenderArgs& a) {
     device_name = "Embree occlusion rays";
   } else {
     const std::shared_ptr<Runtime> rt = Runtime::create(a.device);
-    image = scene::render_csm(*rt, file.stack, g, env, settings, &seconds);
-    device_name = "CSM on " + rt->info().device_name;
+    image = scene::render_csm(*rt, file.stack, g, env, settings, &seconds, a.filter == "pcf");
+    device_name = "CSM (" + a.filter + ") on " + rt->info().device_name;
   }
   std::vector<io::ImageToWrite> outputs{{a.output, &image}};
   const HostImage mapped = tone_mapped(image);
@@ -175,7 +177,9 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
       ->expected(10, 12)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c->add_option("--albedo", r->albedo, "Diffuse albedo r g b in [0, 1]")->expected(3)->capture_default_str();
-  c->add_option("--filter", r->filter, "Visibility lookup: nearest (view and texel)")->capture_default_str();
+  c->add_option("--filter", r->filter,
+                "Visibility lookup: nearest (view and texel, 0 or 1) or pcf (2x2 views x 2x2 texels, fractional)")
+      ->capture_default_str();
   c->add_option("--reference", r->reference,
                 "embree: the same samples with Embree occlusion rays instead of the CSM (host threads)");
   c->add_option("--mesh", r->mesh, "The object's mesh, when the file's source path does not reach it");

@@ -269,7 +269,7 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
 }
 
 HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                     const RenderSettings& settings, double* seconds) {
+                     const RenderSettings& settings, double* seconds, bool pcf) {
   validate(settings);
   const coherent::DeviceLayout layout = coherent::device_layout(stack.layout);
   const std::vector<uint32_t> positions = coherent::sequence_positions(stack.layout);
@@ -328,6 +328,7 @@ HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const 
   k.setArg(a++, cl_float(1.0f / float(S)));
   k.setArg(a++, cl_uint(sample_stride(S)));
   k.setArg(a++, cl_uint(settings.seed));
+  k.setArg(a++, cl_int(pcf ? 1 : 0));
   k.setArg(a++, out);
   // A multiple of the work-group size: the kernel skips the items past n.
   constexpr size_t kGroup = 64;

@@ -74,10 +74,12 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
 // render_host with Embree occlusion rays against the object: the reference of the same samples.
 HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings);
 
-// The device render with the compressed visibility (nearest view, nearest texel). seconds, when
-// given, receives the kernel's wall time (built program, uploaded inputs: the render alone).
+// The device render with the compressed visibility: nearest view and texel (0 or 1, what the
+// host twin and the reference reproduce), or pcf (generalized PCF of the 2x2 nearest views' 2x2
+// texels, seed sec. 4.5: fractional visibility). seconds, when given, receives the kernel's wall
+// time (built program, uploaded inputs: the render alone).
 HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                     const RenderSettings& settings, double* seconds = nullptr);
+                     const RenderSettings& settings, double* seconds = nullptr, bool pcf = false);
 
 // Visibility queries a render makes at most: pixels on the object x S x (1 + lights) (samples
 // below the horizon of the normal skip their query).

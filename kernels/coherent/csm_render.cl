@@ -2,7 +2,8 @@
 // one work-item per pixel of a G-buffer, S stratified samples of a lat-long environment map drawn
 // from its luminance distribution (plain light sampling, the seed's choice for diffuse surfaces)
 // and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the CSM
-// (sf_csm_visibility, csm_query.clh, concatenated before this file). Host twin, with the same
+// (csm_query.clh, concatenated before this file): sf_csm_visibility (nearest view and texel,
+// 0 or 1) or with filter = 1 sf_csm_visibility_filtered (generalized PCF, in [0, 1]). Host twin, with the same
 // random numbers and float arithmetic: host/scene/coherent_render.cpp (render_host).
 //
 // Contraction into fma is off: the host twin rounds every operation on its own, and equal
@@ -112,7 +113,7 @@ __kernel void sf_csm_render(const int n, __global const float4* gpos, __global c
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
                             const int n_lights, __global const float4* lights, const uint samples, const float inv_s,
-                            const uint stride, const uint seed, __global float4* out) {
+                            const uint stride, const uint seed, const int filter, __global float4* out) {
   const int i = (int)get_global_id(0);
   if (i >= n) return;  // the last work-group may be partial
   sf_env E;
@@ -138,8 +139,11 @@ __kernel void sf_csm_render(const int n, __global const float4* gpos, __global c
       int texel;
       const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
       const float c = dot(N, w);
-      if (c > 0.0f && sf_csm_visibility(L, offsets, segments, positions, p, w) > 0.0f)
-        sum += env_rgb[texel].xyz * (c / pdf);
+      if (c > 0.0f) {
+        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, w)
+                               : sf_csm_visibility(L, offsets, segments, positions, p, w);
+        if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
+      }
     }
     for (int l = 0; l < n_lights; ++l) {
       const float3 corner = lights[4 * l].xyz, ea = lights[4 * l + 1].xyz, eb = lights[4 * l + 2].xyz;
@@ -154,8 +158,11 @@ __kernel void sf_csm_render(const int n, __global const float4* gpos, __global c
       const float c = dot(N, w);
       const float cl = fabs(dot(nl, w)) / area;
       // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
-      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f && sf_csm_visibility(L, offsets, segments, positions, p, d) > 0.0f)
-        sum += radiance * (c * cl * area / dist2);
+      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, d)
+                               : sf_csm_visibility(L, offsets, segments, positions, p, d);
+        if (v > 0.0f) sum += radiance * (v * (c * cl * area / dist2));
+      }
     }
   }
   const float3 albedo = galbedo[i].xyz;

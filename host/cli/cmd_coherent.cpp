@@ -20,7 +20,7 @@ namespace {
 
 struct BuildArgs {
   std::string source, output, views = "32x32", ordering = "hilbert", far_plane = "sphere";
-  std::string compress = "device", device;
+  std::string compress = "auto", device;
   int resolution = 128, depth_pair = 12, threads = 0;
   bool quiet = false;
 };
@@ -74,10 +74,13 @@ int run_build(const BuildArgs& a) {
   if (!coherent::parse_far_plane(a.far_plane, &layout.far_plane))
     throw InputError("--far-plane must be sphere or infinite, got '" + a.far_plane + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0");
-  if (a.compress != "device" && a.compress != "host")
-    throw InputError("--compress must be device or host, got '" + a.compress + "'");
-  // The device is chosen before the long render, so a bad --device fails at once.
-  std::shared_ptr<Runtime> runtime = a.compress == "device" ? Runtime::create(a.device) : nullptr;
+  if (a.compress != "auto" && a.compress != "device" && a.compress != "host")
+    throw InputError("--compress must be auto, device or host, got '" + a.compress + "'");
+  // The device is chosen before the long render, so a bad --device fails at once. auto: the
+  // kernel on a GPU; on a CPU device the host's pass, which reads the stack in memory order where
+  // the kernel's work-item per texel strides across it (docs/coherent.md, "Compression").
+  std::shared_ptr<Runtime> runtime = a.compress != "host" ? Runtime::create(a.device) : nullptr;
+  if (a.compress == "auto" && runtime->info().type != "GPU") runtime.reset();
   coherent::validate(layout);
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
   scene::fit_bounding_sphere(object, layout);
@@ -137,7 +140,8 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
       ->capture_default_str();
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")->capture_default_str();
   b->add_option("--compress", build->compress,
-                "Where the segments are fitted: device (OpenCL kernel) or host (the scalar reference); same bytes")
+                "Where the segments are fitted: device (OpenCL kernel), host (the scalar reference; same bytes) or "
+                "auto (device on a GPU, else host)")
       ->capture_default_str();
   b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
   b->add_flag("-q,--quiet", build->quiet, "No progress bar or summary");
@@ -147,6 +151,8 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
   CLI::App* i = c->add_subcommand("info", "Describe a .csm file: layout, object, sizes and compression ratio");
   i->add_option("file", info->file, ".csm file")->required();
   out.subcommands.push_back({i, [info] { return run_info(*info); }});
+
+  add_coherent_render_commands(*c, out);
 }
 
 int run_coherent(const CoherentCommands& commands) {

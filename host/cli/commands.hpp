@@ -100,5 +100,8 @@ struct CoherentCommands {
 };
 void add_coherent_command(CLI::App& app, CoherentCommands& out);
 int run_coherent(const CoherentCommands& commands);
+// `coherent render` and `coherent sky` (coherent_render.cpp, docs/coherent_render.md): added to
+// the `coherent` group with their run functions.
+void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out);
 
 }  // namespace sf::cli

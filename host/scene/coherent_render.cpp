@@ -1,0 +1,369 @@
+#include "coherent_render.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <thread>
+
+#include "shadowfilter/errors.hpp"
+
+namespace sf::scene {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Rows spread over threads, each pixel computed on its own: the result does not depend on the
+// thread count.
+template <class RowFn>
+void for_each_row(int rows, int threads, const RowFn& row_fn) {
+  int workers = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  workers = std::max(1, std::min(rows, workers));
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int y = next++; y < rows; y = next++) row_fn(y);
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
+bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Distance from point c to the segment a + s e, s in [0, 1].
+double segment_distance(Vec3 c, Vec3 a, Vec3 e) {
+  const double s = std::clamp(dot(c - a, e) / dot(e, e), 0.0, 1.0);
+  return length(c - (a + s * e));
+}
+
+// --- the host twin of csm_render.cl (same integer hashing, same float operations) ------------
+
+using F3 = std::array<float, 3>;
+
+uint32_t hash32(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+float rand01(uint32_t seed, uint32_t dim, uint32_t pixel, uint32_t sample) {
+  uint32_t h = hash32(seed + 0x9e3779b9u * dim);
+  h = hash32(h ^ pixel);
+  h = hash32(h ^ sample);
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
+constexpr uint32_t kRotation = 0xffffffffu;
+constexpr float kBelowOne = 0x1.fffffep-1f;
+
+void stratified(uint32_t seed, uint32_t k, uint32_t pixel, uint32_t s, uint32_t S, float inv_s, uint32_t stride,
+                float* u_out, float* v_out) {
+  const float r0 = rand01(seed, 4u * k, pixel, kRotation);
+  const float r1 = rand01(seed, 4u * k + 1u, pixel, kRotation);
+  const float j0 = rand01(seed, 4u * k + 2u, pixel, s);
+  const float j1 = rand01(seed, 4u * k + 3u, pixel, s);
+  const uint32_t t = uint32_t((uint64_t(s) * uint64_t(stride)) % uint64_t(S));
+  float u = (float(s) + j0) * inv_s + r0;
+  float v = (float(t) + j1) * inv_s + r1;
+  u -= std::floor(u);
+  v -= std::floor(v);
+  *u_out = std::min(u, kBelowOne);
+  *v_out = std::min(v, kBelowOne);
+}
+
+float dot3(const F3& a, const F3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+}  // namespace
+
+void validate_area_light(const AreaLight& l, Vec3 center, double radius) {
+  if (!finite(l.corner) || !finite(l.edge_a) || !finite(l.edge_b))
+    throw InputError("--area-light: corner and edges must be finite");
+  for (double r : l.radiance)
+    if (!std::isfinite(r) || r < 0.0 || r > kMaxRadiance)
+      throw InputError("--area-light: radiance must be finite, >= 0 and <= 1e20");
+  const Vec3 n = cross(l.edge_a, l.edge_b);
+  if (!(length(n) > 1e-12 * std::max(1.0, dot(l.edge_a, l.edge_a) + dot(l.edge_b, l.edge_b))))
+    throw InputError("--area-light: the edges span no area (zero or parallel)");
+  // The closest point of the parallelogram to the centre: the plane's foot point when it lies
+  // inside, else a point of one of the four sides.
+  const Vec3 un = normalize(n);
+  const Vec3 foot = center - dot(center - l.corner, un) * un;
+  // (s, t) of the foot point in the edges' basis (Gram matrix solve).
+  const double aa = dot(l.edge_a, l.edge_a), ab = dot(l.edge_a, l.edge_b), bb = dot(l.edge_b, l.edge_b);
+  const Vec3 r = foot - l.corner;
+  const double ra = dot(r, l.edge_a), rb = dot(r, l.edge_b), det = aa * bb - ab * ab;
+  const double s = (ra * bb - rb * ab) / det, t = (rb * aa - ra * ab) / det;
+  double dist;
+  if (s >= 0.0 && s <= 1.0 && t >= 0.0 && t <= 1.0)
+    dist = std::fabs(dot(center - l.corner, un));
+  else
+    dist = std::min({segment_distance(center, l.corner, l.edge_a), segment_distance(center, l.corner, l.edge_b),
+                     segment_distance(center, l.corner + l.edge_a, l.edge_b),
+                     segment_distance(center, l.corner + l.edge_b, l.edge_a)});
+  if (!(dist > radius))
+    throw InputError("--area-light: the light reaches into the object's bounding sphere (distance " +
+                     std::to_string(dist) + " from its centre, radius " + std::to_string(radius) +
+                     "); semi-local lights must lie outside the object");
+}
+
+PerspectiveCamera framing_camera(Vec3 center, double radius, int width, int height, double fov_degrees) {
+  PerspectiveCamera cam;
+  cam.width = width;
+  cam.height = height;
+  cam.vertical_fov_degrees = fov_degrees;
+  // The sphere's angular radius is asin(radius / distance); 0.8 of the half field of view.
+  const double half = 0.8 * 0.5 * fov_degrees * kPi / 180.0;
+  const double distance = radius / std::sin(half);
+  cam.position = center + distance * normalize(Vec3{0.0, 0.35, 1.0});
+  cam.target = center;
+  return cam;
+}
+
+GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
+                       const std::array<float, 3>& albedo, int threads) {
+  GBuffer g;
+  g.width = camera.width;
+  g.height = camera.height;
+  g.position.assign(g.pixels() * 4, 0.0f);
+  g.normal.assign(g.pixels() * 4, 0.0f);
+  g.albedo.assign(g.pixels() * 4, 0.0f);
+  std::atomic<size_t> hits{0};
+  const double lift = kLift * radius;
+  for_each_row(g.height, threads, [&](int y) {
+    size_t row_hits = 0;
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = size_t(y) * g.width + x;
+      const Ray ray = camera.ray_through(x + 0.5, y + 0.5);
+      const auto hit = object.closest(ray, 0.0, std::numeric_limits<double>::infinity());
+      float* P = &g.position[4 * i];
+      float* N = &g.normal[4 * i];
+      if (!hit) {
+        N[0] = float(ray.direction.x);
+        N[1] = float(ray.direction.y);
+        N[2] = float(ray.direction.z);
+        continue;
+      }
+      const Vec3 p = ray.at(hit->t) + lift * hit->normal;
+      P[0] = float(p.x);
+      P[1] = float(p.y);
+      P[2] = float(p.z);
+      P[3] = 1.0f;
+      N[0] = float(hit->normal.x);
+      N[1] = float(hit->normal.y);
+      N[2] = float(hit->normal.z);
+      for (int c = 0; c < 3; ++c) g.albedo[4 * i + c] = albedo[c];
+      g.albedo[4 * i + 3] = 1.0f;
+      ++row_hits;
+    }
+    hits += row_hits;
+  });
+  g.hits = hits;
+  return g;
+}
+
+void validate(const RenderSettings& s) {
+  if (s.samples < 1 || s.samples > kMaxSamples)
+    throw InputError("--samples must be in [1, " + std::to_string(kMaxSamples) + "], got " + std::to_string(s.samples));
+  if (s.lights.size() > size_t(kMaxLights))
+    throw InputError("at most " + std::to_string(kMaxLights) + " area lights, got " + std::to_string(s.lights.size()));
+}
+
+uint32_t sample_stride(uint32_t S) {
+  if (S <= 2) return 1;
+  uint32_t k = std::max<uint32_t>(1, uint32_t(std::lround(S * 0.6180339887498949)));
+  auto gcd = [](uint32_t a, uint32_t b) {
+    while (b) {
+      const uint32_t t = a % b;
+      a = b;
+      b = t;
+    }
+    return a;
+  };
+  while (gcd(k, S) != 1) ++k;
+  return k % S;
+}
+
+HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible) {
+  validate(settings);
+  const uint32_t S = uint32_t(settings.samples), stride = sample_stride(S), seed = settings.seed;
+  const float inv_s = 1.0f / float(S);
+  // The lights as the kernel reads them (float).
+  struct FL {
+    F3 corner, ea, eb, radiance;
+  };
+  std::vector<FL> lights;
+  for (const AreaLight& l : settings.lights)
+    lights.push_back({{float(l.corner.x), float(l.corner.y), float(l.corner.z)},
+                      {float(l.edge_a.x), float(l.edge_a.y), float(l.edge_a.z)},
+                      {float(l.edge_b.x), float(l.edge_b.y), float(l.edge_b.z)},
+                      {float(l.radiance[0]), float(l.radiance[1]), float(l.radiance[2])}});
+  HostImage out(g.width, g.height, 3);
+  out.channel_names = {"R", "G", "B"};
+  const float inf = std::numeric_limits<float>::infinity();
+  for_each_row(g.height, settings.threads, [&](int y) {
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = size_t(y) * g.width + x;
+      const float* P = &g.position[4 * i];
+      const F3 N{g.normal[4 * i], g.normal[4 * i + 1], g.normal[4 * i + 2]};
+      if (P[3] == 0.0f) {
+        int tx, ty;
+        envmap_texel_of(env, N, &tx, &ty);
+        const F3 c = env.texel(tx, ty);
+        for (int k = 0; k < 3; ++k) out.at(x, y, k) = c[k];
+        continue;
+      }
+      const F3 p{P[0], P[1], P[2]};
+      F3 sum{0.0f, 0.0f, 0.0f};
+      const uint32_t pixel = uint32_t(i);
+      for (uint32_t s = 0; s < S; ++s) {
+        if (env.sampled) {
+          float u, v;
+          stratified(seed, 0u, pixel, s, S, inv_s, stride, &u, &v);
+          const EnvSample e = sample_envmap(env, u, v);
+          const float c = dot3(N, e.dir);
+          if (c > 0.0f && visible(p, e.dir, inf)) {
+            const F3 L = env.texel(e.x, e.y);
+            const float w = c / e.pdf;
+            for (int k = 0; k < 3; ++k) sum[k] += L[k] * w;
+          }
+        }
+        for (size_t l = 0; l < lights.size(); ++l) {
+          const FL& li = lights[l];
+          float u, v;
+          stratified(seed, 1u + uint32_t(l), pixel, s, S, inv_s, stride, &u, &v);
+          F3 d;
+          for (int k = 0; k < 3; ++k) d[k] = li.corner[k] + li.ea[k] * u + li.eb[k] * v - p[k];
+          const float dist2 = dot3(d, d);
+          const F3 nl{li.ea[1] * li.eb[2] - li.ea[2] * li.eb[1], li.ea[2] * li.eb[0] - li.ea[0] * li.eb[2],
+                      li.ea[0] * li.eb[1] - li.ea[1] * li.eb[0]};
+          const float area = std::sqrt(dot3(nl, nl));
+          const float dist = std::sqrt(dist2);
+          const F3 w{d[0] / dist, d[1] / dist, d[2] / dist};
+          const float c = dot3(N, w);
+          const float cl = std::fabs(dot3(nl, w)) / area;
+          if (c > 0.0f && cl > 0.0f && dist2 > 0.0f && visible(p, w, dist)) {
+            const float f = c * cl * area / dist2;
+            for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f;
+          }
+        }
+      }
+      const float scale = 0.31830988618379067f * inv_s;
+      for (int k = 0; k < 3; ++k) out.at(x, y, k) = g.albedo[4 * i + k] * scale * sum[k];
+    }
+  });
+  return out;
+}
+
+HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings) {
+  return render_host(g, env, settings, [&](const F3& p, const F3& d, float t_max) {
+    const Ray ray{{p[0], p[1], p[2]}, normalize(Vec3{d[0], d[1], d[2]})};
+    return !object.occluded(ray, 0.0, std::isinf(t_max) ? std::numeric_limits<double>::infinity() : double(t_max));
+  });
+}
+
+HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
+                     const RenderSettings& settings, double* seconds, bool pcf) {
+  validate(settings);
+  const coherent::DeviceLayout layout = coherent::device_layout(stack.layout);
+  const std::vector<uint32_t> positions = coherent::sequence_positions(stack.layout);
+  const cl::Context& ctx = rt.context();
+  auto upload = [&](const void* data, size_t bytes) {
+    // A zero-size buffer is invalid in OpenCL: empty inputs get one unused element.
+    static const uint32_t zero[4] = {0, 0, 0, 0};
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes ? bytes : sizeof(zero),
+                      const_cast<void*>(bytes ? data : zero));
+  };
+  auto bytes_of = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  const size_t n = g.pixels();
+  cl::Buffer pos = upload(g.position.data(), bytes_of(g.position));
+  cl::Buffer nor = upload(g.normal.data(), bytes_of(g.normal));
+  cl::Buffer alb = upload(g.albedo.data(), bytes_of(g.albedo));
+  cl::Buffer off = upload(stack.offsets.data(), bytes_of(stack.offsets));
+  cl::Buffer seg = upload(stack.segments.data(), bytes_of(stack.segments));
+  cl::Buffer posn = upload(positions.data(), bytes_of(positions));
+  std::vector<float> rgb4(size_t(env.width) * env.height * 4, 0.0f);
+  for (size_t t = 0; t < size_t(env.width) * env.height; ++t)
+    for (int c = 0; c < 3; ++c) rgb4[4 * t + c] = env.rgb[3 * t + c];
+  cl::Buffer env_rgb = upload(rgb4.data(), bytes_of(rgb4));
+  cl::Buffer env_marg = upload(env.marginal.data(), bytes_of(env.marginal));
+  cl::Buffer env_cond = upload(env.conditional.data(), bytes_of(env.conditional));
+  cl::Buffer env_cos = upload(env.row_cos.data(), bytes_of(env.row_cos));
+  cl::Buffer env_sa = upload(env.texel_solid_angle.data(), bytes_of(env.texel_solid_angle));
+  std::vector<float> lights;
+  for (const AreaLight& l : settings.lights)
+    for (const Vec3& v : {l.corner, l.edge_a, l.edge_b, Vec3{l.radiance[0], l.radiance[1], l.radiance[2]}})
+      lights.insert(lights.end(), {float(v.x), float(v.y), float(v.z), 0.0f});
+  cl::Buffer light_buf = upload(lights.data(), bytes_of(lights));
+  cl::Buffer out(ctx, CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * 4 * sizeof(float));
+
+  cl::Kernel k(rt.program({"coherent/csm_query.clh", "coherent/csm_render.cl"}, "-cl-std=CL1.2"), "sf_csm_render");
+  const uint32_t S = uint32_t(settings.samples);
+  int a = 0;
+  k.setArg(a++, cl_int(n));
+  k.setArg(a++, pos);
+  k.setArg(a++, nor);
+  k.setArg(a++, alb);
+  k.setArg(a++, sizeof(layout), &layout);
+  k.setArg(a++, off);
+  k.setArg(a++, seg);
+  k.setArg(a++, posn);
+  k.setArg(a++, cl_int(env.width));
+  k.setArg(a++, cl_int(env.height));
+  k.setArg(a++, cl_int(env.sampled ? 1 : 0));
+  k.setArg(a++, env_rgb);
+  k.setArg(a++, env_marg);
+  k.setArg(a++, env_cond);
+  k.setArg(a++, env_cos);
+  k.setArg(a++, env_sa);
+  k.setArg(a++, cl_int(settings.lights.size()));
+  k.setArg(a++, light_buf);
+  k.setArg(a++, cl_uint(S));
+  k.setArg(a++, cl_float(1.0f / float(S)));
+  k.setArg(a++, cl_uint(sample_stride(S)));
+  k.setArg(a++, cl_uint(settings.seed));
+  k.setArg(a++, cl_int(pcf ? 1 : 0));
+  k.setArg(a++, out);
+  // A multiple of the work-group size: the kernel skips the items past n.
+  constexpr size_t kGroup = 64;
+  const size_t global = std::max<size_t>(1, (n + kGroup - 1) / kGroup) * kGroup;
+  // A launch with no pixels first: drivers that compile a kernel for its work-group size at the
+  // first launch (PoCL) do it there, outside the timed render.
+  k.setArg(0, cl_int(0));
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kGroup), cl::NDRange(kGroup));
+  k.setArg(0, cl_int(n));
+  rt.queue().finish();
+  const auto start = std::chrono::steady_clock::now();
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(kGroup));
+  rt.queue().finish();
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<float> px(n * 4);
+  if (n) rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, px.size() * sizeof(float), px.data());
+  HostImage img(g.width, g.height, 3);
+  img.channel_names = {"R", "G", "B"};
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) img.data[3 * i + c] = px[4 * i + c];
+  return img;
+}
+
+double rmse_on_object(const HostImage& a, const HostImage& b, const GBuffer& mask) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t i = 0; i < mask.pixels(); ++i) {
+    if (mask.position[4 * i + 3] == 0.0f) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(a.data[3 * i + c]) - double(b.data[3 * i + c]);
+      sum += d * d;
+    }
+    count += 3;
+  }
+  return count ? std::sqrt(sum / double(count)) : 0.0;
+}
+
+}  // namespace sf::scene

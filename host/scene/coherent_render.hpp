@@ -1,0 +1,94 @@
+#pragma once
+// Direct lighting of one object with its coherent shadow map (seed 002 sec. 5; issue 16 item 5;
+// docs/coherent_render.md): a G-buffer from Embree camera rays, then per pixel S stratified samples
+// of a lat-long environment map (drawn from its luminance) and of rectangular semi-local area
+// lights, diffuse BRDF. The visibility of every sample comes from the CSM on the device
+// (render_csm, kernels/coherent/csm_render.cl) or, for the reference, from a host twin of the
+// same sampler with the same random numbers and Embree occlusion rays (render_traced): the two
+// differ by the CSM's discretisation alone.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "shadowfilter/coherent.hpp"
+#include "shadowfilter/host_image.hpp"
+#include "shadowfilter/runtime.hpp"
+
+#include "envmap.hpp"
+#include "ray_tracer.hpp"
+#include "scene_geometry.hpp"
+#include "scene_views.hpp"
+
+namespace sf::scene {
+
+// A two-sided rectangle (parallelogram) corner + s edge_a + t edge_b, s, t in [0, 1], emitting
+// `radiance` (RGB) from both faces. Semi-local (seed sec. 4.3): the CSM only knows the object
+// from outside, so the light must lie outside its convex hull; lights that reach into the
+// bounding sphere are refused.
+struct AreaLight {
+  Vec3 corner, edge_a, edge_b;
+  std::array<double, 3> radiance{1.0, 1.0, 1.0};
+};
+// InputError (one line) on a non-finite or degenerate rectangle, a negative or non-finite or larger
+// than kMaxRadiance radiance, or a rectangle closer than `radius` to `center`.
+void validate_area_light(const AreaLight& light, Vec3 center, double radius);
+
+// A camera that frames the bounding sphere: from above the front (+z, a little up), looking at the
+// centre, the sphere filling about 80% of the vertical field of view.
+PerspectiveCamera framing_camera(Vec3 center, double radius, int width, int height, double fov_degrees);
+
+// The G-buffer: 4 floats a pixel each. position: the shading point, lifted kLift times the
+// bounding radius along the normal (both renders start their visibility tests there; Embree's
+// rays need it to leave the surface), w = 1 on the object and 0 on background. normal: the unit
+// geometric normal facing the camera, or on background the camera ray's direction. albedo: RGB.
+struct GBuffer {
+  int width = 0, height = 0;
+  std::vector<float> position, normal, albedo;
+  size_t hits = 0;  // pixels on the object
+  size_t pixels() const { return size_t(width) * size_t(height); }
+};
+inline constexpr double kLift = 1e-4;
+// Camera rays through pixel centres, rows spread over `threads` threads (0: all cores).
+GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
+                       const std::array<float, 3>& albedo, int threads = 0);
+
+struct RenderSettings {
+  int samples = 16;   // S: env samples per pixel, and S samples per area light
+  uint32_t seed = 1;  // the counter-based RNG's seed (the same seed gives the same numbers)
+  std::vector<AreaLight> lights;
+  int threads = 0;  // host renders: 0 = all cores
+};
+// InputError unless 1 <= samples <= kMaxSamples and at most kMaxLights lights.
+inline constexpr int kMaxSamples = 1 << 20;
+inline constexpr int kMaxLights = 64;
+void validate(const RenderSettings& settings);
+// The Latin hypercube's second stride: coprime to S, near S / golden ratio (csm_render.cl).
+uint32_t sample_stride(uint32_t samples);
+
+// The host twin of csm_render.cl: the same samples and float arithmetic, visibility from
+// `visible(p, d, t_max)`: is the segment p + t d, t in (0, t_max), free (d unit length)?
+using Visibility = std::function<bool(const std::array<float, 3>& p, const std::array<float, 3>& d, float t_max)>;
+HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible);
+// render_host with Embree occlusion rays against the object: the reference of the same samples.
+HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings);
+
+// The device render with the compressed visibility: nearest view and texel (0 or 1, what the
+// host twin and the reference reproduce), or pcf (generalized PCF of the 2x2 nearest views' 2x2
+// texels, seed sec. 4.5: fractional visibility). seconds, when given, receives the kernel's wall
+// time (built program, uploaded inputs: the render alone).
+HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
+                     const RenderSettings& settings, double* seconds = nullptr, bool pcf = false);
+
+// Visibility queries a render makes at most: pixels on the object x S x (1 + lights) (samples
+// below the horizon of the normal skip their query).
+inline double render_queries(const GBuffer& g, const EnvMap& env, const RenderSettings& s) {
+  return double(g.hits) * s.samples * ((env.sampled ? 1 : 0) + double(s.lights.size()));
+}
+
+// Root mean square difference of two RGB images over the pixels where mask (a G-buffer) is on the
+// object, over all three channels.
+double rmse_on_object(const HostImage& a, const HostImage& b, const GBuffer& mask);
+
+}  // namespace sf::scene

@@ -1,0 +1,170 @@
+// Direct lighting with coherent shadow maps (seed 002 sec. 5 and 5.1; docs/coherent_render.md):
+// one work-item per pixel of a G-buffer, S stratified samples of a lat-long environment map drawn
+// from its luminance distribution (plain light sampling, the seed's choice for diffuse surfaces)
+// and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the CSM
+// (csm_query.clh, concatenated before this file): sf_csm_visibility (nearest view and texel,
+// 0 or 1) or with filter = 1 sf_csm_visibility_filtered (generalized PCF, in [0, 1]). Host twin, with the same
+// random numbers and float arithmetic: host/scene/coherent_render.cpp (render_host).
+//
+// Contraction into fma is off: the host twin rounds every operation on its own, and equal
+// directions on both sides make the CSM and the ray-traced renders differ by visibility only.
+#pragma OPENCL FP_CONTRACT OFF
+
+// lowbias32 (Wellons): a counter-based RNG, so a pixel's numbers do not depend on work-group size,
+// device or thread order.
+inline uint sf_hash(uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+// Uniform in [0, 1) with 24 bits, a function of (seed, dimension, pixel, sample) only.
+inline float sf_rand(uint seed, uint dim, uint pixel, uint sample) {
+  uint h = sf_hash(seed + 0x9e3779b9u * dim);
+  h = sf_hash(h ^ pixel);
+  h = sf_hash(h ^ sample);
+  return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
+#define SF_BELOW_ONE 0x1.fffffep-1f
+#define SF_ROTATION 0xffffffffu  // the sample index of a pixel's rotation (no sample has it)
+
+// Sample s of S in the 2D dimension pair k: a Latin hypercube (first coordinate in stratum s, the
+// second in stratum (s stride) mod S, stride coprime to S), jittered within the strata and rotated
+// per pixel (Cranley-Patterson) so that every point alone is uniform: the estimate is unbiased and
+// each coordinate is stratified.
+inline float2 sf_stratified(uint seed, uint k, uint pixel, uint s, uint S, float inv_s, uint stride) {
+  const float r0 = sf_rand(seed, 4u * k, pixel, SF_ROTATION);
+  const float r1 = sf_rand(seed, 4u * k + 1u, pixel, SF_ROTATION);
+  const float j0 = sf_rand(seed, 4u * k + 2u, pixel, s);
+  const float j1 = sf_rand(seed, 4u * k + 3u, pixel, s);
+  const uint t = (uint)(((ulong)s * (ulong)stride) % (ulong)S);
+  float u = ((float)s + j0) * inv_s + r0;
+  float v = ((float)t + j1) * inv_s + r1;
+  u -= floor(u);
+  v -= floor(v);
+  return (float2)(min(u, SF_BELOW_ONE), min(v, SF_BELOW_ONE));
+}
+
+// The index j in [0, n - 1] with cdf[j] <= u < cdf[j + 1]: never a cell of zero probability.
+inline int sf_env_search(__global const float* cdf, int n, float u) {
+  int lo = 0, hi = n;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) >> 1;
+    if (cdf[mid] <= u)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+typedef struct {
+  int width, height;
+  __global const float4* rgb;
+  __global const float* marginal;     // height + 1
+  __global const float* conditional;  // height (width + 1)
+  __global const float* row_cos;      // height + 1
+  __global const float* solid_angle;  // height
+} sf_env;
+
+// A direction drawn from the map (host: sample_envmap): the texel by its probability, the point
+// uniform in solid angle within it; *pdf in solid angle, *texel the texel's index.
+inline float3 sf_env_sample(const sf_env E, float2 u, float* pdf, int* texel) {
+  const int y = sf_env_search(E.marginal, E.height, u.x);
+  const float py = E.marginal[y + 1] - E.marginal[y];
+  __global const float* row = E.conditional + (size_t)y * (size_t)(E.width + 1);
+  const int x = sf_env_search(row, E.width, u.y);
+  const float px = row[x + 1] - row[x];
+  const float ry = min((u.x - E.marginal[y]) / py, SF_BELOW_ONE);
+  const float rx = min((u.y - row[x]) / px, SF_BELOW_ONE);
+  const float c0 = E.row_cos[y], c1 = E.row_cos[y + 1];
+  const float ct = c0 + (c1 - c0) * ry;
+  const float st = sqrt(max(0.0f, 1.0f - ct * ct));
+  const float phi = ((float)x + rx) * (6.28318530717958647f / (float)E.width);
+  *pdf = py * px / E.solid_angle[y];
+  *texel = y * E.width + x;
+  return (float3)(st * cos(phi), ct, st * sin(phi));
+}
+
+// The radiance of direction d (nearest texel): what background pixels show.
+inline float3 sf_env_lookup(const sf_env E, float3 d) {
+  const float n = length(d);
+  const float t = acos(clamp(d.y / n, -1.0f, 1.0f));
+  float p = atan2(d.z, d.x);
+  if (p < 0.0f) p += 2.0f * SF_CSM_PI;
+  const int y = clamp((int)(t / SF_CSM_PI * (float)E.height), 0, E.height - 1);
+  const int x = clamp((int)(p / (2.0f * SF_CSM_PI) * (float)E.width), 0, E.width - 1);
+  return E.rgb[y * E.width + x].xyz;
+}
+
+// gpos: xyz the shading point (lifted off the surface along the normal), w 1 on the object, 0 on
+// background; gnormal: the unit normal facing the camera, or on background the camera ray's
+// direction; galbedo: diffuse albedo. lights: 4 float4 per light (corner, edge a, edge b,
+// radiance), two-sided rectangles outside the object's bounding sphere (semi-local, sec. 4.3).
+// out: linear RGB radiance, w = 1.
+__kernel void sf_csm_render(const int n, __global const float4* gpos, __global const float4* gnormal,
+                            __global const float4* galbedo, const sf_csm_layout L, __global const uint* offsets,
+                            __global const uint* segments, __global const uint* positions, const int env_width,
+                            const int env_height, const int env_sampled, __global const float4* env_rgb,
+                            __global const float* env_marginal, __global const float* env_conditional,
+                            __global const float* env_row_cos, __global const float* env_solid_angle,
+                            const int n_lights, __global const float4* lights, const uint samples, const float inv_s,
+                            const uint stride, const uint seed, const int filter, __global float4* out) {
+  const int i = (int)get_global_id(0);
+  if (i >= n) return;  // the last work-group may be partial
+  sf_env E;
+  E.width = env_width;
+  E.height = env_height;
+  E.rgb = env_rgb;
+  E.marginal = env_marginal;
+  E.conditional = env_conditional;
+  E.row_cos = env_row_cos;
+  E.solid_angle = env_solid_angle;
+  const float4 P = gpos[i];
+  const float3 N = gnormal[i].xyz;
+  if (P.w == 0.0f) {
+    out[i] = (float4)(sf_env_lookup(E, N), 1.0f);
+    return;
+  }
+  const float3 p = P.xyz;
+  float3 sum = (float3)(0.0f);
+  const uint pixel = (uint)i;
+  for (uint s = 0; s < samples; ++s) {
+    if (env_sampled) {
+      float pdf;
+      int texel;
+      const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
+      const float c = dot(N, w);
+      if (c > 0.0f) {
+        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, w)
+                               : sf_csm_visibility(L, offsets, segments, positions, p, w);
+        if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
+      }
+    }
+    for (int l = 0; l < n_lights; ++l) {
+      const float3 corner = lights[4 * l].xyz, ea = lights[4 * l + 1].xyz, eb = lights[4 * l + 2].xyz;
+      const float3 radiance = lights[4 * l + 3].xyz;
+      const float2 u = sf_stratified(seed, 1u + (uint)l, pixel, s, samples, inv_s, stride);
+      const float3 d = corner + ea * u.x + eb * u.y - p;
+      const float dist2 = dot(d, d);
+      const float3 nl = cross(ea, eb);
+      const float area = length(nl);
+      const float dist = sqrt(dist2);
+      const float3 w = d / dist;
+      const float c = dot(N, w);
+      const float cl = fabs(dot(nl, w)) / area;
+      // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
+      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, d)
+                               : sf_csm_visibility(L, offsets, segments, positions, p, d);
+        if (v > 0.0f) sum += radiance * (v * (c * cl * area / dist2));
+      }
+    }
+  }
+  const float3 albedo = galbedo[i].xyz;
+  out[i] = (float4)(albedo * (0.31830988618379067f * inv_s) * sum, 1.0f);
+}

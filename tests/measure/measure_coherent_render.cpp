@@ -1,0 +1,81 @@
+// The figures of docs/coherent_render.md: render time and samples per second of the CSM render
+// against Embree occlusion rays on the same samples (interleaved runs), and the RMSE of both
+// against a converged Embree render as samples grow.
+//
+//   SF_CSM_FILE=/tmp/bunny.csm build/tests/sf_measure --gtest_filter='CoherentRender.*'
+//
+// The file is what `shadowfilter coherent build` writes (its object from the file's source, or
+// SF_CSM_MESH); the environment is data/envmaps/sky.exr. Without SF_CSM_FILE the test is skipped.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "coherent_file.hpp"
+#include "coherent_render.hpp"
+#include "coherent_stack.hpp"
+#include "envmap.hpp"
+#include "ray_tracer.hpp"
+#include "sf_test_env.hpp"
+
+namespace sf::test {
+namespace {
+
+using namespace sf::scene;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+TEST(CoherentRender, Figures) {
+  const char* path = std::getenv("SF_CSM_FILE");
+  if (!path) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
+  const io::CoherentFile file = io::read_coherent(path);
+  const char* mesh = std::getenv("SF_CSM_MESH");
+  const SceneGeometry object = load_coherent_object(mesh ? mesh : file.source);
+  const RayTracer tracer(object);
+  const coherent::StackLayout& l = file.stack.layout;
+  const Vec3 center{l.center[0], l.center[1], l.center[2]};
+  const int size = std::getenv("SF_RENDER_SIZE") ? std::atoi(std::getenv("SF_RENDER_SIZE")) : 256;
+  const GBuffer g =
+      render_gbuffer(tracer, framing_camera(center, l.radius, size, size, 40.0), l.radius, {0.8f, 0.8f, 0.8f});
+  const EnvMap env = load_envmap(data_path("envmaps/sky.exr"));
+  RenderSettings s;
+  s.samples = 1024;
+  s.seed = 12345;
+  const auto t0 = std::chrono::steady_clock::now();
+  const HostImage converged = render_traced(tracer, g, env, s);
+  const double converged_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%dx%d, %zu pixels on the object, stack %dx%d views M=%d; converged: Embree %d samples, %.1f s\n", size,
+              size, g.hits, l.views_theta, l.views_phi, l.resolution, s.samples, converged_s);
+  render_csm(runtime(), file.stack, g, env, s);  // builds the program once, outside the timings
+  std::printf(
+      "| samples | CSM s | CSM M samples/s | Embree s | Embree M samples/s | speed-up | "
+      "RMSE CSM | RMSE Embree (same samples) | RMSE CSM vs Embree |\n|---|---|---|---|---|---|---|---|---|\n");
+  s.seed = 1;
+  for (int S : {1, 4, 16, 64, 256}) {
+    s.samples = S;
+    std::vector<double> tc, te;
+    HostImage csm, traced;
+    for (int run = 0; run < 3; ++run) {  // interleaved: both see the same machine load
+      double k = 0.0;
+      csm = render_csm(runtime(), file.stack, g, env, s, &k);
+      tc.push_back(k);
+      const auto t1 = std::chrono::steady_clock::now();
+      traced = render_traced(tracer, g, env, s);
+      te.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+    }
+    const double q = render_queries(g, env, s), c = median(tc), e = median(te);
+    std::printf("| %d | %.3f | %.1f | %.3f | %.1f | %.1fx | %.4f | %.4f | %.4f |\n", S, c, q / c / 1e6, e, q / e / 1e6,
+                e / c, rmse_on_object(csm, converged, g), rmse_on_object(traced, converged, g),
+                rmse_on_object(csm, traced, g));
+  }
+}
+
+}  // namespace
+}  // namespace sf::test

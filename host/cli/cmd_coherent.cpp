@@ -20,7 +20,7 @@ namespace {
 
 struct BuildArgs {
   std::string source, output, views = "32x32", ordering = "hilbert", far_plane = "sphere";
-  std::string compress = "auto", device;
+  std::string compress = "auto", device, renderer = "auto";
   int resolution = 128, depth_pair = 12, threads = 0;
   bool quiet = false;
 };
@@ -74,6 +74,8 @@ int run_build(const BuildArgs& a) {
   if (!coherent::parse_far_plane(a.far_plane, &layout.far_plane))
     throw InputError("--far-plane must be sphere or infinite, got '" + a.far_plane + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0");
+  if (a.renderer != "auto" && a.renderer != "embree")
+    throw InputError("--renderer must be auto or embree, got '" + a.renderer + "'");
   if (a.compress != "auto" && a.compress != "device" && a.compress != "host")
     throw InputError("--compress must be auto, device or host, got '" + a.compress + "'");
   // The device is chosen before the long render, so a bad --device fails at once. auto: the
@@ -89,7 +91,9 @@ int run_build(const BuildArgs& a) {
   coherent::DualDepthStack stack;
   {
     scene::Progress progress("rendering views", size_t(layout.views()), !a.quiet);
-    stack = scene::render_stack(object, layout, a.threads, [&](size_t n) { progress.add(n); });
+    stack = scene::render_stack(
+        object, layout, a.threads, [&](size_t n) { progress.add(n); },
+        a.renderer == "embree" ? scene::StackRenderer::Embree : scene::StackRenderer::Auto);
   }
   const double render_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
@@ -137,6 +141,10 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
       ->capture_default_str();
   b->add_option("--far-plane", build->far_plane,
                 "A missing upper surface: sphere (the bounding sphere's exit) or infinite")
+      ->capture_default_str();
+  b->add_option("--renderer", build->renderer,
+                "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast) or embree (every view "
+                "ray-cast; the same depths at texel centres)")
       ->capture_default_str();
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")->capture_default_str();
   b->add_option("--compress", build->compress,

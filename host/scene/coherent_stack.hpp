@@ -19,9 +19,14 @@ SceneGeometry load_coherent_object(const std::string& source);
 // the farthest point, so every surface lies strictly inside.
 void fit_bounding_sphere(const SceneGeometry& object, coherent::StackLayout& layout);
 
+// How the views are rendered: Auto rasterises triangle meshes (view_raster.hpp) and ray-casts
+// objects with analytic spheres (Embree); Embree ray-casts everything (the check of the other).
+enum class StackRenderer { Auto, Embree };
+
 // Every view of `layout`, map i of the stack being the view enumerate_views(layout)[i].
 // threads <= 0: all hardware threads. progress(views done) is called from any thread.
 coherent::DualDepthStack render_stack(const SceneGeometry& object, const coherent::StackLayout& layout, int threads,
-                                      const std::function<void(size_t)>& progress = {});
+                                      const std::function<void(size_t)>& progress = {},
+                                      StackRenderer renderer = StackRenderer::Auto);
 
 }  // namespace sf::scene

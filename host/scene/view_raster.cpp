@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace sf::scene {
 
@@ -37,13 +38,55 @@ bool owns_edge(const Snapped& a, const Snapped& b) {
 
 }  // namespace
 
+// 10 bits of each coordinate interleaved: nearby points get nearby codes.
+uint32_t morton(uint32_t x, uint32_t y, uint32_t z) {
+  auto spread = [](uint32_t v) {
+    v = (v | (v << 16)) & 0x030000FFu;
+    v = (v | (v << 8)) & 0x0300F00Fu;
+    v = (v | (v << 4)) & 0x030C30C3u;
+    return (v | (v << 2)) & 0x09249249u;
+  };
+  return spread(x) | (spread(y) << 1) | (spread(z) << 2);
+}
+
 ViewRasterizer::ViewRasterizer(const SceneGeometry& object) {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
   for (const TriMesh& m : object.meshes) {
-    const uint32_t base = uint32_t(vertices_.size());
-    vertices_.insert(vertices_.end(), m.vertices.begin(), m.vertices.end());
-    for (const auto& tri : m.triangles) triangles_.push_back({base + tri[0], base + tri[1], base + tri[2]});
+    const uint32_t base = uint32_t(vertices.size());
+    vertices.insert(vertices.end(), m.vertices.begin(), m.vertices.end());
+    for (const auto& tri : m.triangles) triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
   }
   has_spheres_ = !object.spheres.empty();
+  if (vertices.empty()) return;
+  // Vertices in Morton order of their position and triangles in order of their first vertex: a
+  // view reads them in a stream that stays in cache, where a mesh file's order jumps about.
+  Vec3 lo = vertices[0], hi = vertices[0];
+  for (const Vec3& v : vertices) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+  }
+  auto cell = [](double v, double a, double b) {
+    return uint32_t(std::clamp(b > a ? (v - a) / (b - a) * 1023.0 : 0.0, 0.0, 1023.0));
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> order(vertices.size());
+  for (size_t k = 0; k < vertices.size(); ++k) {
+    const Vec3& v = vertices[k];
+    order[k] = {morton(cell(v.x, lo.x, hi.x), cell(v.y, lo.y, hi.y), cell(v.z, lo.z, hi.z)), uint32_t(k)};
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<uint32_t> renumber(vertices.size());
+  vertices_.resize(vertices.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    renumber[order[k].second] = uint32_t(k);
+    vertices_[k] = vertices[order[k].second];
+  }
+  for (auto& tri : triangles)
+    for (uint32_t& v : tri) v = renumber[v];
+  std::sort(triangles.begin(), triangles.end(), [](const auto& a, const auto& b) {
+    return std::min({a[0], a[1], a[2]}) < std::min({b[0], b[1], b[2]});
+  });
+  triangles_ = std::move(triangles);
 }
 
 void ViewRasterizer::render(const OrthoView& v, int hits, double gap, std::vector<double>& t) const {

@@ -1,4 +1,4 @@
-// Direct lighting with coherent shadow maps (issue 16 item 5, docs/coherent_render.md): the
+// Direct lighting with coherent shadow maps (docs/coherent_render.md): the
 // environment map's sampling distribution, the white furnace, the CSM render against the
 // ray-traced render of the same samples, convergence, and the command's refusals.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// `shadowfilter coherent render` and `coherent sky` (issue 16 item 5, docs/coherent_render.md):
+// `shadowfilter coherent render` and `coherent sky` (docs/coherent_render.md):
 // direct lighting of a .csm file's object by an environment map and area lights, the visibility
 // from the compressed stack on the device (or from Embree occlusion rays with --reference
 // embree), and the synthetic sky that the repository's data/envmaps/sky.exr was written with.

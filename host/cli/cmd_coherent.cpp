@@ -1,6 +1,8 @@
 // `shadowfilter coherent`: coherent shadow maps (methods.md sec. 5; seed 002; docs/coherent.md).
 // build renders and compresses a stack of dual-depth maps around an object into a .csm file;
 // info describes one.
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -73,7 +75,7 @@ int run_build(const BuildArgs& a) {
   layout.depth_pair = coherent::DepthPair(a.depth_pair);
   if (!coherent::parse_far_plane(a.far_plane, &layout.far_plane))
     throw InputError("--far-plane must be sphere or infinite, got '" + a.far_plane + "'");
-  if (a.threads < 0) throw InputError("--threads must be >= 0");
+  if (a.threads < 0 || a.threads > 1024) throw InputError("--threads must be in [0, 1024]");
   if (a.renderer != "auto" && a.renderer != "embree")
     throw InputError("--renderer must be auto or embree, got '" + a.renderer + "'");
   if (a.compress != "auto" && a.compress != "device" && a.compress != "host")
@@ -84,6 +86,14 @@ int run_build(const BuildArgs& a) {
   std::shared_ptr<Runtime> runtime = a.compress != "host" ? Runtime::create(a.device) : nullptr;
   if (a.compress == "auto" && runtime->info().type != "GPU") runtime.reset();
   coherent::validate(layout);
+  // The uncompressed stack (z1 and z2, 2 bytes each) is held in memory while it is compressed.
+  const double stack_bytes = 4.0 * double(layout.views()) * double(layout.texels());
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (memory > 0.0 && stack_bytes > 0.75 * memory)
+    throw InputError("the dual-depth stack of " + std::to_string(layout.views()) + " views of " +
+                     std::to_string(layout.resolution) + "^2 texels needs " + fixed(stack_bytes / 1073741824.0, 1) +
+                     " GiB, more than 3/4 of this machine's " + fixed(memory / 1073741824.0, 1) +
+                     " GiB: fewer views or a smaller --res");
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
   scene::fit_bounding_sphere(object, layout);
 

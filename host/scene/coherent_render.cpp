@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "shadowfilter/coherent_device.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::scene {
@@ -271,8 +272,9 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
 HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                      const RenderSettings& settings, double* seconds, bool pcf) {
   validate(settings);
-  const coherent::DeviceLayout layout = coherent::device_layout(stack.layout);
-  const std::vector<uint32_t> positions = coherent::sequence_positions(stack.layout);
+  // The compressed stack as the query kernels take it (offsets, segments, positions, layout).
+  const coherent::DeviceStack csm = coherent::upload(rt, stack);
+  const coherent::DeviceLayout layout = csm.device;
   const cl::Context& ctx = rt.context();
   auto upload = [&](const void* data, size_t bytes) {
     // A zero-size buffer is invalid in OpenCL: empty inputs get one unused element.
@@ -285,9 +287,6 @@ HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const 
   cl::Buffer pos = upload(g.position.data(), bytes_of(g.position));
   cl::Buffer nor = upload(g.normal.data(), bytes_of(g.normal));
   cl::Buffer alb = upload(g.albedo.data(), bytes_of(g.albedo));
-  cl::Buffer off = upload(stack.offsets.data(), bytes_of(stack.offsets));
-  cl::Buffer seg = upload(stack.segments.data(), bytes_of(stack.segments));
-  cl::Buffer posn = upload(positions.data(), bytes_of(positions));
   std::vector<float> rgb4(size_t(env.width) * env.height * 4, 0.0f);
   for (size_t t = 0; t < size_t(env.width) * env.height; ++t)
     for (int c = 0; c < 3; ++c) rgb4[4 * t + c] = env.rgb[3 * t + c];
@@ -311,9 +310,9 @@ HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const 
   k.setArg(a++, nor);
   k.setArg(a++, alb);
   k.setArg(a++, sizeof(layout), &layout);
-  k.setArg(a++, off);
-  k.setArg(a++, seg);
-  k.setArg(a++, posn);
+  k.setArg(a++, csm.offsets);
+  k.setArg(a++, csm.segments);
+  k.setArg(a++, csm.positions);
   k.setArg(a++, cl_int(env.width));
   k.setArg(a++, cl_int(env.height));
   k.setArg(a++, cl_int(env.sampled ? 1 : 0));

@@ -79,6 +79,33 @@ cl::Event launch(Runtime& rt, cl::Kernel& k, size_t items, const EventList* wait
   return e;
 }
 
+// The point-query kernels of csm_visibility.cl all take (layout, a, b, positions, points,
+// second, out, count, toward), a and b the stack's pair of buffers (offsets and segments, or z1
+// and z2). A count of 0 enqueues a marker.
+cl::Event launch_point_queries(Runtime& rt, const char* fn, const char* kernel, const StackLayout& l,
+                               const cl::Buffer& a, const cl::Buffer& b, const cl::Buffer& positions,
+                               const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out, size_t count,
+                               CsmToward toward, const EventList* wait) {
+  cl::Event e;
+  if (count == 0) {
+    rt.queue().enqueueMarkerWithWaitList(wait, &e);
+    return e;
+  }
+  need_queries(fn, points, second, out, count);
+  cl::Kernel k(query_program(rt), kernel);
+  detail::KernelArgs(k)
+      .value(device_layout(l))
+      .buffer(a)
+      .buffer(b)
+      .buffer(positions)
+      .buffer(points)
+      .buffer(second)
+      .buffer(out)
+      .value(uint32_t(count))
+      .value(static_cast<int32_t>(toward));
+  return launch(rt, k, count, wait);
+}
+
 template <typename T>
 cl::Buffer copy_to_device(Runtime& rt, const std::vector<T>& host) {
   return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, host.size() * sizeof(T),
@@ -271,25 +298,9 @@ cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Bu
   need_bytes("enqueue_visibility", "segments", stack.segments, stack.segment_count * sizeof(uint32_t),
              "segment_count uint");
   need_bytes("enqueue_visibility", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
-  cl::Event e;
-  if (count == 0) {
-    rt.queue().enqueueMarkerWithWaitList(wait, &e);
-    return e;
-  }
-  need_queries("enqueue_visibility", points, second, out, count);
-  cl::Kernel k(query_program(rt),
-               filter == CsmFilter::Pcf ? "sf_csm_visibility_points_pcf" : "sf_csm_visibility_points");
-  detail::KernelArgs(k)
-      .value(device_layout(l))
-      .buffer(stack.offsets)
-      .buffer(stack.segments)
-      .buffer(stack.positions)
-      .buffer(points)
-      .buffer(second)
-      .buffer(out)
-      .value(uint32_t(count))
-      .value(static_cast<int32_t>(toward));
-  return launch(rt, k, count, wait);
+  return launch_point_queries(rt, "enqueue_visibility",
+                              filter == CsmFilter::Pcf ? "sf_csm_visibility_points_pcf" : "sf_csm_visibility_points", l,
+                              stack.offsets, stack.segments, stack.positions, points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_visibility", e);
 }
@@ -302,24 +313,8 @@ cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl
   need_bytes("enqueue_stack_test", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
   if (toward != CsmToward::Direction && toward != CsmToward::Point)
     throw InputError("coherent::enqueue_stack_test: unknown toward " + std::to_string(static_cast<int>(toward)));
-  cl::Event e;
-  if (count == 0) {
-    rt.queue().enqueueMarkerWithWaitList(wait, &e);
-    return e;
-  }
-  need_queries("enqueue_stack_test", points, second, out, count);
-  cl::Kernel k(query_program(rt), "sf_csm_stack_points");
-  detail::KernelArgs(k)
-      .value(device_layout(l))
-      .buffer(stack.z1)
-      .buffer(stack.z2)
-      .buffer(stack.positions)
-      .buffer(points)
-      .buffer(second)
-      .buffer(out)
-      .value(uint32_t(count))
-      .value(static_cast<int32_t>(toward));
-  return launch(rt, k, count, wait);
+  return launch_point_queries(rt, "enqueue_stack_test", "sf_csm_stack_points", l, stack.z1, stack.z2, stack.positions,
+                              points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_stack_test", e);
 }

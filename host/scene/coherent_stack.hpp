@@ -10,9 +10,10 @@
 
 namespace sf::scene {
 
-// The object of `coherent build`: a mesh file (OBJ, PLY, OFF, STL: every triangle as read,
-// unscaled) or a built-in object: "sphere" (unit sphere), "box" (2 x 1 x 1.5, centred), or a
-// built-in scene's occluders (its floor left out). Throws InputError for anything else.
+// The object of `coherent build`: a mesh file (OBJ, PLY, OFF, STL: every triangle, placed as
+// `scene` places it by load_mesh_scene: largest side 4 units, resting on y = 0), a built-in
+// object: "sphere" (unit sphere), "box" (2 x 1 x 1.5, centred), or a built-in scene's occluders
+// (its floor left out in both cases). Throws InputError for anything else.
 SceneGeometry load_coherent_object(const std::string& source);
 
 // The bounding sphere written into `layout`: centre of the bounding box, radius a hair above

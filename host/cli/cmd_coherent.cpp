@@ -81,8 +81,8 @@ int run_build(const BuildArgs& a) {
   if (a.compress != "auto" && a.compress != "device" && a.compress != "host")
     throw InputError("--compress must be auto, device or host, got '" + a.compress + "'");
   // The device is chosen before the long render, so a bad --device fails at once. auto: the
-  // kernel on a GPU; on a CPU device the host's pass, which reads the stack in memory order where
-  // the kernel's work-item per texel strides across it (docs/coherent.md, "Compression").
+  // kernel on a GPU; on a CPU device the host's pass, which costs about what the kernel does there
+  // and saves copying the stack to the device (docs/coherent.md, "Compression").
   std::shared_ptr<Runtime> runtime = a.compress != "host" ? Runtime::create(a.device) : nullptr;
   if (a.compress == "auto" && runtime->info().type != "GPU") runtime.reset();
   coherent::validate(layout);

@@ -17,6 +17,8 @@ namespace {
 
 using detail::details_suffix;
 using detail::fail;
+using detail::RawImage;
+using detail::read_raw;
 namespace fs = std::filesystem;
 
 const char* const kShadowMapRole = "shadow map";
@@ -24,19 +26,6 @@ const char* const kReceiverImageRole = "receiver image";
 const char* const kReceiverDepthRole = "receiver depth";
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-
-// Pixels of subimage 0 converted to float, interleaved, first row of the file first.
-struct RawImage {
-  int width = 0;
-  int height = 0;
-  int channels = 0;
-  std::vector<float> pixels;
-  std::vector<std::string> channel_names;
-  OIIO::TypeDesc stored_format;  // the file's (first non-float, if mixed) per-channel type
-
-  float at(size_t texel, int channel) const { return pixels[texel * channels + channel]; }
-  size_t texels() const { return static_cast<size_t>(width) * height; }
-};
 
 std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
@@ -66,37 +55,6 @@ void require_plain_2d(const OIIO::ImageSpec& spec, const std::string& path, cons
              " channels)");
   if (spec.deep) fail(role, path, "deep images are not supported");
   if (spec.depth > 1) fail(role, path, "volume images (depth > 1) are not supported");
-}
-
-// Reads subimage 0, miplevel 0 as float. OIIO readers report a truncated or corrupt file
-// either by read_image() returning false or only by a pending error message, so both are
-// checked (and the message is always consumed so that it can't leak into a later call).
-RawImage read_raw(const std::string& path, const std::string& role) {
-  require_existing_file(path, role);
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
-  auto input = OIIO::ImageInput::open(path, &config);
-  if (!input) fail(role, path, "not a readable image" + details_suffix(OIIO::geterror()));
-
-  const OIIO::ImageSpec& spec = input->spec();
-  require_plain_2d(spec, path, role);
-  RawImage img;
-  img.width = spec.width;
-  img.height = spec.height;
-  img.channels = spec.nchannels;
-  img.channel_names = spec.channelnames;
-  img.stored_format = stored_channel_format(spec);
-  img.pixels.resize(img.texels() * img.channels);
-
-  const bool read_ok = input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
-  const std::string read_error = input->geterror();
-  const bool close_ok = input->close();
-  const std::string close_error = input->geterror();
-  if (!read_ok || !read_error.empty() || !close_ok || !close_error.empty())
-    fail(role, path,
-         "cannot read pixels, file truncated or corrupt" +
-             details_suffix(read_error.empty() ? close_error : read_error));
-  return img;
 }
 
 bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
@@ -187,6 +145,43 @@ void require_float_receivers(const RawImage& img, const std::string& path) {
 }
 
 }  // namespace
+
+namespace detail {
+
+// Reads subimage 0, miplevel 0 as float. OIIO readers report a truncated or corrupt file
+// either by read_image() returning false or only by a pending error message, so both are
+// checked (and the message is always consumed so that it can't leak into a later call).
+RawImage read_raw(const std::string& path, const std::string& role) {
+  require_existing_file(path, role);
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
+  auto input = OIIO::ImageInput::open(path, &config);
+  if (!input) fail(role, path, "not a readable image" + details_suffix(OIIO::geterror()));
+
+  const OIIO::ImageSpec& spec = input->spec();
+  require_plain_2d(spec, path, role);
+  RawImage img;
+  img.width = spec.width;
+  img.height = spec.height;
+  img.channels = spec.nchannels;
+  img.channel_names = spec.channelnames;
+  img.stored_format = stored_channel_format(spec);
+  for (const OIIO::ParamValue& p : spec.extra_attribs)
+    if (p.type() == OIIO::TypeString) img.attributes[p.name().string()] = p.get_string();
+  img.pixels.resize(img.texels() * img.channels);
+
+  const bool read_ok = input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+  const std::string read_error = input->geterror();
+  const bool close_ok = input->close();
+  const std::string close_error = input->geterror();
+  if (!read_ok || !read_error.empty() || !close_ok || !close_error.empty())
+    fail(role, path,
+         "cannot read pixels, file truncated or corrupt" +
+             details_suffix(read_error.empty() ? close_error : read_error));
+  return img;
+}
+
+}  // namespace detail
 
 DepthEncoding parse_depth_encoding(const std::string& name) {
   if (name == "linear") return DepthEncoding::Linear;

@@ -1,12 +1,35 @@
 #pragma once
 // Internal helpers shared by the image reader and writer (not part of the public interface).
+#include <OpenImageIO/imageio.h>
+
 #include <filesystem>
+#include <map>
+#include <vector>
 #include <string>
 #include <utility>
 
 #include "shadowfilter/errors.hpp"
 
 namespace sf::io::detail {
+
+// Pixels of subimage 0 converted to float, interleaved, first row of the file first, with the
+// header's string attributes.
+struct RawImage {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<float> pixels;
+  std::vector<std::string> channel_names;
+  std::map<std::string, std::string> attributes;
+  OIIO::TypeDesc stored_format;  // the file's (first non-float, if mixed) per-channel type
+
+  float at(size_t texel, int channel) const { return pixels[texel * channels + channel]; }
+  size_t texels() const { return static_cast<size_t>(width) * height; }
+};
+
+// Reads subimage 0, miplevel 0 as float; InputError("<role> '<path>': ...") when the file is
+// missing, not an image, empty, deep or a volume, truncated or corrupt.
+RawImage read_raw(const std::string& path, const std::string& role);
 
 // Collapses a (possibly multi-line) library message into one line: newlines become "; ",
 // surrounding whitespace is trimmed.

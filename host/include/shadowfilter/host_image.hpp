@@ -45,4 +45,20 @@ struct Receivers {
   size_t count() const { return static_cast<size_t>(width) * height; }
 };
 
+// Camera-view receivers of a layered run (cascades.hpp, methods.md sec. 6), structure of arrays:
+// world position of the surface seen through each pixel (NaN on background), its view depth
+// (distance along the camera's axis, which picks the layer) and the world offsets across the
+// pixel (the tangent-plane points half a pixel to either side: what a footprint in any layer's
+// texels is computed from, through that layer's Jacobian). Image order, row-major.
+struct ViewReceivers {
+  int width = 0;
+  int height = 0;
+  std::vector<float> x, y, z;           // world position
+  std::vector<float> depth;             // view depth
+  std::vector<float> dxx, dxy, dxz;     // world offset across the pixel along the image's x
+  std::vector<float> dyx, dyy, dyz;     // ... along the image's y
+  std::vector<float> ndl;               // empty unless present; NaN = unknown (as Receivers::ndl)
+  size_t count() const { return static_cast<size_t>(width) * height; }
+};
+
 }  // namespace sf

@@ -167,8 +167,16 @@ CascadeLayer fit_uniform(const LayoutOptions& o, const CameraFrustum& cam, const
   } else {
     for (const Point3& c : corners) x.add(dot3(c, axes.right)), y.add(dot3(c, axes.down));
   }
+  Range z = layer_depths(axes, x, y, corners, geometry);
+  if (o.stabilize) {
+    // The depth range on a coarse grid too (a power of two near an eighth of the range): the
+    // stored depths, and the biases and exponents applied to them, change only when the range
+    // crosses a grid line, not every frame.
+    const double step = std::exp2(std::ceil(std::log2((z.hi - z.lo) / 8.0)));
+    z = {std::floor(z.lo / step) * step, std::ceil(z.hi / step) * step};
+  }
   CascadeLayer layer;
-  layer.transform = ortho_layer(axes, x, y, layer_depths(axes, x, y, corners, geometry));
+  layer.transform = ortho_layer(axes, x, y, z);
   layer.split_near = s.a;
   layer.split_far = s.b;
   return layer;

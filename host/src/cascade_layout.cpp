@@ -64,22 +64,70 @@ struct Range {
   bool overlaps(const Range& o) const { return lo <= o.hi && o.lo <= hi; }
 };
 
-// A layer's depth range: the boxes whose light-space rectangle overlaps the layer's (x, y)
-// rectangle can shadow or receive in it; none lies beyond the deepest point of the slice that
-// reaches its receivers. Widened by 1% and a small absolute margin, as the scene's maps are.
+// Depths (along forward) of the part of `box` inside the light's prism over x * y (the light-space
+// rectangle, infinite along forward): B and the prism are convex, so the extremes lie at vertices
+// of their intersection, which are box corners inside the prism, box edges crossing the prism's
+// sides, or the prism's edges crossing the box's faces. Empty when they do not meet. Exact where
+// a box's rectangle is far larger than the layer's (a ground plane under a near cascade).
+Range clipped_depths(const WorldBox& box, const LightAxes& axes, const Range& x, const Range& y) {
+  const double tol = 1e-9 * std::max({1.0, std::abs(x.lo), std::abs(x.hi), std::abs(y.lo), std::abs(y.hi)});
+  const auto in_prism = [&](const Point3& p) {
+    const double px = dot3(p, axes.right), py = dot3(p, axes.down);
+    return px >= x.lo - tol && px <= x.hi + tol && py >= y.lo - tol && py <= y.hi + tol;
+  };
+  const auto in_box = [&](const Point3& p) {
+    for (int i = 0; i < 3; ++i) {
+      const double t = 1e-9 * std::max({1.0, std::abs(box.lo[i]), std::abs(box.hi[i])});
+      if (p[i] < box.lo[i] - t || p[i] > box.hi[i] + t) return false;
+    }
+    return true;
+  };
+  Range z;
+  const auto corner = [&](int k) {
+    return Point3{(k & 1) ? box.hi[0] : box.lo[0], (k & 2) ? box.hi[1] : box.lo[1], (k & 4) ? box.hi[2] : box.lo[2]};
+  };
+  for (int k = 0; k < 8; ++k)
+    if (in_prism(corner(k))) z.add(dot3(corner(k), axes.forward));
+  // Box edges (corner pairs differing in one bit) against the prism's four side planes.
+  const std::array<std::pair<const Point3*, double>, 4> sides{
+      {{&axes.right, x.lo}, {&axes.right, x.hi}, {&axes.down, y.lo}, {&axes.down, y.hi}}};
+  for (int k = 0; k < 8; ++k)
+    for (int bit = 1; bit < 8; bit <<= 1) {
+      if (k & bit) continue;
+      const Point3 a = corner(k), b = corner(k | bit);
+      for (const auto& [axis, level] : sides) {
+        const double fa = dot3(a, *axis) - level, fb = dot3(b, *axis) - level;
+        if ((fa < 0) == (fb < 0) || fa == fb) continue;
+        const Point3 p = add3(a, scale3(fa / (fa - fb), sub3(b, a)));
+        if (in_prism(p)) z.add(dot3(p, axes.forward));
+      }
+    }
+  // The prism's four edges (lines along forward) against the box's six faces.
+  for (double px : {x.lo, x.hi})
+    for (double py : {y.lo, y.hi}) {
+      const Point3 origin = add3(scale3(px, axes.right), scale3(py, axes.down));
+      for (int i = 0; i < 3; ++i) {
+        if (axes.forward[i] == 0.0) continue;
+        for (double face : {box.lo[i], box.hi[i]}) {
+          const double t = (face - origin[i]) / axes.forward[i];
+          const Point3 p = add3(origin, scale3(t, axes.forward));
+          if (in_box(p)) z.add(t);
+        }
+      }
+    }
+  return z;
+}
+
+// A layer's depth range: the parts of the scene's boxes inside the light's prism over the layer
+// can cast or receive in it; nothing lies beyond the deepest point of the slice that reaches its
+// receivers. Widened by 1% and a small absolute margin, as the scene's maps are.
 Range layer_depths(const LightAxes& axes, const Range& x, const Range& y, const std::array<Point3, 8>& slice,
                    const std::vector<WorldBox>& geometry) {
   Range z, slice_z;
   for (const Point3& c : slice) slice_z.add(dot3(c, axes.forward));
   for (const WorldBox& box : geometry) {
-    Range bx, by, bz;
-    for (int k = 0; k < 8; ++k) {
-      const Point3 c{(k & 1) ? box.hi[0] : box.lo[0], (k & 2) ? box.hi[1] : box.lo[1], (k & 4) ? box.hi[2] : box.lo[2]};
-      bx.add(dot3(c, axes.right));
-      by.add(dot3(c, axes.down));
-      bz.add(dot3(c, axes.forward));
-    }
-    if (bx.overlaps(x) && by.overlaps(y)) z.add(bz.lo), z.add(bz.hi);
+    const Range part = clipped_depths(box, axes, x, y);
+    if (part.lo <= part.hi) z.add(part.lo), z.add(part.hi);
   }
   if (!(z.lo <= z.hi)) z = slice_z;
   z.hi = std::min(z.hi, slice_z.hi);

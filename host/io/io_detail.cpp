@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <fstream>
 #include <system_error>
 
 namespace sf::io::detail {
@@ -59,6 +60,17 @@ void move_into_place(TemporaryFile& temporary, const std::string& path, const st
   std::filesystem::rename(temporary.path(), path, ec);
   if (ec) fail(role, path, "cannot move the finished file into place (" + ec.message() + ")");
   temporary.release();
+}
+
+void write_text_atomically(const std::string& path, const std::string& text, const std::string& role) {
+  TemporaryFile temporary(temporary_path_for(path));
+  {
+    std::ofstream out(temporary.path(), std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) fail(role, path, "cannot write");
+  }
+  move_into_place(temporary, path, role);
 }
 
 }  // namespace sf::io::detail

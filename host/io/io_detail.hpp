@@ -64,4 +64,7 @@ class TemporaryFile {
 // Renames the finished temporary file over `path` (InputError naming `role` when it cannot).
 void move_into_place(TemporaryFile& temporary, const std::string& path, const std::string& role);
 
+// Writes a text file atomically (a temporary file, then rename); InputError naming `role`.
+void write_text_atomically(const std::string& path, const std::string& text, const std::string& role);
+
 }  // namespace sf::io::detail

@@ -220,8 +220,10 @@ double slope_bias(const HostImage& rx, int x, int y, int w, int h) {
   return slope;
 }
 
-// Every built-in scene (and one perspective light): a receiver lit in the hard reference
+// Every built-in scene but city (and one perspective light): a receiver lit in the hard reference
 // passes the plain shadow-map test d <= z(nearest texel) + 1e-3 + (depth slope per texel) at >= 99% of the lit pixels.
+// city is left out: one 1024 map over 2 km gives its sunlit facades (a thin strip each in the
+// map) the roof's depth, a resolution limit that layered maps are for (docs/scenes.md).
 class SceneConsistency : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 
 TEST_P(SceneConsistency, LitReceiversPassShadowMapTest) {
@@ -267,6 +269,7 @@ INSTANTIATE_TEST_SUITE_P(BuiltIn, SceneConsistency,
                          ::testing::Values(std::make_pair("spheres", "ortho"), std::make_pair("fence", "ortho"),
                                            std::make_pair("backyard", "ortho"), std::make_pair("contact", "ortho"),
                                            std::make_pair("thin", "ortho"), std::make_pair("terrain", "ortho"),
+                                           std::make_pair("treeline", "ortho"),
                                            std::make_pair("spheres", "perspective"),
                                            std::make_pair("backyard", "perspective")),
                          [](const auto& info) { return info.param.first + "_" + info.param.second; });

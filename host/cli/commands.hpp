@@ -72,6 +72,22 @@ struct SceneArgs {
   double fov = 0.0;
   double light_size = std::numeric_limits<double>::quiet_NaN();  // NaN: the scene's default
   bool quiet = false;
+  // Camera and path (NaN / empty: the scene's default; CLI numbers are finite, finite_numbers.hpp).
+  std::vector<double> camera_pos, camera_look, camera_to;
+  double camera_fov = std::numeric_limits<double>::quiet_NaN();
+  double camera_near = std::numeric_limits<double>::quiet_NaN();
+  double camera_far = std::numeric_limits<double>::quiet_NaN();
+  int frames = 1;
+  std::string camera_path = "walk";
+  double orbit_degrees = std::numeric_limits<double>::quiet_NaN();
+  // Cascade layout ("" = none; 0 / NaN: the layout's default).
+  std::string layout;
+  int cascades = 0;
+  double split_lambda = std::numeric_limits<double>::quiet_NaN();
+  double tsm_focus = std::numeric_limits<double>::quiet_NaN();
+  double cascade_blend = std::numeric_limits<double>::quiet_NaN();
+  bool no_stabilize = false;
+  bool cascades_given = false;
 };
 CLI::App* add_scene_command(CLI::App& app, SceneArgs& args);
 int run_scene(const SceneArgs& args);

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "cascade_io.hpp"
 #include "scene_render.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -76,6 +77,61 @@ void write_camera(std::ostream& out, const PerspectiveCamera& camera) {
       << "  },\n";
 }
 
+void write_frame_camera(std::ostream& out, const SceneFrame& frame) {
+  const PerspectiveCamera& c = frame.camera;
+  out << "{\"position\": " << json_vector(c.position) << ", \"target\": " << json_vector(c.target)
+      << ", \"up\": " << json_vector(c.up_hint)
+      << ", \"vertical_fov_degrees\": " << format_number(c.vertical_fov_degrees) << ", \"size\": [" << c.width << ", "
+      << c.height << "], \"near\": " << format_number(frame.depths.near_depth)
+      << ", \"far\": " << format_number(frame.depths.far_depth) << "}";
+}
+
+// The camera path, the layout and, per frame, its directory, camera and layers (matrix, split).
+void write_frames(std::ostream& out, const FramePlan& plan) {
+  const CameraPathOptions& p = plan.path;
+  const bool walk = p.kind == CameraPathKind::Walk;
+  out << "  \"camera_path\": {\"frames\": " << p.frames << ", \"path\": " << (walk ? "\"walk\"" : "\"orbit\"");
+  if (walk && plan.frames.size() > 1) {
+    const SceneFrame& last = plan.frames.back();
+    out << ", \"to\": " << json_vector(last.camera.position);
+  }
+  if (!walk) out << ", \"orbit_degrees\": " << format_number(p.orbit_degrees);
+  out << ", \"view_depth\": \"distance along the camera's axis (position -> target)\"},\n";
+  if (plan.layout) {
+    const sf::LayoutOptions& o = *plan.layout;
+    out << "  \"layout\": {\"kind\": " << json_string(sf::layout_name(o.kind)) << ", \"cascades\": "
+        << (plan.frames.empty() || !plan.frames[0].layers ? 0 : plan.frames[0].layers->layers.size())
+        << ", \"split_lambda\": " << format_number(o.split_lambda)
+        << ", \"stabilize\": " << (o.stabilize ? "true" : "false") << ", \"tsm_focus\": " << format_number(o.tsm_focus)
+        << ", \"blend\": "
+        << format_number(plan.frames.empty() || !plan.frames[0].layers ? o.blend : plan.frames[0].layers->blend)
+        << ", \"size\": [" << o.map_size << ", " << o.map_size << "]"
+        << ", \"mapping\": "
+        << json_string("world_to_map M (row-major 4x4), p = (x, y, z, 1): u = M0.p / M3.p, v = M1.p / M3.p, d = M2.p")
+        << "},\n";
+  } else {
+    out << "  \"layout\": null,\n";
+  }
+  out << "  \"frames\": [\n";
+  for (size_t i = 0; i < plan.frames.size(); ++i) {
+    const SceneFrame& f = plan.frames[i];
+    out << "    {\"dir\": " << json_string(f.dir.empty() ? "." : f.dir) << ", \"camera\": ";
+    write_frame_camera(out, f);
+    out << ", \"layers\": [";
+    if (f.layers) {
+      for (size_t k = 0; k < f.layers->layers.size(); ++k) {
+        const sf::CascadeLayer& layer = f.layers->layers[k];
+        out << (k ? ",\n" : "\n") << "      {\"file\": \"cascade_" << k << ".exr\", \"world_to_map\": [";
+        for (int e = 0; e < 16; ++e) out << (e ? ", " : "") << format_number(layer.transform.m[e]);
+        out << "], \"split\": [" << format_number(layer.split_near) << ", " << format_number(layer.split_far) << "]}";
+      }
+      out << "\n    ";
+    }
+    out << "]}" << (i + 1 < plan.frames.size() ? ",\n" : "\n");
+  }
+  out << "  ],\n";
+}
+
 void write_files(std::ostream& out, const std::vector<OutputFile>& files) {
   out << "  \"files\": [\n";
   for (size_t k = 0; k < files.size(); ++k) {
@@ -137,6 +193,40 @@ std::map<std::string, std::string> light_attributes(const SceneSetup& setup) {
   return a;
 }
 
+std::map<std::string, std::string> layer_attributes(const SceneSetup& setup, const sf::CascadeSet& set, int k) {
+  std::map<std::string, std::string> a = io::cascade_layer_attributes(set, k);
+  const LightView& light = setup.light;
+  a["scene"] = setup.geometry.name;
+  a["generator"] = kGeneratorVersion;
+  a["light_type"] = "orthographic";
+  a["light_direction"] = json_vector(light.forward);
+  a["light_right"] = json_vector(light.right);
+  a["light_down"] = json_vector(light.down);
+  a["light_size"] = format_number(setup.light_size);
+  a["depth"] = "linear: d = M2 . (x, y, z, 1) of shadowfilter:world_to_map";
+  // Row r of the matrix is (axis / length, -lo / length) for the range [lo, lo + length] along
+  // the axis (cascade_layout.cpp); d's row gives near/far for every layout, u's and v's the
+  // extents where the layer is not warped (M3 = (0, 0, 0, 1)).
+  const auto& m = set.layers.at(k).transform.m;
+  const auto range = [&](int r, double& lo, double& hi) {
+    const double scale = std::sqrt(m[4 * r] * m[4 * r] + m[4 * r + 1] * m[4 * r + 1] + m[4 * r + 2] * m[4 * r + 2]);
+    lo = -m[4 * r + 3] / scale;
+    hi = lo + 1.0 / scale;
+  };
+  double near_plane = 0, far_plane = 0;
+  range(2, near_plane, far_plane);
+  a["near"] = format_number(near_plane);
+  a["far"] = format_number(far_plane);
+  if (m[12] == 0.0 && m[13] == 0.0 && m[14] == 0.0 && m[15] == 1.0) {
+    double r0 = 0, r1 = 0, d0 = 0, d1 = 0;
+    range(0, r0, r1);
+    range(1, d0, d1);
+    a["ortho_extents"] =
+        "[" + format_number(r0) + ", " + format_number(r1) + ", " + format_number(d0) + ", " + format_number(d1) + "]";
+  }
+  return a;
+}
+
 void write_scene_json(const fs::path& path, const SceneSetup& setup, const SceneRecord& record) {
   std::ostringstream out;
   out << "{\n"
@@ -155,6 +245,7 @@ void write_scene_json(const fs::path& path, const SceneSetup& setup, const Scene
   write_geometry(out, setup.geometry);
   write_light(out, setup);
   write_camera(out, setup.camera);
+  write_frames(out, record.plan);
   out << "  \"min_occluder_floor_gap\": " << format_number(record.min_occluder_floor_gap) << ",\n";
   write_files(out, record.files);
   out << "}\n";
@@ -182,6 +273,14 @@ StagingDirectory::StagingDirectory(const fs::path& destination)
   }
 }
 
+fs::path StagingDirectory::file(const std::string& name) const {
+  const fs::path path = staging_ / name;
+  std::error_code error;
+  fs::create_directories(path.parent_path(), error);
+  if (error) throw InputError("cannot create " + path.parent_path().string() + ": " + error.message());
+  return path;
+}
+
 StagingDirectory::~StagingDirectory() {
   if (committed_) return;
   std::error_code ignored;
@@ -197,12 +296,15 @@ void StagingDirectory::commit(const std::vector<OutputFile>& files) {
     return;
   }
   for (const OutputFile& output : files) {
+    fs::create_directories((destination_ / output.name).parent_path(), error);
+    if (error)
+      throw InputError("cannot create " + (destination_ / output.name).parent_path().string() + ": " + error.message());
     fs::rename(staging_ / output.name, destination_ / output.name, error);
     if (error) {
       throw InputError("cannot write " + (destination_ / output.name).string() + ": " + error.message());
     }
   }
-  fs::remove(staging_, error);
+  fs::remove_all(staging_, error);  // with the emptied frame directories
   committed_ = true;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_frames.hpp"
 #include "scene_math.hpp"
 
 namespace sf::scene {
@@ -24,7 +25,8 @@ struct SceneRecord {
   std::string source;  // "built-in" or the mesh file
   std::string purpose;
   double min_occluder_floor_gap = 0.0;
-  std::vector<OutputFile> files;
+  std::vector<OutputFile> files;  // for scene.json; frame files named "frame_NNN/..." with frames > 1
+  FramePlan plan;                 // every frame's camera, view depths and layers
 };
 
 // Shortest decimal text that reads back to the same double (locale-independent).
@@ -35,6 +37,11 @@ std::string json_vector(Vec3 v);
 // Header attributes of the light-view images: scene, generator, light type, near, far, basis,
 // extents or position/fov (plain strings, no time stamps).
 std::map<std::string, std::string> light_attributes(const SceneSetup& setup);
+// Header attributes of layer k of a frame's cascade set: io::cascade_layer_attributes (what
+// io::load_cascade_set reads back), the scene's light (type, direction, axes, size) and, from the
+// layer's matrix, near/far (the world depths along the light of d = 0 and 1) and, for an
+// unwarped (orthographic) layer, ortho_extents: the same meaning as in shadowmap.exr.
+std::map<std::string, std::string> layer_attributes(const SceneSetup& setup, const sf::CascadeSet& set, int k);
 
 void write_scene_json(const std::filesystem::path& path, const SceneSetup& setup, const SceneRecord& record);
 
@@ -49,7 +56,8 @@ class StagingDirectory {
   StagingDirectory(const StagingDirectory&) = delete;
   StagingDirectory& operator=(const StagingDirectory&) = delete;
 
-  std::filesystem::path file(const std::string& name) const { return staging_ / name; }
+  // A file of the output; a name with a directory part ("frame_000/view.exr") gets its directory.
+  std::filesystem::path file(const std::string& name) const;
   void commit(const std::vector<OutputFile>& files);
 
  private:

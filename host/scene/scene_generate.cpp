@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "image_io.hpp"
+#include "layer_render.hpp"
 #include "scene_files.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -57,7 +58,7 @@ SceneDefaults load_defaults(const std::string& scene) {
   return load_mesh_scene(scene);
 }
 
-std::vector<OutputFile> output_files(bool has_ground) {
+std::vector<OutputFile> light_files(bool has_ground) {
   std::vector<OutputFile> files = {
       {"shadowmap.exr",
        "shadow map: 1 channel Z, float32 linear light depth (methods.md sec. 1), 1 = nothing hit; "
@@ -67,19 +68,42 @@ std::vector<OutputFile> output_files(bool has_ground) {
     files.push_back({"receiver_depth.exr",
                      "planar receivers (shadow-map size): 1 channel Z, depth of the ground (floor "
                      "or terrain) alone, NaN = ground not hit"});
-  files.push_back({"receivers.exr",
+  return files;
+}
+
+// The files of one frame, named inside `dir` ("" = the scene directory itself).
+std::vector<OutputFile> frame_files(const std::string& dir, size_t layers) {
+  const std::string prefix = dir.empty() ? "" : dir + "/";
+  std::vector<OutputFile> files;
+  files.push_back({prefix + "receivers.exr",
                    "camera-view receivers: u v d (float32) f (half, footprint in level-0 texels "
                    "from the shadow-map coordinates of the pixel's neighbourhood on the hit "
                    "tangent plane) ndl (half, cosine between the camera-facing normal and the "
                    "direction to the light, <= 0 facing away); NaN = background"});
-  files.push_back({"reference_hard.exr",
+  files.push_back({prefix + "reference_hard.exr",
                    "camera view: ray-traced point-light visibility Y (half; 1 lit, 0 occluded or "
                    "facing away, 1 background)"});
-  files.push_back({"reference_soft.exr",
+  files.push_back({prefix + "reference_soft.exr",
                    "camera view: ray-traced fraction of the square area light visible Y (half; "
                    "stratified samples, 1 background)"});
-  files.push_back({"scene.json", "every parameter of the scene"});
+  files.push_back({prefix + "view.exr",
+                   "camera view for layered maps: P.x P.y P.z (world position of the hit) depth (view "
+                   "depth along the camera's axis) dPdx.x..z dPdy.x..z (world offsets across the pixel on "
+                   "the hit's tangent plane), float32; ndl (half); NaN = background"});
+  for (size_t k = 0; k < layers; ++k)
+    files.push_back({prefix + "cascade_" + std::to_string(k) + ".exr",
+                     "layer " + std::to_string(k) +
+                         " of the cascade set: 1 channel Z, its linear depth d (1 = nothing hit); "
+                         "shadowfilter:world_to_map, :split, :layer, :blend and the light in the header"});
   return files;
+}
+
+// A cascade file left from an earlier run with more layers (or with layers at all) would be read
+// as part of this frame's set.
+void remove_stale_layers(const std::filesystem::path& dir, size_t layers) {
+  std::error_code ignored;
+  for (int k = int(layers); k < sf::kMaxCascadeLayers + 8; ++k)
+    std::filesystem::remove(dir / ("cascade_" + std::to_string(k) + ".exr"), ignored);
 }
 
 // The scene's files carry its parameters; write_image keeps them byte-identical between runs.
@@ -128,7 +152,7 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
     const Vec3 position = request.light_pos ? *request.light_pos : centre - (2.5 * radius) * dir;
     setup.light = LightView::fit_perspective(setup.geometry, position, centre, request.fov_degrees, kFrustumMargin);
   }
-  setup.camera = defaults.camera;
+  setup.camera = requested_camera(request.camera, defaults.camera);
   setup.camera.width = cw;
   setup.camera.height = ch;
   setup.map_width = request.map_size;
@@ -148,6 +172,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
   SceneSummary summary;
   summary.setup = make_setup(request, &defaults);
   const SceneSetup& setup = summary.setup;
+  summary.plan = plan_frames(request.camera, request.layout, setup, defaults);
   const SceneRenderer renderer(setup);  // validates --samples
   const bool ground = setup.geometry.has_ground();
 
@@ -158,6 +183,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
   SceneRecord record;
   record.source = defaults.source;
   record.purpose = defaults.purpose;
+  record.plan = summary.plan;
   if (ground) {
     const HostImage receiver_depth = renderer.receiver_depth();
     record.min_occluder_floor_gap = min_occluder_floor_gap(shadow_map, receiver_depth);
@@ -165,22 +191,53 @@ SceneSummary generate_scene(const SceneRequest& request) {
   } else {
     record.min_occluder_floor_gap = std::nan("");
   }
-  record.files = output_files(ground);
-  CameraImages camera = renderer.camera_view(true);
+  std::vector<OutputFile> written = light_files(ground);
+  record.files = written;
   const std::map<std::string, std::string> camera_attributes = {{"scene", setup.geometry.name},
                                                                 {"generator", kGeneratorVersion}};
-  write_deterministic(staging.file("receivers.exr").string(), std::move(camera.receivers), camera_attributes);
-  write_deterministic(staging.file("reference_hard.exr").string(), std::move(camera.reference_hard), camera_attributes);
   auto soft_attributes = camera_attributes;
   soft_attributes["light_size"] = format_number(setup.light_size);
   soft_attributes["samples"] = std::to_string(setup.samples);
   soft_attributes["seed"] = std::to_string(setup.seed);
-  write_deterministic(staging.file("reference_soft.exr").string(), std::move(camera.reference_soft), soft_attributes);
+  for (const SceneFrame& frame : summary.plan.frames) {
+    const std::string prefix = frame.dir.empty() ? "" : frame.dir + "/";
+    CameraImages camera = renderer.camera_view(frame.camera, true);
+    auto view_attributes = camera_attributes;
+    view_attributes["camera_near"] = format_number(frame.depths.near_depth);
+    view_attributes["camera_far"] = format_number(frame.depths.far_depth);
+    write_deterministic(staging.file(prefix + "receivers.exr").string(), std::move(camera.receivers),
+                        camera_attributes);
+    write_deterministic(staging.file(prefix + "reference_hard.exr").string(), std::move(camera.reference_hard),
+                        camera_attributes);
+    write_deterministic(staging.file(prefix + "reference_soft.exr").string(), std::move(camera.reference_soft),
+                        soft_attributes);
+    write_deterministic(staging.file(prefix + "view.exr").string(), std::move(camera.view), view_attributes);
+    const size_t layers = frame.layers ? frame.layers->layers.size() : 0;
+    if (frame.layers) {
+      std::vector<HostImage> maps = render_layers(renderer.tracer(), *frame.layers, setup.threads, setup.progress);
+      for (size_t k = 0; k < maps.size(); ++k)
+        write_deterministic(staging.file(prefix + "cascade_" + std::to_string(k) + ".exr").string(), std::move(maps[k]),
+                            layer_attributes(setup, *frame.layers, int(k)));
+    }
+    const std::vector<OutputFile> files = frame_files(frame.dir, layers);
+    written.insert(written.end(), files.begin(), files.end());
+    if (&frame == &summary.plan.frames.front()) {
+      // scene.json lists one frame's files; with several frames their names stand for every
+      // frame_NNN directory.
+      const std::vector<OutputFile> named = frame_files(frame.dir.empty() ? "" : "frame_NNN", layers);
+      record.files.insert(record.files.end(), named.begin(), named.end());
+    }
+  }
+  record.files.push_back({"scene.json", "every parameter of the scene"});
+  written.push_back(record.files.back());
   write_scene_json(staging.file("scene.json"), setup, record);
-  staging.commit(record.files);
+  staging.commit(written);
+  const std::filesystem::path out_dir(request.out_dir);
+  for (const SceneFrame& frame : summary.plan.frames)
+    remove_stale_layers(out_dir / frame.dir, frame.layers ? frame.layers->layers.size() : 0);
   if (!ground) {  // a stale planar-receiver file from an earlier scene would not match
     std::error_code ignored;
-    std::filesystem::remove(std::filesystem::path(request.out_dir) / "receiver_depth.exr", ignored);
+    std::filesystem::remove(out_dir / "receiver_depth.exr", ignored);
   }
   summary.min_occluder_floor_gap = record.min_occluder_floor_gap;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

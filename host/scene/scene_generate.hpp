@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "scene_frames.hpp"
 #include "scene_library.hpp"
 #include "scene_render.hpp"
 
@@ -20,12 +21,15 @@ struct SceneRequest {
   std::optional<double> light_size;     // default: the scene's
   int samples = 64;
   unsigned seed = 1;
+  CameraRequest camera;  // --camera-*, --frames, --camera-path
+  LayoutRequest layout;  // --layout and its options
   bool progress = true;
   int threads = 0;
 };
 
 struct SceneSummary {
   SceneSetup setup;
+  FramePlan plan;
   double min_occluder_floor_gap = 0.0;
   double seconds = 0.0;
 };
@@ -33,7 +37,9 @@ struct SceneSummary {
 // Validates the request and builds the scene setup (no files touched). Throws InputError.
 SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out = nullptr);
 
-// Renders every image and writes the directory (all at once; nothing on error).
+// Renders every image and writes the directory (all at once; nothing on error): the light's
+// images and scene.json in DIR, each frame's camera images (receivers, references, view) and
+// layers (cascade_K.exr) in DIR with one frame, else in DIR/frame_000, DIR/frame_001, ...
 SceneSummary generate_scene(const SceneRequest& request);
 
 }  // namespace sf::scene

@@ -79,17 +79,22 @@ void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 e
                               ", \"edge_b\": " + json_vector(edge_b) + "}");
 }
 
-void add_box(SceneGeometry& scene, const std::string& name, Vec3 lo, Vec3 hi) {
-  TriMesh mesh;
-  mesh.name = name;
+void append_box(TriMesh& mesh, Vec3 lo, Vec3 hi) {
+  const uint32_t base = static_cast<uint32_t>(mesh.vertices.size());
   for (int k = 0; k < 8; ++k)
     mesh.vertices.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
   // Faces as quads of corner indices (outward winding).
   const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) {
-    mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
-    mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[2]), uint32_t(f[3])});
+    mesh.triangles.push_back({base + f[0], base + f[1], base + f[2]});
+    mesh.triangles.push_back({base + f[0], base + f[2], base + f[3]});
   }
+}
+
+void add_box(SceneGeometry& scene, const std::string& name, Vec3 lo, Vec3 hi) {
+  TriMesh mesh;
+  mesh.name = name;
+  append_box(mesh, lo, hi);
   scene.meshes.push_back(std::move(mesh));
   scene.description.push_back("{\"type\": \"box\", \"name\": " + json_string(name) + ", \"min\": " + json_vector(lo) +
                               ", \"max\": " + json_vector(hi) + "}");

@@ -43,6 +43,8 @@ std::vector<Vec3> hull_points(const SceneGeometry& scene);
 // Builders. All boxes, quads and prisms are closed or two-sided triangle meshes.
 void add_floor(SceneGeometry& scene, double half_size);  // y = 0, |x|,|z| <= half_size, ground
 void add_box(SceneGeometry& scene, const std::string& name, Vec3 min_corner, Vec3 max_corner);
+// The same closed box appended to an existing mesh (many boxes in one mesh: a city's buildings).
+void append_box(TriMesh& mesh, Vec3 min_corner, Vec3 max_corner);
 // Parallelogram corner + s*edge_a + t*edge_b, s,t in [0,1] (zero thickness, two-sided).
 void add_quad(SceneGeometry& scene, const std::string& name, Vec3 corner, Vec3 edge_a, Vec3 edge_b,
               bool ground = false);

@@ -229,12 +229,152 @@ SceneDefaults terrain() {
   return s;
 }
 
+// --- Large scenes in metres (seed 001: cascades and warping). World units are metres; the
+// camera stands near the ground and looks across hundreds of metres, so a single map spends
+// most of its texels far away and PSSM / TSM have something to fix.
+
+// A sun `elevation_degrees` above the horizon, shining along the horizontal (x, z) direction.
+Vec3 sun_direction(double elevation_degrees, double x, double z) {
+  const double e = elevation_degrees * kPi / 180.0;
+  const double h = std::hypot(x, z);
+  return {std::cos(e) * x / h, -std::sin(e), std::cos(e) * z / h};
+}
+
+// Sparse city blocks on a 2 km x 2 km ground: a street grid of 100 m (80 m blocks, 20 m
+// streets), each block a park or up to four lots with one box building each; tall buildings
+// (40-150 m) cluster towards the centre, the rest are 5-15 m. Fixed seed: the same city always.
+SceneDefaults city() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "city";
+  s.purpose =
+      "sparse city blocks over 2 km x 2 km seen from street level: shadows from 5 m to 1.5 km "
+      "away, PSSM and TSM (seed 001)";
+  constexpr double kHalf = 1000.0, kPitch = 100.0, kStreet = 20.0, kLot = 0.5 * (kPitch - kStreet);
+  constexpr int kBlocks = int(2.0 * kHalf / kPitch);
+  add_floor(g, kHalf);
+  Rng rng{20260115};
+  TriMesh buildings;
+  buildings.name = "buildings";
+  int tall = 0, low = 0;
+  for (int bz = 0; bz < kBlocks; ++bz)
+    for (int bx = 0; bx < kBlocks; ++bx) {
+      const double x0 = -kHalf + bx * kPitch + 0.5 * kStreet, z0 = -kHalf + bz * kPitch + 0.5 * kStreet;
+      if (rng.next() < 0.2) continue;  // a park
+      const double r = std::hypot(x0 + kLot, z0 + kLot);
+      const double p_tall = 0.05 + 0.35 * std::exp(-(r / 500.0) * (r / 500.0));
+      for (int lot = 0; lot < 4; ++lot) {
+        if (rng.next() > 0.75) continue;
+        const double lx = x0 + (lot & 1) * kLot, lz = z0 + (lot >> 1) * kLot;
+        const double w = rng.range(15.0, kLot - 4.0), d = rng.range(15.0, kLot - 4.0);
+        const double ox = lx + rng.range(2.0, kLot - 2.0 - w), oz = lz + rng.range(2.0, kLot - 2.0 - d);
+        const bool is_tall = rng.next() < p_tall;
+        const double h = is_tall ? rng.range(40.0, 150.0) : rng.range(5.0, 15.0);
+        (is_tall ? tall : low)++;
+        append_box(buildings, {ox, 0.0, oz}, {ox + w, h, oz + d});
+      }
+    }
+  g.description.push_back("{\"type\": \"city\", \"name\": \"buildings\", \"blocks\": [" + std::to_string(kBlocks) +
+                          ", " + std::to_string(kBlocks) + "], \"block_pitch\": 100, \"street_width\": 20, " +
+                          "\"tall_buildings\": " + std::to_string(tall) + ", \"low_buildings\": " +
+                          std::to_string(low) + ", \"heights\": {\"tall\": [40, 150], \"low\": [5, 15]}, " +
+                          "\"triangles\": " + std::to_string(buildings.triangles.size()) + "}");
+  g.meshes.push_back(std::move(buildings));
+  // From the west and a little behind the camera: buildings throw their shadows across the
+  // north-south streets, and the facades facing the camera are lit at a grazing angle.
+  s.light_direction = sun_direction(36.0, 0.95, 0.15);
+  // Over the street x = 0 near the south edge, 30 m up, looking north along the street and a
+  // little down: the ground from ~45 m to the far side of the city.
+  s.camera.position = {0.0, 30.0, -960.0};
+  s.camera.target = {60.0, 0.0, -200.0};
+  s.camera.vertical_fov_degrees = 60.0;
+  s.camera_near = 1.0;
+  s.camera_far = 1500.0;
+  // The orthographic area light lies in the near plane, so its penumbra is L (d_R - d_B) / d_R:
+  // L = 8 m is the sun's half degree at d_R ~ 900 m, a typical receiver depth here.
+  s.light_size = 8.0;
+  return s;
+}
+
+double treeline_height(double x, double z) {
+  return 12.0 * std::sin(x / 170.0 + 0.3) * std::cos(z / 210.0 - 0.5) + 6.0 * std::sin((x + z) / 90.0 + 1.0) +
+         2.0 * std::sin(x / 37.0 - z / 45.0);
+}
+
+// Gentle terrain over 1 km x 1 km (slopes under ~12 degrees) with seven rows of thin trees
+// (windbreaks): a trunk prism and a narrow crown cone each, 8-25 m tall. Fixed seed.
+SceneDefaults treeline() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "treeline";
+  s.purpose =
+      "rows of thin trees on gentle terrain over 1 km x 1 km seen from eye height: thin far "
+      "occluders, self-shadowing ground, PSSM and TSM (seed 001)";
+  constexpr double kHalf = 500.0;
+  constexpr int kCells = 80;
+  TriMesh ground;
+  ground.name = "terrain";
+  ground.ground = true;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const double x = -kHalf + 2.0 * kHalf * i / kCells, z = -kHalf + 2.0 * kHalf * j / kCells;
+      ground.vertices.push_back({x, treeline_height(x, z), z});
+    }
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      ground.triangles.push_back({a, c, b});
+      ground.triangles.push_back({b, c, d});
+    }
+  g.meshes.push_back(std::move(ground));
+  g.description.push_back(
+      "{\"type\": \"height_field\", \"name\": \"terrain\", \"extent\": [-500, 500], \"cells\": 80, "
+      "\"height\": \"12 sin(x/170+0.3) cos(z/210-0.5) + 6 sin((x+z)/90+1) + 2 sin(x/37-z/45)\"}");
+  constexpr int kRows = 7;
+  Rng rng{20260116};
+  TriMesh trees;
+  trees.name = "trees";
+  int count = 0;
+  for (int row = 0; row < kRows; ++row) {
+    const double z0 = -420.0 + 140.0 * row + rng.range(-10.0, 10.0);
+    const double slope = rng.range(-0.15, 0.15);
+    for (double x = -470.0 + rng.range(0.0, 10.0); x < 470.0; x += rng.range(8.0, 14.0)) {
+      const double tx = x, tz = z0 + slope * x + rng.range(-2.0, 2.0);
+      const double height = rng.range(8.0, 25.0);
+      // Sunk 0.3 m into the ground so that no slope opens a gap under the trunk.
+      const Vec3 base{tx, treeline_height(tx, tz) - 0.3, tz};
+      const Vec3 up{0.0, 1.0, 0.0};
+      add_prism(trees, base, base + (0.4 * height + 0.3) * up, 0.15 + 0.012 * height, 0.1 + 0.01 * height, 6);
+      add_prism(trees, base + (0.25 * height + 0.3) * up, base + (height + 0.3) * up, rng.range(0.14, 0.2) * height,
+                0.1, 6);
+      ++count;
+    }
+  }
+  g.description.push_back("{\"type\": \"trees\", \"name\": \"trees\", \"rows\": " + std::to_string(kRows) +
+                          ", \"trees\": " + std::to_string(count) +
+                          ", \"heights\": [8, 25], \"parts\": \"trunk prism (6 sides) + crown cone (6 sides)\", "
+                          "\"triangles\": " +
+                          std::to_string(trees.triangles.size()) + "}");
+  g.meshes.push_back(std::move(trees));
+  s.light_direction = sun_direction(38.0, 0.3, -0.73);
+  // 8 m over the ground (a raised hide) near the south edge, 60 m before the first row, looking
+  // north across the rows; the sun is ahead, so each row's shadow falls towards the camera.
+  const double cx = -60.0, cz = -480.0, tx = 40.0, tz = 200.0;
+  s.camera.position = {cx, treeline_height(cx, cz) + 8.0, cz};
+  s.camera.target = {tx, treeline_height(tx, tz) + 2.0, tz};
+  s.camera.vertical_fov_degrees = 55.0;
+  s.camera_near = 1.0;
+  s.camera_far = 1200.0;
+  s.light_size = 4.0;  // the sun's half degree at d_R ~ 450 m (see city())
+  return s;
+}
+
 using Maker = std::function<SceneDefaults()>;
 
 const std::vector<std::pair<std::string, Maker>>& makers() {
-  static const std::vector<std::pair<std::string, Maker>> list = {{"spheres", spheres},   {"fence", fence},
-                                                                  {"backyard", backyard}, {"contact", contact},
-                                                                  {"thin", thin},         {"terrain", terrain}};
+  static const std::vector<std::pair<std::string, Maker>> list = {
+      {"spheres", spheres}, {"fence", fence},     {"backyard", backyard}, {"contact", contact},
+      {"thin", thin},       {"terrain", terrain}, {"city", city},         {"treeline", treeline}};
   return list;
 }
 

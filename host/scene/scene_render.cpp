@@ -1,14 +1,13 @@
 #include "scene_render.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <thread>
+#include <string>
 #include <vector>
 
-#include "progress.hpp"
+#include "row_workers.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::scene {
@@ -40,20 +39,7 @@ SceneRenderer::SceneRenderer(const SceneSetup& setup) : setup_(setup), tracer_(s
 
 template <class RowFn>
 void SceneRenderer::for_each_row(const char* label, int rows, int width, const RowFn& row_fn) const {
-  int workers = setup_.threads > 0 ? setup_.threads : int(std::thread::hardware_concurrency());
-  workers = std::max(1, std::min(rows, workers));
-  Progress progress(label, size_t(rows) * size_t(width), setup_.progress);
-  std::atomic<int> next_row{0};
-  auto work = [&] {
-    for (int y = next_row++; y < rows; y = next_row++) {
-      row_fn(y);
-      progress.add(size_t(width));
-    }
-  };
-  std::vector<std::thread> threads;
-  for (int w = 1; w < workers; ++w) threads.emplace_back(work);
-  work();
-  for (std::thread& t : threads) t.join();
+  scene::for_each_row(label, rows, width, setup_.threads, setup_.progress, row_fn);
 }
 
 HostImage SceneRenderer::shadow_map() const {
@@ -127,10 +113,10 @@ double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream)
 // each pair's distance in texels (du*W, dv*H) is a footprint width; f = the larger one. Using
 // the tangent plane instead of the neighbours' hits avoids jumps at silhouettes. At grazing
 // angles where an edge ray misses the plane, f is capped at the shadow-map size.
-double SceneRenderer::footprint_texels(int x, int y, Vec3 point, Vec3 normal) const {
+double SceneRenderer::footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal) const {
   const double cap = std::max(setup_.map_width, setup_.map_height);
   auto coords_on_plane = [&](double px, double py) -> std::optional<LightCoords> {
-    const Ray ray = setup_.camera.ray_through(px, py);
+    const Ray ray = camera.ray_through(px, py);
     const double denominator = dot(normal, ray.direction);
     if (std::abs(denominator) < 1e-12) return std::nullopt;
     const double t = dot(normal, point - ray.origin) / denominator;
@@ -148,8 +134,44 @@ double SceneRenderer::footprint_texels(int x, int y, Vec3 point, Vec3 normal) co
   return std::min(cap, std::max(across, down));
 }
 
-CameraImages SceneRenderer::camera_view(bool with_soft) const {
-  const int w = setup_.camera.width, h = setup_.camera.height;
+// World offsets across pixel (x, y) for the layered view: the same construction as the
+// footprint (the rays through the midpoints of the pixel's left/right and top/bottom edges
+// meet the hit's tangent plane; dPdx, dPdy are the differences of those points), kept in world
+// units so that any layer's Jacobian turns them into its own texels. At grazing angles an offset
+// is capped at the hit's distance from the camera (a layer's map spans about that much at that
+// depth, as the footprint's cap is the map size), and where an edge ray misses the plane it is
+// that length along the plane in the direction the edge rays spread: finite everywhere.
+void SceneRenderer::pixel_offsets(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal,
+                                  double distance, Vec3& dx, Vec3& dy) const {
+  auto on_plane = [&](double px, double py) -> std::optional<Vec3> {
+    const Ray ray = camera.ray_through(px, py);
+    const double denominator = dot(normal, ray.direction);
+    if (std::abs(denominator) < 1e-12) return std::nullopt;
+    const double t = dot(normal, point - ray.origin) / denominator;
+    if (!(t > 0.0)) return std::nullopt;
+    return ray.at(t);
+  };
+  auto offset = [&](double x0, double y0, double x1, double y1) {
+    const auto a = on_plane(x0, y0);
+    const auto b = on_plane(x1, y1);
+    if (a && b) {
+      const Vec3 d = *b - *a;
+      const double len = length(d);
+      return len > distance ? (distance / len) * d : d;
+    }
+    const Vec3 spread = distance * (camera.ray_through(x1, y1).direction - camera.ray_through(x0, y0).direction);
+    Vec3 along = spread - dot(spread, normal) * normal;
+    if (!(length(along) > 0.0)) along = spread;
+    return (distance / length(along)) * along;
+  };
+  dx = offset(x, y + 0.5, x + 1.0, y + 0.5);
+  dy = offset(x + 0.5, y, x + 0.5, y + 1.0);
+}
+
+CameraImages SceneRenderer::camera_view(bool with_soft) const { return camera_view(setup_.camera, with_soft); }
+
+CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool with_soft) const {
+  const int w = camera.width, h = camera.height;
   CameraImages out;
   out.receivers = HostImage(w, h, 5, kNaN);
   out.receivers.channel_names = {"u", "v", "d", "f", "ndl"};
@@ -162,9 +184,15 @@ CameraImages SceneRenderer::camera_view(bool with_soft) const {
     out.reference_soft.channel_names = {"Y"};
     out.reference_soft.channel_formats = {"half"};
   }
+  out.view = HostImage(w, h, 11, kNaN);
+  out.view.channel_names = {"P.x",    "P.y",    "P.z",    "depth",  "dPdx.x", "dPdx.y",
+                            "dPdx.z", "dPdy.x", "dPdy.y", "dPdy.z", "ndl"};
+  out.view.channel_formats = std::vector<std::string>(10, "float");
+  out.view.channel_formats.push_back("half");
+  const Vec3 camera_axis = normalize(camera.target - camera.position);
   for_each_row(with_soft ? "camera + soft" : "camera view", h, w, [&](int y) {
     for (int x = 0; x < w; ++x) {
-      const Ray ray = setup_.camera.ray_through(x + 0.5, y + 0.5);
+      const Ray ray = camera.ray_through(x + 0.5, y + 0.5);
       const auto hit = tracer_.closest(ray, 0.0, std::numeric_limits<double>::infinity(), kMaskAll);
       if (!hit) continue;
       const Vec3 point = ray.at(hit->t);
@@ -172,8 +200,15 @@ CameraImages SceneRenderer::camera_view(bool with_soft) const {
       out.receivers.at(x, y, 0) = float(c.u);
       out.receivers.at(x, y, 1) = float(c.v);
       out.receivers.at(x, y, 2) = float(c.d);
-      out.receivers.at(x, y, 3) = float(footprint_texels(x, y, point, hit->normal));
-      out.receivers.at(x, y, 4) = float(n_dot_l(point, hit->normal));
+      out.receivers.at(x, y, 3) = float(footprint_texels(camera, x, y, point, hit->normal));
+      const double ndl = n_dot_l(point, hit->normal);
+      out.receivers.at(x, y, 4) = float(ndl);
+      Vec3 dx, dy;
+      pixel_offsets(camera, x, y, point, hit->normal, hit->t, dx, dy);
+      const double view_values[11] = {point.x, point.y, point.z, dot(point - camera.position, camera_axis),
+                                      dx.x,    dx.y,    dx.z,    dy.x,
+                                      dy.y,    dy.z,    ndl};
+      for (int c = 0; c < 11; ++c) out.view.at(x, y, c) = float(view_values[c]);
       out.reference_hard.at(x, y) = lit_hard(point, hit->normal) ? 1.0f : 0.0f;
       if (with_soft) {
         const uint64_t stream = (uint64_t(setup_.seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);

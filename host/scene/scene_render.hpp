@@ -30,6 +30,11 @@ struct CameraImages {
   HostImage receivers;       // u v d (float) f ndl (half); NaN on background
   HostImage reference_hard;  // Y: 1 lit, 0 occluded, 1 background
   HostImage reference_soft;  // Y: fraction of area-light samples visible, 1 background
+  // The layered view (view.exr, io::view_channel_names()): world position of the hit P, view
+  // depth (distance along the camera's axis), the world offsets dPdx, dPdy across the pixel on
+  // the hit's tangent plane (float) and ndl (half); NaN on background. layer_render.hpp turns it
+  // into sf::ViewReceivers.
+  HostImage view;
 };
 
 class SceneRenderer {
@@ -42,6 +47,8 @@ class SceneRenderer {
   HostImage receiver_depth() const;
   // receivers, hard and (when with_soft) soft reference in one camera pass.
   CameraImages camera_view(bool with_soft) const;
+  // The same for another camera (a frame of a camera path): the scene, light and map stay.
+  CameraImages camera_view(const PerspectiveCamera& camera, bool with_soft) const;
 
   // Single-point queries (for tests): lit by the point light / fraction of the area light seen.
   bool lit_hard(Vec3 point, Vec3 normal) const;
@@ -53,7 +60,9 @@ class SceneRenderer {
  private:
   template <class RowFn>
   void for_each_row(const char* label, int rows, int width, const RowFn& row_fn) const;
-  double footprint_texels(int x, int y, Vec3 point, Vec3 normal) const;
+  double footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal) const;
+  void pixel_offsets(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal, double distance, Vec3& dx,
+                     Vec3& dy) const;
   const SceneSetup& setup_;
   RayTracer tracer_;
   int strata_ = 0;

@@ -51,6 +51,10 @@ const std::vector<Layout>& host_layouts() {
                 SF_MEMBER(sf_cssm_params, min_den), SF_MEMBER(sf_cssm_params, z_offset),
                 SF_MEMBER(sf_cssm_params, width_scale), SF_MEMBER(sf_cssm_params, inv_lit),
                 SF_MEMBER(sf_cssm_params, contact)),
+      SF_LAYOUT(sf_cascade_params, SF_MEMBER(sf_cascade_params, m), SF_MEMBER(sf_cascade_params, split_near),
+                SF_MEMBER(sf_cascade_params, split_far), SF_MEMBER(sf_cascade_params, count),
+                SF_MEMBER(sf_cascade_params, width), SF_MEMBER(sf_cascade_params, height),
+                SF_MEMBER(sf_cascade_params, blend)),
   };
   return all;
 }

@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -20,6 +21,8 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+}  // namespace
+
 // The output must never overwrite one of the inputs.
 void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs) {
   namespace fs = std::filesystem;
@@ -30,8 +33,6 @@ void check_output_is_not_an_input(const std::string& out, const std::vector<std:
       throw InputError("output '" + out + "' is the input '" + in + "'; refusing to overwrite an input");
   }
 }
-
-}  // namespace
 
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
@@ -51,6 +52,14 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
                             "Batch: one output DIR/<map's stem>.exr per --shadow-map, the receivers shared");
   frames->excludes(map)->excludes(rx)->excludes(rd)->excludes(out)->excludes(dir);
   dir->excludes(out);
+  c->add_option("--cascades", a.cascades,
+                "Layered maps: a directory of cascade_0.exr, cascade_1.exr, ... or a comma-separated list of "
+                "layer files (each a depth map whose header holds its matrix and split); needs --view");
+  c->add_option("--view", a.view,
+                "With --cascades: the camera view's receivers (P.x P.y P.z depth dPdx.* dPdy.* [ndl])");
+  c->add_option("--cascade-blend", a.cascade_blend,
+                "With --cascades: the blend band between layers, a fraction of each layer's depth range in "
+                "[0, 1) (default: the files')");
   c->add_flag("--keep-going", a.keep_going,
               "Batch: report a failed frame and carry on (the exit code is the number of failed frames)");
   c->add_flag("--preview", a.preview, "Also write OUTPUT.png, the visibility as a 16-bit grey PNG");
@@ -94,6 +103,7 @@ io::DepthLoadOptions depth_load_options(const FilterArgs& a) {
 }
 
 int run_filter(const FilterArgs& a) {
+  if (!a.cascades.empty() || !a.view.empty() || !std::isnan(a.cascade_blend)) return run_filter_layered(a);
   if (!a.frames.empty() || !a.output_dir.empty()) return run_filter_batch(a);
   const auto t0 = Clock::now();
   if (a.shadow_maps.size() != 1)

@@ -49,6 +49,10 @@ struct FilterArgs {
   double near_plane = 0.1, far_plane = 100.0;
   bool quiet = false, verbose = false;
   std::string flags_out;  // --flags-out: ESM classification mask (1 = flagged)
+  // Layered maps (filter_layered.cpp): --cascades DIR|LIST, --view FILE, --cascade-blend B
+  // (NaN: the files' own band).
+  std::string cascades, view;
+  double cascade_blend = std::numeric_limits<double>::quiet_NaN();
   FilterOptions options;
   AutoArgs auto_args;
 };
@@ -61,6 +65,10 @@ int run_filter(const FilterArgs& args);
 // The batch (filter_batch.cpp): --frames LIST or --output-dir; the exit code is the number of
 // failed frames with --keep-going (at most 125), else 0 (a failure without it throws).
 int run_filter_batch(const FilterArgs& args);
+// filter --cascades: the layered maps of a cascade set onto a camera view (filter_layered.cpp).
+int run_filter_layered(const FilterArgs& args);
+// InputError when `out` is one of `inputs` (an existing file that is the same file).
+void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs);
 // --encoding, --near, --far and --nonfinite as the loaders take them (InputError when invalid).
 io::DepthLoadOptions depth_load_options(const FilterArgs& args);
 

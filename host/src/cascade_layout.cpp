@@ -482,9 +482,15 @@ CascadeSet fit_layout(const LayoutOptions& o, const CameraFrustum& cam, const Po
   set.blend = count > 1 ? o.blend : 0.0;
   const bool warped = o.kind == LayoutKind::Tsm || o.kind == LayoutKind::PssmTsm;
   for (int k = 0; k < count; ++k) {
-    const Slice slice{s[k], s[k + 1]};
-    set.layers.push_back(warped ? fit_trapezoid(o, cam, axes, slice, geometry)
-                                : fit_uniform(o, cam, axes, slice, geometry));
+    // Layer k > 0 is fitted to its slice and the previous layer's blend band: select_cascade
+    // mixes in the next layer only where the point lies on its map, and a tight fit (tsm, or
+    // no stabilisation) that starts at the split leaves the band unblended, a visible seam.
+    const double band = k > 0 ? set.blend * (s[k] - s[k - 1]) : 0.0;
+    const Slice slice{s[k] - band, s[k + 1]};
+    CascadeLayer layer =
+        warped ? fit_trapezoid(o, cam, axes, slice, geometry) : fit_uniform(o, cam, axes, slice, geometry);
+    layer.split_near = s[k];
+    set.layers.push_back(layer);
   }
   validate(set);
   return set;

@@ -1,0 +1,125 @@
+#pragma once
+// Layered filtering (methods.md sec. 6): a cascade set's K shadow maps filtered on the device,
+// each layer by an ordinary Pipeline of its own (no texel of one layer enters another's filter),
+// and one visibility per camera-view receiver from the layer, or the two blended layers, that
+// sf::select_cascade picks for it. Method- and layout-blind: single maps, PSSM, TSM and their
+// mix are all cascade sets (cascades.hpp), and every method and lookup of FilterOptions works.
+//
+// Per layer the blur keeps layer 0's world width: layer_filter_options(). Per receiver the
+// footprint and the receiver plane are the layer's own (through its Jacobian).
+//
+// Ownership, queues, events, threads and sub-buffers as pipeline.hpp says for Pipeline: the
+// depth maps, view receivers and visibility are the caller's buffers; the LayeredPipeline owns
+// its K pipelines and, from the first reconstruct() on, the per-receiver arrays of the layers
+// (reallocated when the receiver count changes). reconstruct() waits on the caller's `wait`
+// (pass prefilter()'s event) and the next prefilter() must wait on the last reconstruct().
+#include <memory>
+#include <vector>
+
+#include "shadowfilter/cascades.hpp"
+#include "shadowfilter/map_range.hpp"
+#include "shadowfilter/pipeline.hpp"
+
+namespace sf {
+
+// Camera-view receivers on the device (ViewReceivers, host_image.hpp): `count` floats in each
+// buffer, world positions, view depth (NaN: background, lit) and the world offsets across the
+// pixel along the image's x and y.
+struct DeviceViewReceivers {
+  size_t count = 0;
+  // Receivers per row of the view image: the receiver plane's neighbours in each layer
+  // (DeviceReceivers::row); 0 = unstructured points.
+  int width = 0;
+  cl::Buffer x, y, z, depth;
+  cl::Buffer dxx, dxy, dxz, dyx, dyy, dyz;
+};
+
+// The world size of a layer's texel where the blur is matched: layer_texel_size at the world
+// point of its map centre, (u, v, d) = (1/2, 1/2, 1/2). A warped layer's texels vary across its
+// map; the centre is the one point every layout has.
+double layer_reference_texel(const CascadeSet& set, int layer);
+
+// The options layer k filters with: `options` with the blur scaled so that its world width
+// matches layer 0's: s = texel_0 / texel_k (layer_reference_texel), sigma_k = sigma_0 s (sigma_0
+// the given sigma, or (2R+1)/6 when it is 0), R_k = round(R_0 s), and 0 (no blur) where R_0 s < 1:
+// a blur narrower than one texel of the layer is below what the layer resolves. InputError when
+// R_k exceeds kMaxBlurRadius (a layer much finer than layer 0).
+FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
+
+// Device seconds of the last prefilter and reconstruct (0 on non-profiling queues).
+struct LayeredTimes {
+  std::vector<StageTimes> layer;  // each layer's pipeline
+  StageTimes sum;                 // their sum, stage by stage
+  double project = 0, blend = 0;  // sf_cascade_project, sf_cascade_blend
+  double total() const;           // every stage of every layer, projection and blend
+};
+
+class LayeredPipeline {
+ public:
+  // Validates the set (sf::validate) and the options per layer, and builds one Pipeline of the
+  // set's map size per layer with layer_filter_options(). InputError when either is invalid or
+  // the buffers do not fit the device.
+  LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterOptions& options, CascadeSet set);
+
+  // Filters layer k's depth map depth[k] (width x height floats, linear [0, 1]) for every k;
+  // one event when all are done. InputError when depth does not hold one buffer per layer.
+  cl::Event prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait = nullptr);
+  // Pipeline::set_depth_range for each layer (one range per layer).
+  void set_depth_ranges(const std::vector<MapRange>& ranges);
+  // Visibility of every receiver into `visibility` (rx.count floats): the projection kernel,
+  // each layer's reconstruction over all receivers (those it does not serve cost a test and a
+  // write), then the blend.
+  cl::Event reconstruct(const DeviceViewReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
+
+  // What the projection of the last reconstruct() wrote (valid after its event): per receiver
+  // `layers` (cl_char2: first, second layer, -1 = none) and `weight` (the second layer's), and
+  // per layer k the receivers at k * stride: u, v, d (NaN where k does not serve the receiver)
+  // and f (footprint in layer texels).
+  struct Projection {
+    size_t count = 0, stride = 0;
+    cl::Buffer layers, weight, u, v, d, f, visibility;  // visibility: per layer, before the blend
+  };
+  const Projection& projection() const { return proj_; }
+
+  const CascadeSet& cascades() const { return set_; }
+  int layer_count() const { return static_cast<int>(pipes_.size()); }
+  Pipeline& layer(int k) { return *pipes_.at(k); }
+  const Pipeline& layer(int k) const { return *pipes_.at(k); }
+  // The layers' pipelines plus the per-receiver arrays allocated so far.
+  size_t device_bytes() const;
+  // Bytes reconstruct() allocates per receiver for K layers: u, v, d, f and a visibility per
+  // layer, the choice and weight.
+  static size_t bytes_per_receiver(int layers);
+  // Times of the last prefilter/reconstruct (waits for their events).
+  LayeredTimes times() const;
+
+ private:
+  void allocate(size_t count);
+
+  std::shared_ptr<Runtime> rt_;
+  CascadeSet set_;
+  std::vector<std::unique_ptr<Pipeline>> pipes_;
+  Projection proj_;
+  std::vector<DeviceReceivers> layer_rx_;  // sub-buffers of proj_ per layer
+  std::vector<cl::Buffer> layer_vis_;
+  cl::Event project_done_, blend_done_;
+};
+
+// Host convenience (what the CLI uses), the layered twin of filter(): uploads the maps (one per
+// layer, the set's size) and the view, runs, downloads. Where a lookup's limit depends on the
+// depth range (sat with esm, evsm), each map's range comes from its host copy.
+struct LayeredResult {
+  HostImage visibility;  // view.width x view.height
+  LayeredTimes times;
+  double upload = 0, download = 0;
+  std::vector<size_t> per_layer;  // receivers reading layer k (a blended one counts in both)
+  size_t blended = 0;             // receivers mixing two layers
+  size_t background = 0;          // non-finite view depth (output 1)
+  size_t outside = 0;             // no layer serves them (output 1)
+  size_t facing_away = 0;         // ndl <= 0 (output 0 under FilterOptions::facing_away_shadowed)
+  size_t device_bytes = 0;
+};
+LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
+                             const std::vector<HostImage>& maps, const ViewReceivers& view);
+
+}  // namespace sf

@@ -1,0 +1,308 @@
+// LayeredPipeline and filter_layered (layered.hpp): K pipelines around kernels/cascade.cl.
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "cl_errors.hpp"
+#include "launch.hpp"
+#include "shadowfilter/depth_range.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/layered.hpp"
+
+namespace sf {
+
+static_assert(SF_MAX_CASCADES == kMaxCascadeLayers, "SF_MAX_CASCADES and sf::kMaxCascadeLayers must agree");
+
+double layer_reference_texel(const CascadeSet& set, int layer) {
+  Point3 centre;
+  if (!set.layers.at(layer).transform.unproject(0.5, 0.5, 0.5, centre))
+    throw InputError("cascade layer " + std::to_string(layer) + ": its world-to-map matrix is singular");
+  return layer_texel_size(set, layer, centre);
+}
+
+FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer) {
+  FilterOptions o = options;
+  if (layer == 0 || options.blur.radius <= 0) return o;
+  const double scale = layer_reference_texel(set, 0) / layer_reference_texel(set, layer);
+  const double radius = options.blur.radius * scale;
+  if (!(radius >= 1.0)) {  // narrower than one of this layer's texels (NaN scale included)
+    o.blur.radius = 0;
+    o.blur.sigma = 0.0f;
+    return o;
+  }
+  const double sigma0 = options.blur.sigma > 0.0f ? options.blur.sigma : default_blur_sigma(options.blur.radius);
+  const long rounded = std::lround(radius);
+  if (rounded > kMaxBlurRadius)
+    throw InputError("FilterOptions::blur.radius " + std::to_string(options.blur.radius) + " becomes " +
+                     std::to_string(rounded) + " texels in cascade layer " + std::to_string(layer) +
+                     " (its texels are " + std::to_string(scale) + " times finer than layer 0's), past the limit " +
+                     std::to_string(kMaxBlurRadius));
+  o.blur.radius = static_cast<int>(rounded);
+  o.blur.sigma = static_cast<float>(sigma0 * scale);
+  return o;
+}
+
+double LayeredTimes::total() const {
+  const StageTimes& s = sum;
+  return s.transform + s.blur + s.pyramid + s.sat + s.zmax + s.reconstruct + s.classify + project + blend;
+}
+
+namespace {
+
+// The set as the kernels read it: doubles rounded once to float.
+sf_cascade_params cascade_params(const CascadeSet& set) {
+  sf_cascade_params p{};
+  p.count = static_cast<sf_int>(set.layers.size());
+  p.width = set.width;
+  p.height = set.height;
+  p.blend = static_cast<float>(set.blend);
+  for (size_t k = 0; k < set.layers.size(); ++k) {
+    for (int e = 0; e < 16; ++e) p.m[16 * k + e] = static_cast<float>(set.layers[k].transform.m[e]);
+    p.split_near[k] = static_cast<float>(set.layers[k].split_near);
+    p.split_far[k] = static_cast<float>(set.layers[k].split_far);
+  }
+  return p;
+}
+
+cl::Kernel cascade_kernel(Runtime& rt, const char* name) {
+  return cl::Kernel(rt.program({"cascade.cl"}, detail::BuildOptions().str()), name);
+}
+
+void add(StageTimes& s, const StageTimes& t) {
+  s.transform += t.transform, s.blur += t.blur, s.reconstruct += t.reconstruct;
+  s.upload += t.upload, s.download += t.download, s.pyramid += t.pyramid;
+  s.sat += t.sat, s.zmax += t.zmax, s.classify += t.classify;
+}
+
+}  // namespace
+
+LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterOptions& options, CascadeSet set) try
+    : rt_(std::move(runtime)), set_(std::move(set)) {
+  validate(set_);
+  for (int k = 0; k < static_cast<int>(set_.layers.size()); ++k)
+    pipes_.push_back(std::make_unique<Pipeline>(rt_, layer_filter_options(options, set_, k), set_.width, set_.height));
+  size_t total = 0, largest = 0;
+  for (const auto& p : pipes_) total += p->device_bytes(), largest = std::max(largest, p->buffer_plan().largest());
+  check_fits_device(*rt_, largest, total, "the layered pipeline's buffers");
+} catch (const cl::Error& e) {
+  detail::throw_device_error("LayeredPipeline::LayeredPipeline", e);
+}
+
+size_t LayeredPipeline::bytes_per_receiver(int layers) {
+  return size_t(layers) * 5 * sizeof(float) + sizeof(cl_char2) + sizeof(float);
+}
+
+size_t LayeredPipeline::device_bytes() const {
+  size_t total = 0;
+  for (const auto& p : pipes_) total += p->device_bytes();
+  if (proj_.count) total += size_t(layer_count()) * proj_.stride * 5 * sizeof(float) + proj_.count * 6;
+  return total;
+}
+
+// Each per-layer array is one buffer of K planes; plane k starts at k * stride, a multiple of
+// the device's sub-buffer alignment, so every layer's pipeline gets plain sub-buffers.
+void LayeredPipeline::allocate(size_t count) {
+  const int K = layer_count();
+  const size_t align = std::max<size_t>(rt_->device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4) / 4;
+  const size_t stride = (count + align - 1) / align * align;
+  const size_t plane_bytes = stride * sizeof(float), all_bytes = K * plane_bytes;
+  check_fits_device(*rt_, std::max(all_bytes, pipes_.front()->buffer_plan().largest()),
+                    device_bytes() + 5 * all_bytes + count * 6, "the layered receivers");
+  proj_ = Projection{};
+  layer_rx_.clear();
+  layer_vis_.clear();
+  const cl::Context& ctx = rt_->context();
+  proj_.count = count;
+  proj_.stride = stride;
+  proj_.layers = cl::Buffer(ctx, CL_MEM_READ_WRITE, count * sizeof(cl_char2));
+  proj_.weight = cl::Buffer(ctx, CL_MEM_READ_WRITE, count * sizeof(float));
+  for (cl::Buffer* b : {&proj_.u, &proj_.v, &proj_.d, &proj_.f, &proj_.visibility})
+    *b = cl::Buffer(ctx, CL_MEM_READ_WRITE, all_bytes);
+  for (int k = 0; k < K; ++k) {
+    const size_t origin = k * plane_bytes, bytes = count * sizeof(float);
+    DeviceReceivers rx;
+    rx.count = count;
+    rx.u = sub_buffer(*rt_, proj_.u, origin, bytes);
+    rx.v = sub_buffer(*rt_, proj_.v, origin, bytes);
+    rx.d = sub_buffer(*rt_, proj_.d, origin, bytes);
+    rx.f = sub_buffer(*rt_, proj_.f, origin, bytes);
+    layer_rx_.push_back(rx);
+    layer_vis_.push_back(sub_buffer(*rt_, proj_.visibility, origin, bytes));
+  }
+}
+
+cl::Event LayeredPipeline::prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait) try {
+  if (depth.size() != pipes_.size())
+    throw InputError("LayeredPipeline::prefilter: " + std::to_string(depth.size()) + " depth buffers for " +
+                     std::to_string(pipes_.size()) + " layers");
+  EventList done;
+  for (size_t k = 0; k < pipes_.size(); ++k) done.push_back(pipes_[k]->prefilter(depth[k], wait));
+  cl::Event all;
+  rt_->queue().enqueueMarkerWithWaitList(&done, &all);
+  return all;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("LayeredPipeline::prefilter", e);
+}
+
+void LayeredPipeline::set_depth_ranges(const std::vector<MapRange>& ranges) {
+  if (ranges.size() != pipes_.size())
+    throw InputError("LayeredPipeline::set_depth_ranges: " + std::to_string(ranges.size()) + " ranges for " +
+                     std::to_string(pipes_.size()) + " layers");
+  for (size_t k = 0; k < pipes_.size(); ++k) pipes_[k]->set_depth_range(ranges[k]);
+}
+
+cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::Buffer& visibility,
+                                       const EventList* wait) try {
+  const cl::Buffer* inputs[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
+  const char* names[] = {"x", "y", "z", "depth", "dxx", "dxy", "dxz", "dyx", "dyy", "dyz"};
+  for (int n = 0; n < 10; ++n)
+    if (rx.count > 0 && !(*inputs[n])())
+      throw InputError(std::string("DeviceViewReceivers::") + names[n] + " is an empty buffer");
+  if (!visibility()) throw InputError("LayeredPipeline::reconstruct: the visibility buffer is empty");
+  if (rx.count > size_t(INT_MAX)) throw InputError("DeviceViewReceivers::count exceeds 2^31 - 1");
+  if (rx.width < 0) throw InputError("DeviceViewReceivers::width must not be negative");
+  if (rx.count == 0) {
+    cl::Event none;
+    rt_->queue().enqueueMarkerWithWaitList(wait, &none);
+    return none;
+  }
+  if (rx.count != proj_.count) allocate(rx.count);
+  const int count = static_cast<int>(rx.count), stride = static_cast<int>(proj_.stride);
+
+  cl::Kernel project = cascade_kernel(*rt_, "sf_cascade_project");
+  detail::KernelArgs args(project);
+  for (const cl::Buffer* b : inputs) args.buffer(*b);
+  args.value(count).value(cascade_params(set_)).value(stride).buffer(proj_.layers).buffer(proj_.weight);
+  args.buffer(proj_.u).buffer(proj_.v).buffer(proj_.d).buffer(proj_.f);
+  rt_->queue().enqueueNDRangeKernel(project, cl::NullRange, cl::NDRange(rx.count), cl::NullRange, wait, &project_done_);
+
+  // Every layer over all receivers; footprints only where the lookup reads them (as filter()).
+  EventList projected{project_done_}, layers_done;
+  for (size_t k = 0; k < pipes_.size(); ++k) {
+    DeviceReceivers layer_rx = layer_rx_[k];
+    layer_rx.row = rx.width;
+    if (pipes_[k]->options().lookup.kind == Lookup::Bilinear) layer_rx.f = cl::Buffer();
+    layers_done.push_back(pipes_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
+  }
+
+  cl::Kernel blend = cascade_kernel(*rt_, "sf_cascade_blend");
+  detail::KernelArgs(blend)
+      .buffer(proj_.layers)
+      .buffer(proj_.weight)
+      .buffer(proj_.visibility)
+      .value(stride)
+      .value(count)
+      .buffer(visibility);
+  rt_->queue().enqueueNDRangeKernel(blend, cl::NullRange, cl::NDRange(rx.count), cl::NullRange, &layers_done,
+                                    &blend_done_);
+  return blend_done_;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("LayeredPipeline::reconstruct", e);
+}
+
+LayeredTimes LayeredPipeline::times() const try {
+  LayeredTimes t;
+  for (const auto& p : pipes_) {
+    t.layer.push_back(p->times());
+    add(t.sum, t.layer.back());
+  }
+  if (project_done_()) t.project = event_seconds(project_done_);
+  if (blend_done_()) t.blend = event_seconds(blend_done_);
+  return t;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("LayeredPipeline::times", e);
+}
+
+LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
+                             const std::vector<HostImage>& maps, const ViewReceivers& view) try {
+  validate(set);
+  if (maps.size() != set.layers.size())
+    throw InputError("filter_layered: " + std::to_string(maps.size()) + " depth maps for " +
+                     std::to_string(set.layers.size()) + " cascade layers");
+  for (size_t k = 0; k < maps.size(); ++k) {
+    const HostImage& m = maps[k];
+    if (m.channels != 1 || m.width != set.width || m.height != set.height || m.data.size() != m.texels())
+      throw InputError("filter_layered: depth map " + std::to_string(k) + " is not one channel of " +
+                       std::to_string(set.width) + "x" + std::to_string(set.height));
+  }
+  const size_t count = view.count();
+  const std::vector<float>* arrays[] = {&view.x,   &view.y,   &view.z,   &view.depth, &view.dxx,
+                                        &view.dxy, &view.dxz, &view.dyx, &view.dyy,   &view.dyz};
+  for (const auto* a : arrays)
+    if (a->size() != count) throw InputError("filter_layered: the view receivers' data does not match their size");
+  if (!view.ndl.empty() && view.ndl.size() != count)
+    throw InputError("filter_layered: the view receivers' ndl does not match their size");
+
+  Runtime& rt = *runtime;
+  LayeredPipeline pipe(runtime, options, set);
+  // The maps' ranges from their host copies where the lookup's limit depends on them: a map the
+  // lookup cannot hold is refused before anything is enqueued.
+  if (options.depth_range || (options.lookup.kind == Lookup::Sat && pipe.layer(0).method().sat_limit)) {
+    std::vector<MapRange> ranges;
+    for (const HostImage& m : maps) ranges.push_back(options.depth_range ? *options.depth_range : depth_range(m));
+    pipe.set_depth_ranges(ranges);
+  }
+
+  LayeredResult result;
+  result.visibility = HostImage(view.width, view.height, 1);
+  const size_t input_bytes = (maps.size() * set.width * size_t(set.height) + 10 * count + count) * sizeof(float);
+  check_fits_device(rt, std::max(size_t(set.width) * set.height, count) * sizeof(float),
+                    pipe.device_bytes() + input_bytes + count * LayeredPipeline::bytes_per_receiver(pipe.layer_count()),
+                    "this run");
+  EventList uploads;
+  auto upload = [&](const std::vector<float>& host) {
+    cl::Buffer b(rt.context(), CL_MEM_READ_ONLY, std::max<size_t>(host.size(), 1) * sizeof(float));
+    if (!host.empty()) {
+      cl::Event e;
+      rt.queue().enqueueWriteBuffer(b, CL_FALSE, 0, host.size() * sizeof(float), host.data(), nullptr, &e);
+      uploads.push_back(e);
+    }
+    return b;
+  };
+  std::vector<cl::Buffer> depth;
+  for (const HostImage& m : maps) depth.push_back(upload(m.data));
+  DeviceViewReceivers rx;
+  rx.count = count;
+  rx.width = view.width;
+  cl::Buffer* device[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
+  for (int n = 0; n < 10; ++n) *device[n] = upload(*arrays[n]);
+  cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, std::max<size_t>(count, 1) * sizeof(float));
+
+  EventList filtered{pipe.prefilter(depth, uploads.empty() ? nullptr : &uploads)};
+  EventList done{pipe.reconstruct(rx, vis, &filtered)};
+  std::vector<cl_char2> choice(count);
+  cl::Event download;
+  if (count) {
+    rt.queue().enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), result.visibility.data.data(), &done,
+                                 &download);
+    rt.queue().enqueueReadBuffer(pipe.projection().layers, CL_TRUE, 0, count * sizeof(cl_char2), choice.data(), &done);
+  }
+
+  result.per_layer.assign(set.layers.size(), 0);
+  for (size_t i = 0; i < count; ++i) {
+    const cl_char2 l = choice[i];
+    if (!std::isfinite(view.depth[i])) {
+      ++result.background;
+    } else if (l.s[0] < 0) {
+      ++result.outside;
+    } else {
+      ++result.per_layer[l.s[0]];
+      if (l.s[1] >= 0) ++result.per_layer[l.s[1]], ++result.blended;
+    }
+    if (options.facing_away_shadowed && !view.ndl.empty() && view.ndl[i] <= 0.0f && std::isfinite(view.depth[i])) {
+      result.visibility.data[i] = 0.0f;
+      ++result.facing_away;
+    }
+  }
+  result.times = pipe.times();
+  if (!uploads.empty()) result.upload = event_seconds(uploads.front(), uploads.back());
+  if (download()) result.download = event_seconds(download);
+  result.device_bytes = pipe.device_bytes() + input_bytes;
+  return result;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("filter_layered", e);
+}
+
+}  // namespace sf

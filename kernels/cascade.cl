@@ -1,0 +1,120 @@
+// Layered shadow maps (methods.md sec. 6; host: layered_pipeline.cpp). Every layer is filtered by
+// its own pipeline; these two kernels sit around those pipelines' reconstructions:
+//   sf_cascade_project: per receiver, the layer choice (sf::select_cascade's rule, in float) and,
+//     per layer, the receiver as that layer's reconstruction reads it (u, v, d, footprint f);
+//   sf_cascade_blend: the chosen layers' visibilities mixed by the choice's weight.
+// Needs shared_types.clh (sf_cascade_params), which every program has.
+
+typedef struct {
+  float u, v, d, w;
+} sf_map_point;
+
+// World point p in layer k's map: u = (M0 . p) / (M3 . p), v = (M1 . p) / (M3 . p), d = M2 . p
+// (linear depth, not divided: cascades.hpp, LayerTransform).
+inline sf_map_point sf_cascade_apply(const sf_cascade_params* C, int k, float3 p) {
+  const float* m = C->m + 16 * k;
+  sf_map_point q;
+  q.w = fma(m[12], p.x, fma(m[13], p.y, fma(m[14], p.z, m[15])));
+  q.u = fma(m[0], p.x, fma(m[1], p.y, fma(m[2], p.z, m[3]))) / q.w;
+  q.v = fma(m[4], p.x, fma(m[5], p.y, fma(m[6], p.z, m[7]))) / q.w;
+  q.d = fma(m[8], p.x, fma(m[9], p.y, fma(m[10], p.z, m[11])));
+  return q;
+}
+
+// Whether layer k's map holds the point (select_cascade's on_map): in front of its projection
+// (w > 0) and inside [0, 1]^2. NaN fails every test.
+inline bool sf_cascade_on_map(sf_map_point q) {
+  return q.w > 0.0f && q.u >= 0.0f && q.u <= 1.0f && q.v >= 0.0f && q.v <= 1.0f;
+}
+
+// Footprint in layer texels (sf::layer_footprint): the larger of the two pixel offsets through
+// the layer's Jacobian, du = (M0 - u M3) / w and dv = (M1 - v M3) / w, scaled to texels.
+inline float sf_cascade_footprint(const sf_cascade_params* C, int k, sf_map_point q, float3 dx,
+                                  float3 dy) {
+  const float* m = C->m + 16 * k;
+  const float3 r3 = (float3)(m[12], m[13], m[14]);
+  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
+  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
+  const float fx = hypot(dot(du, dx), dot(dv, dx)), fy = hypot(dot(du, dy), dot(dv, dy));
+  const float f = fmax(fx, fy);
+  return isfinite(f) ? f : 1.0f;
+}
+
+// One work-item per receiver i of the view: x, y, z its world position, depth its view depth,
+// d?x / d?y the world offsets across its pixel. Writes
+//   layers[i] = (first layer, second layer or -1), -1 -1 where no layer serves it (background,
+//     a view depth outside the splits, or off every map that could serve it): lit;
+//   weight[i] = the second layer's weight (the first's is 1 - weight);
+//   per layer k at k * stride + i: u, v, d, f as that layer's reconstruction reads them. Layers
+//     that do not serve i get d = NaN, the mark the reconstruction treats as outside (visibility
+//     1, never a neighbour of the receiver plane), u = v = 0 and f = 1: no other non-finite
+//     value leaves the kernel.
+// The rule is select_cascade's (cascade_layout.cpp), step by step: the layer whose split range
+// holds the view depth, else the next one whose map holds p; in the blend band (the last
+// `blend` of that layer's range) the next layer rises linearly to weight 1, if p is on its map.
+__kernel void sf_cascade_project(__global const float* restrict x, __global const float* restrict y,
+                                 __global const float* restrict z,
+                                 __global const float* restrict depth,
+                                 __global const float* restrict dxx, __global const float* restrict dxy,
+                                 __global const float* restrict dxz, __global const float* restrict dyx,
+                                 __global const float* restrict dyy, __global const float* restrict dyz,
+                                 const int count, const sf_cascade_params C, const int stride,
+                                 __global char2* restrict layers, __global float* restrict weight,
+                                 __global float* restrict out_u, __global float* restrict out_v,
+                                 __global float* restrict out_d, __global float* restrict out_f) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const float3 p = (float3)(x[i], y[i], z[i]);
+  const float vd = depth[i];
+  const int K = C.count;
+  int l0 = -1, l1 = -1;
+  float w1 = 0.0f;
+  if (isfinite(vd) && vd >= C.split_near[0] && vd <= C.split_far[K - 1]) {
+    int k = 0;
+    while (k + 1 < K && vd >= C.split_far[k]) ++k;
+    while (k < K && !sf_cascade_on_map(sf_cascade_apply(&C, k, p))) ++k;
+    if (k < K) {
+      l0 = k;
+      const float band = C.blend * (C.split_far[k] - C.split_near[k]);
+      const float t = band > 0.0f ? (vd - (C.split_far[k] - band)) / band : 0.0f;
+      if (k + 1 < K && t > 0.0f && sf_cascade_on_map(sf_cascade_apply(&C, k + 1, p))) {
+        l1 = k + 1;
+        w1 = fmin(t, 1.0f);
+      }
+    }
+  }
+  layers[i] = (char2)((char)l0, (char)l1);
+  weight[i] = w1;
+  const float3 dx = (float3)(dxx[i], dxy[i], dxz[i]), dy = (float3)(dyx[i], dyy[i], dyz[i]);
+  for (int k = 0; k < K; ++k) {
+    const size_t j = (size_t)k * stride + i;
+    if (k == l0 || k == l1) {
+      const sf_map_point q = sf_cascade_apply(&C, k, p);
+      out_u[j] = q.u;
+      out_v[j] = q.v;
+      out_d[j] = q.d;
+      out_f[j] = sf_cascade_footprint(&C, k, q, dx, dy);
+    } else {
+      out_u[j] = 0.0f;
+      out_v[j] = 0.0f;
+      out_d[j] = NAN;
+      out_f[j] = 1.0f;
+    }
+  }
+}
+
+// visibility[i] = (1 - w) vis[l0] + w vis[l1] of the layers sf_cascade_project chose (vis of
+// layer k at k * stride + i, each already in [0, 1]); 1 where no layer serves i.
+__kernel void sf_cascade_blend(__global const char2* restrict layers, __global const float* restrict weight,
+                               __global const float* restrict vis, const int stride, const int count,
+                               __global float* restrict visibility) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const char2 l = layers[i];
+  float v = 1.0f;
+  if (l.x >= 0) {
+    v = vis[(size_t)l.x * stride + i];
+    if (l.y >= 0) v = mix(v, vis[(size_t)l.y * stride + i], weight[i]);
+  }
+  visibility[i] = clamp(v, 0.0f, 1.0f);
+}

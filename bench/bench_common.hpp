@@ -69,6 +69,7 @@ void register_blur();
 void register_opencv_blur(int size, int radius);
 void register_reconstruct();
 void register_pipeline();
+void register_layered();  // bench_layered.cpp: four layers of (S/2)^2 against one S^2 map
 void register_pyramid();  // bench_pyramid.cpp: mips, SAT, footprint lookups
 // bench_coverage.cpp: each method x lookup x map size, and the scalar reference kernels.
 void register_coverage();

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   register_blur();
   register_reconstruct();
   register_pipeline();
+  register_layered();
   register_pyramid();
   register_coverage();
 #ifdef SF_HAVE_OPENCV

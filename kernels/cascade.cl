@@ -3,7 +3,8 @@
 //   sf_cascade_project: per receiver, the layer choice (sf::select_cascade's rule, in float) and,
 //     per layer, the receiver as that layer's reconstruction reads it (u, v, d, footprint f);
 //   sf_cascade_blend: the chosen layers' visibilities mixed by the choice's weight.
-// Needs shared_types.clh (sf_cascade_params), which every program has.
+// Needs shared_types.clh (sf_cascade_params), which every program has. The set is a __constant
+// buffer: passed by value, PoCL copied its 592 bytes to every work-item's stack.
 
 typedef struct {
   float u, v, d, w;
@@ -11,8 +12,8 @@ typedef struct {
 
 // World point p in layer k's map: u = (M0 . p) / (M3 . p), v = (M1 . p) / (M3 . p), d = M2 . p
 // (linear depth, not divided: cascades.hpp, LayerTransform).
-inline sf_map_point sf_cascade_apply(const sf_cascade_params* C, int k, float3 p) {
-  const float* m = C->m + 16 * k;
+inline sf_map_point sf_cascade_apply(__constant sf_cascade_params* C, int k, float3 p) {
+  __constant const float* m = C->m + 16 * k;
   sf_map_point q;
   q.w = fma(m[12], p.x, fma(m[13], p.y, fma(m[14], p.z, m[15])));
   q.u = fma(m[0], p.x, fma(m[1], p.y, fma(m[2], p.z, m[3]))) / q.w;
@@ -29,9 +30,9 @@ inline bool sf_cascade_on_map(sf_map_point q) {
 
 // Footprint in layer texels (sf::layer_footprint): the larger of the two pixel offsets through
 // the layer's Jacobian, du = (M0 - u M3) / w and dv = (M1 - v M3) / w, scaled to texels.
-inline float sf_cascade_footprint(const sf_cascade_params* C, int k, sf_map_point q, float3 dx,
+inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx,
                                   float3 dy) {
-  const float* m = C->m + 16 * k;
+  __constant const float* m = C->m + 16 * k;
   const float3 r3 = (float3)(m[12], m[13], m[14]);
   const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
   const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
@@ -58,48 +59,46 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
                                  __global const float* restrict dxx, __global const float* restrict dxy,
                                  __global const float* restrict dxz, __global const float* restrict dyx,
                                  __global const float* restrict dyy, __global const float* restrict dyz,
-                                 const int count, const sf_cascade_params C, const int stride,
-                                 __global char2* restrict layers, __global float* restrict weight,
-                                 __global float* restrict out_u, __global float* restrict out_v,
-                                 __global float* restrict out_d, __global float* restrict out_f) {
+                                 const int count, __constant sf_cascade_params* restrict C,
+                                 const int stride, __global char2* restrict layers,
+                                 __global float* restrict weight, __global float* restrict out_u,
+                                 __global float* restrict out_v, __global float* restrict out_d,
+                                 __global float* restrict out_f) {
+  // SF_CASCADES (= C->count, from the host) fixes every loop's trip count: the rule below is
+  // written without data-dependent loops so that PoCL runs work-items side by side in SIMD.
   const int i = get_global_id(0);
   if (i >= count) return;
   const float3 p = (float3)(x[i], y[i], z[i]);
   const float vd = depth[i];
-  const int K = C.count;
-  int l0 = -1, l1 = -1;
+  int on = 0;  // bit k: layer k's map holds p (no private arrays: PoCL keeps them per item in memory)
+  for (int k = 0; k < SF_CASCADES; ++k) on |= sf_cascade_on_map(sf_cascade_apply(C, k, p)) ? 1 << k : 0;
+  // The layer whose split range holds vd (the last one past every split_far), then the first
+  // from there on whose map holds p.
+  int split = 0;
+  for (int k = 0; k + 1 < SF_CASCADES; ++k) split += vd >= C->split_far[k] ? 1 : 0;
+  int l0 = -1;
+  for (int k = SF_CASCADES - 1; k >= 0; --k) l0 = k >= split && (on >> k & 1) ? k : l0;
+  if (!(isfinite(vd) && vd >= C->split_near[0] && vd <= C->split_far[SF_CASCADES - 1])) l0 = -1;
+  int l1 = -1;
   float w1 = 0.0f;
-  if (isfinite(vd) && vd >= C.split_near[0] && vd <= C.split_far[K - 1]) {
-    int k = 0;
-    while (k + 1 < K && vd >= C.split_far[k]) ++k;
-    while (k < K && !sf_cascade_on_map(sf_cascade_apply(&C, k, p))) ++k;
-    if (k < K) {
-      l0 = k;
-      const float band = C.blend * (C.split_far[k] - C.split_near[k]);
-      const float t = band > 0.0f ? (vd - (C.split_far[k] - band)) / band : 0.0f;
-      if (k + 1 < K && t > 0.0f && sf_cascade_on_map(sf_cascade_apply(&C, k + 1, p))) {
-        l1 = k + 1;
-        w1 = fmin(t, 1.0f);
-      }
-    }
+  for (int k = 0; k + 1 < SF_CASCADES; ++k) {
+    const float band = C->blend * (C->split_far[k] - C->split_near[k]);
+    const float t = band > 0.0f ? (vd - (C->split_far[k] - band)) / band : 0.0f;
+    const bool blends = k == l0 && t > 0.0f && (on >> (k + 1) & 1);
+    l1 = blends ? k + 1 : l1;
+    w1 = blends ? fmin(t, 1.0f) : w1;
   }
   layers[i] = (char2)((char)l0, (char)l1);
   weight[i] = w1;
   const float3 dx = (float3)(dxx[i], dxy[i], dxz[i]), dy = (float3)(dyx[i], dyy[i], dyz[i]);
-  for (int k = 0; k < K; ++k) {
+  for (int k = 0; k < SF_CASCADES; ++k) {
     const size_t j = (size_t)k * stride + i;
-    if (k == l0 || k == l1) {
-      const sf_map_point q = sf_cascade_apply(&C, k, p);
-      out_u[j] = q.u;
-      out_v[j] = q.v;
-      out_d[j] = q.d;
-      out_f[j] = sf_cascade_footprint(&C, k, q, dx, dy);
-    } else {
-      out_u[j] = 0.0f;
-      out_v[j] = 0.0f;
-      out_d[j] = NAN;
-      out_f[j] = 1.0f;
-    }
+    const bool served = k == l0 || k == l1;
+    const sf_map_point q = sf_cascade_apply(C, k, p);
+    out_u[j] = served ? q.u : 0.0f;
+    out_v[j] = served ? q.v : 0.0f;
+    out_d[j] = served ? q.d : NAN;
+    out_f[j] = served ? sf_cascade_footprint(C, k, q, dx, dy) : 1.0f;
   }
 }
 

@@ -66,8 +66,10 @@ sf_cascade_params cascade_params(const CascadeSet& set) {
   return p;
 }
 
-cl::Kernel cascade_kernel(Runtime& rt, const char* name) {
-  return cl::Kernel(rt.program({"cascade.cl"}, detail::BuildOptions().str()), name);
+// The cascade kernels of a set of `layers` (SF_CASCADES: the projection's loops have fixed trip
+// counts, kernels/cascade.cl).
+cl::Kernel cascade_kernel(Runtime& rt, const char* name, int layers) {
+  return cl::Kernel(rt.program({"cascade.cl"}, detail::BuildOptions().define("SF_CASCADES", layers).str()), name);
 }
 
 void add(StageTimes& s, const StageTimes& t) {
@@ -81,6 +83,8 @@ void add(StageTimes& s, const StageTimes& t) {
 LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterOptions& options, CascadeSet set) try
     : rt_(std::move(runtime)), set_(std::move(set)) {
   validate(set_);
+  sf_cascade_params params = cascade_params(set_);
+  params_ = cl::Buffer(rt_->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof params, &params);
   for (int k = 0; k < static_cast<int>(set_.layers.size()); ++k)
     pipes_.push_back(std::make_unique<Pipeline>(rt_, layer_filter_options(options, set_, k), set_.width, set_.height));
   size_t total = 0, largest = 0;
@@ -171,12 +175,14 @@ cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::
   if (rx.count != proj_.count) allocate(rx.count);
   const int count = static_cast<int>(rx.count), stride = static_cast<int>(proj_.stride);
 
-  cl::Kernel project = cascade_kernel(*rt_, "sf_cascade_project");
+  cl::Kernel project = cascade_kernel(*rt_, "sf_cascade_project", layer_count());
   detail::KernelArgs args(project);
   for (const cl::Buffer* b : inputs) args.buffer(*b);
-  args.value(count).value(cascade_params(set_)).value(stride).buffer(proj_.layers).buffer(proj_.weight);
+  args.value(count).buffer(params_).value(stride).buffer(proj_.layers).buffer(proj_.weight);
   args.buffer(proj_.u).buffer(proj_.v).buffer(proj_.d).buffer(proj_.f);
-  rt_->queue().enqueueNDRangeKernel(project, cl::NullRange, cl::NDRange(rx.count), cl::NullRange, wait, &project_done_);
+  // Work-groups of 64: PoCL's own choice for a kernel it cannot vectorise ran one item a group.
+  const cl::NDRange groups((rx.count + 63) / 64 * 64), group(64);
+  rt_->queue().enqueueNDRangeKernel(project, cl::NullRange, groups, group, wait, &project_done_);
 
   // Every layer over all receivers; footprints only where the lookup reads them (as filter()).
   EventList projected{project_done_}, layers_done;
@@ -187,7 +193,7 @@ cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::
     layers_done.push_back(pipes_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
   }
 
-  cl::Kernel blend = cascade_kernel(*rt_, "sf_cascade_blend");
+  cl::Kernel blend = cascade_kernel(*rt_, "sf_cascade_blend", layer_count());
   detail::KernelArgs(blend)
       .buffer(proj_.layers)
       .buffer(proj_.weight)

@@ -98,6 +98,7 @@ class LayeredPipeline {
 
   std::shared_ptr<Runtime> rt_;
   CascadeSet set_;
+  cl::Buffer params_;  // sf_cascade_params of set_ (shared_types.clh), read by sf_cascade_project
   std::vector<std::unique_ptr<Pipeline>> pipes_;
   Projection proj_;
   std::vector<DeviceReceivers> layer_rx_;  // sub-buffers of proj_ per layer

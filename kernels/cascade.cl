@@ -30,18 +30,18 @@ inline bool sf_cascade_on_map(sf_map_point q) {
 
 // Footprint in layer texels (sf::layer_footprint): the larger of the two pixel offsets through
 // the layer's Jacobian, du = (M0 - u M3) / w and dv = (M1 - v M3) / w, scaled to texels.
-inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx,
-                                  float3 dy) {
+inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx, float3 dy) {
   __constant const float* m = C->m + 16 * k;
   const float3 r3 = (float3)(m[12], m[13], m[14]);
   const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
   const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
-  const float fx = hypot(dot(du, dx), dot(dv, dx)), fy = hypot(dot(du, dy), dot(dv, dy));
+  const float ax = dot(du, dx), bx = dot(dv, dx), ay = dot(du, dy), by = dot(dv, dy);
+  const float fx = sqrt(ax * ax + bx * bx), fy = sqrt(ay * ay + by * by);
   const float f = fmax(fx, fy);
   return isfinite(f) ? f : 1.0f;
 }
 
-// One work-item per receiver i of the view: x, y, z its world position, depth its view depth,
+// Receiver i of the view: x, y, z its world position, depth its view depth,
 // d?x / d?y the world offsets across its pixel. Writes
 //   layers[i] = (first layer, second layer or -1), -1 -1 where no layer serves it (background,
 //     a view depth outside the splits, or off every map that could serve it): lit;
@@ -53,21 +53,17 @@ inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map
 // The rule is select_cascade's (cascade_layout.cpp), step by step: the layer whose split range
 // holds the view depth, else the next one whose map holds p; in the blend band (the last
 // `blend` of that layer's range) the next layer rises linearly to weight 1, if p is on its map.
-__kernel void sf_cascade_project(__global const float* restrict x, __global const float* restrict y,
-                                 __global const float* restrict z,
-                                 __global const float* restrict depth,
-                                 __global const float* restrict dxx, __global const float* restrict dxy,
-                                 __global const float* restrict dxz, __global const float* restrict dyx,
-                                 __global const float* restrict dyy, __global const float* restrict dyz,
-                                 const int count, __constant sf_cascade_params* restrict C,
-                                 const int stride, __global char2* restrict layers,
-                                 __global float* restrict weight, __global float* restrict out_u,
-                                 __global float* restrict out_v, __global float* restrict out_d,
-                                 __global float* restrict out_f) {
+inline void sf_cascade_project_one(__global const float* restrict x, __global const float* restrict y,
+                                   __global const float* restrict z, __global const float* restrict depth,
+                                   __global const float* restrict dxx, __global const float* restrict dxy,
+                                   __global const float* restrict dxz, __global const float* restrict dyx,
+                                   __global const float* restrict dyy, __global const float* restrict dyz,
+                                   const int count, __constant sf_cascade_params* restrict C, const int stride,
+                                   __global char2* restrict layers, __global float* restrict weight,
+                                   __global float* restrict out_u, __global float* restrict out_v,
+                                   __global float* restrict out_d, __global float* restrict out_f, const int i) {
   // SF_CASCADES (= C->count, from the host) fixes every loop's trip count: the rule below is
   // written without data-dependent loops so that PoCL runs work-items side by side in SIMD.
-  const int i = get_global_id(0);
-  if (i >= count) return;
   const float3 p = (float3)(x[i], y[i], z[i]);
   const float vd = depth[i];
   int on = 0;  // bit k: layer k's map holds p (no private arrays: PoCL keeps them per item in memory)
@@ -99,6 +95,103 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
     out_v[j] = served ? q.v : 0.0f;
     out_d[j] = served ? q.d : NAN;
     out_f[j] = served ? sf_cascade_footprint(C, k, q, dx, dy) : 1.0f;
+  }
+}
+
+// sf_cascade_project_one for SF_CASCADE_VEC receivers at once, as explicit vectors (PoCL does not
+// vectorise the scalar rule across work-items: its bit masks and byte stores keep it one item at a
+// time). The same arithmetic lane by lane.
+#define SF_CASCADE_VEC 16
+typedef float16 sf_cfv;
+typedef int16 sf_civ;
+
+typedef struct {
+  sf_cfv u, v, d, w;
+} sf_map_points;
+
+inline sf_map_points sf_cascade_apply_v(__constant sf_cascade_params* C, int k, sf_cfv x, sf_cfv y, sf_cfv z) {
+  __constant const float* m = C->m + 16 * k;
+  sf_map_points q;
+  q.w = fma(m[12], x, fma(m[13], y, fma(m[14], z, m[15])));
+  q.u = fma(m[0], x, fma(m[1], y, fma(m[2], z, m[3]))) / q.w;
+  q.v = fma(m[4], x, fma(m[5], y, fma(m[6], z, m[7]))) / q.w;
+  q.d = fma(m[8], x, fma(m[9], y, fma(m[10], z, m[11])));
+  return q;
+}
+
+inline sf_civ sf_cascade_on_map_v(sf_map_points q) {
+  return (q.w > 0.0f) & (q.u >= 0.0f) & (q.u <= 1.0f) & (q.v >= 0.0f) & (q.v <= 1.0f);
+}
+
+inline sf_cfv sf_cascade_footprint_v(__constant sf_cascade_params* C, int k, sf_map_points q, sf_cfv dx0, sf_cfv dx1,
+                                     sf_cfv dx2, sf_cfv dy0, sf_cfv dy1, sf_cfv dy2) {
+  __constant const float* m = C->m + 16 * k;
+  const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
+  const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
+  const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
+  const sf_cfv ax = du0 * dx0 + du1 * dx1 + du2 * dx2, bx = dv0 * dx0 + dv1 * dx1 + dv2 * dx2;
+  const sf_cfv ay = du0 * dy0 + du1 * dy1 + du2 * dy2, by = dv0 * dy0 + dv1 * dy1 + dv2 * dy2;
+  const sf_cfv f = fmax(sqrt(ax * ax + bx * bx), sqrt(ay * ay + by * by));
+  return select((sf_cfv)(1.0f), f, isfinite(f));
+}
+
+// SF_CASCADE_VEC receivers per work-item (the host launches ceil(count / SF_CASCADE_VEC)); the
+// last work-item finishes a partial vector receiver by receiver.
+__kernel void sf_cascade_project(__global const float* restrict x, __global const float* restrict y,
+                                 __global const float* restrict z, __global const float* restrict depth,
+                                 __global const float* restrict dxx, __global const float* restrict dxy,
+                                 __global const float* restrict dxz, __global const float* restrict dyx,
+                                 __global const float* restrict dyy, __global const float* restrict dyz,
+                                 const int count, __constant sf_cascade_params* restrict C, const int stride,
+                                 __global char2* restrict layers, __global float* restrict weight,
+                                 __global float* restrict out_u, __global float* restrict out_v,
+                                 __global float* restrict out_d, __global float* restrict out_f) {
+  const int i0 = get_global_id(0) * SF_CASCADE_VEC;
+  if (i0 >= count) return;
+  if (count - i0 < SF_CASCADE_VEC) {
+    for (int i = i0; i < count; ++i)
+      sf_cascade_project_one(x, y, z, depth, dxx, dxy, dxz, dyx, dyy, dyz, count, C, stride, layers, weight, out_u,
+                             out_v, out_d, out_f, i);
+    return;
+  }
+  const sf_cfv px = vload16(0, x + i0), py = vload16(0, y + i0), pz = vload16(0, z + i0);
+  const sf_cfv vd = vload16(0, depth + i0);
+  sf_civ on = 0;
+  for (int k = 0; k < SF_CASCADES; ++k) on |= sf_cascade_on_map_v(sf_cascade_apply_v(C, k, px, py, pz)) & (1 << k);
+  sf_civ split = 0;
+  for (int k = 0; k + 1 < SF_CASCADES; ++k) split -= vd >= C->split_far[k];  // true is -1
+  sf_civ l0 = -1;
+  for (int k = SF_CASCADES - 1; k >= 0; --k) l0 = select(l0, (sf_civ)k, (split <= k) & (((on >> k) & 1) != 0));
+  const sf_civ inside = isfinite(vd) & (vd >= C->split_near[0]) & (vd <= C->split_far[SF_CASCADES - 1]);
+  l0 = select((sf_civ)(-1), l0, inside);
+  sf_civ l1 = -1;
+  sf_cfv w1 = 0.0f;
+  for (int k = 0; k + 1 < SF_CASCADES; ++k) {
+    const float band = C->blend * (C->split_far[k] - C->split_near[k]);
+    const sf_cfv t = band > 0.0f ? (vd - (C->split_far[k] - band)) / band : (sf_cfv)(0.0f);
+    const sf_civ blends = (l0 == k) & (t > 0.0f) & (((on >> (k + 1)) & 1) != 0);
+    l1 = select(l1, (sf_civ)(k + 1), blends);
+    w1 = select(w1, fmin(t, 1.0f), blends);
+  }
+  const char16 c0 = convert_char16(l0), c1 = convert_char16(l1);
+  vstore16((char16)(c0.s0, c1.s0, c0.s1, c1.s1, c0.s2, c1.s2, c0.s3, c1.s3, c0.s4, c1.s4, c0.s5, c1.s5, c0.s6, c1.s6,
+                    c0.s7, c1.s7),
+           0, (__global char*)(layers + i0));
+  vstore16((char16)(c0.s8, c1.s8, c0.s9, c1.s9, c0.sa, c1.sa, c0.sb, c1.sb, c0.sc, c1.sc, c0.sd, c1.sd, c0.se, c1.se,
+                    c0.sf, c1.sf),
+           0, (__global char*)(layers + i0 + 8));
+  vstore16(w1, 0, weight + i0);
+  const sf_cfv dx0 = vload16(0, dxx + i0), dx1 = vload16(0, dxy + i0), dx2 = vload16(0, dxz + i0);
+  const sf_cfv dy0 = vload16(0, dyx + i0), dy1 = vload16(0, dyy + i0), dy2 = vload16(0, dyz + i0);
+  for (int k = 0; k < SF_CASCADES; ++k) {
+    const size_t j = (size_t)k * stride + i0;
+    const sf_civ served = (l0 == k) | (l1 == k);
+    const sf_map_points q = sf_cascade_apply_v(C, k, px, py, pz);
+    vstore16(select((sf_cfv)(0.0f), q.u, served), 0, out_u + j);
+    vstore16(select((sf_cfv)(0.0f), q.v, served), 0, out_v + j);
+    vstore16(select((sf_cfv)(NAN), q.d, served), 0, out_d + j);
+    vstore16(select((sf_cfv)(1.0f), sf_cascade_footprint_v(C, k, q, dx0, dx1, dx2, dy0, dy1, dy2), served), 0,
+             out_f + j);
   }
 }
 

@@ -180,9 +180,10 @@ cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::
   for (const cl::Buffer* b : inputs) args.buffer(*b);
   args.value(count).buffer(params_).value(stride).buffer(proj_.layers).buffer(proj_.weight);
   args.buffer(proj_.u).buffer(proj_.v).buffer(proj_.d).buffer(proj_.f);
-  // Work-groups of 64: PoCL's own choice for a kernel it cannot vectorise ran one item a group.
-  const cl::NDRange groups((rx.count + 63) / 64 * 64), group(64);
-  rt_->queue().enqueueNDRangeKernel(project, cl::NullRange, groups, group, wait, &project_done_);
+  // kCascadeVector receivers per work-item (SF_CASCADE_VEC in cascade.cl).
+  constexpr size_t kCascadeVector = 16;
+  const cl::NDRange items((rx.count + kCascadeVector - 1) / kCascadeVector);
+  rt_->queue().enqueueNDRangeKernel(project, cl::NullRange, items, cl::NullRange, wait, &project_done_);
 
   // Every layer over all receivers; footprints only where the lookup reads them (as filter()).
   EventList projected{project_done_}, layers_done;

@@ -355,8 +355,8 @@ void validate(const CascadeSet& set) {
     if (!std::isfinite(layer.split_near) || !std::isfinite(layer.split_far))
       throw InputError(name + ": its split depths must be finite");
     if (!(layer.split_near >= 0.0 && layer.split_far > layer.split_near))
-      throw InputError(name + ": its split depths must increase (near " + std::to_string(layer.split_near) +
-                       ", far " + std::to_string(layer.split_far) + ")");
+      throw InputError(name + ": its split depths must increase (near " + std::to_string(layer.split_near) + ", far " +
+                       std::to_string(layer.split_far) + ")");
     if (k > 0) {
       const double prev = set.layers[k - 1].split_far;
       if (std::abs(layer.split_near - prev) > 1e-9 * std::max(1.0, std::abs(prev)))
@@ -425,7 +425,8 @@ std::vector<double> practical_splits(double near_depth, double far_depth, int co
   std::vector<double> s(count + 1);
   for (int i = 0; i <= count; ++i) {
     const double f = static_cast<double>(i) / count;
-    s[i] = lambda * near_depth * std::pow(far_depth / near_depth, f) + (1.0 - lambda) * (near_depth + (far_depth - near_depth) * f);
+    s[i] = lambda * near_depth * std::pow(far_depth / near_depth, f) +
+           (1.0 - lambda) * (near_depth + (far_depth - near_depth) * f);
   }
   s.front() = near_depth;
   s.back() = far_depth;
@@ -450,10 +451,14 @@ std::array<Point3, 8> CameraFrustum::slice_corners(double a, double b) const {
 
 const char* layout_name(LayoutKind kind) {
   switch (kind) {
-    case LayoutKind::Single: return "single";
-    case LayoutKind::Pssm: return "pssm";
-    case LayoutKind::Tsm: return "tsm";
-    case LayoutKind::PssmTsm: return "pssm+tsm";
+    case LayoutKind::Single:
+      return "single";
+    case LayoutKind::Pssm:
+      return "pssm";
+    case LayoutKind::Tsm:
+      return "tsm";
+    case LayoutKind::PssmTsm:
+      return "pssm+tsm";
   }
   return "?";
 }

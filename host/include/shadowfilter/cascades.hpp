@@ -101,7 +101,7 @@ struct WorldBox {  // an axis-aligned bounding box of some geometry (an occluder
 };
 
 enum class LayoutKind { Single, Pssm, Tsm, PssmTsm };
-const char* layout_name(LayoutKind kind);           // "single", "pssm", "tsm", "pssm+tsm"
+const char* layout_name(LayoutKind kind);          // "single", "pssm", "tsm", "pssm+tsm"
 LayoutKind parse_layout(const std::string& name);  // InputError for other names
 
 struct LayoutOptions {

@@ -53,11 +53,11 @@ struct Receivers {
 struct ViewReceivers {
   int width = 0;
   int height = 0;
-  std::vector<float> x, y, z;           // world position
-  std::vector<float> depth;             // view depth
-  std::vector<float> dxx, dxy, dxz;     // world offset across the pixel along the image's x
-  std::vector<float> dyx, dyy, dyz;     // ... along the image's y
-  std::vector<float> ndl;               // empty unless present; NaN = unknown (as Receivers::ndl)
+  std::vector<float> x, y, z;        // world position
+  std::vector<float> depth;          // view depth
+  std::vector<float> dxx, dxy, dxz;  // world offset across the pixel along the image's x
+  std::vector<float> dyx, dyy, dyz;  // ... along the image's y
+  std::vector<float> ndl;            // empty unless present; NaN = unknown (as Receivers::ndl)
   size_t count() const { return static_cast<size_t>(width) * height; }
 };
 

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "image_io.hpp"
+#include "layout_eval.hpp"
 #include "shadowfilter/host_image.hpp"
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -116,6 +117,17 @@ struct EvaluateArgs {
 };
 CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& args);
 int run_evaluate(const EvaluateArgs& args);
+
+// `evaluate-layouts` (cmd_evaluate_layouts.cpp): layouts x cascade counts x methods on scenes.
+struct EvaluateLayoutsArgs {
+  std::vector<std::string> scenes;
+  std::string out_dir, layouts = "single,pssm,tsm,pssm+tsm", cascade_counts = "4", methods = "pcf,esm,vsm";
+  std::string lookup = "mips", receivers = "1920x1080";
+  bool quiet = false, verbose = false;
+  eval::LayoutEvalRequest request;
+};
+CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& args);
+int run_evaluate_layouts(EvaluateLayoutsArgs& args);
 
 // `coherent` (cmd_coherent.cpp): its subcommands, each with the function that runs it.
 struct CoherentCommands {

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   CLI::App* scene = sf::cli::add_scene_command(app, scene_args);
   sf::cli::EvaluateArgs evaluate_args;
   CLI::App* evaluate = sf::cli::add_evaluate_command(app, evaluate_args);
+  sf::cli::EvaluateLayoutsArgs layouts_args;
+  CLI::App* evaluate_layouts = sf::cli::add_evaluate_layouts_command(app, layouts_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
   sf::cli::CoherentCommands coherent;
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
     if (filter->parsed()) return sf::cli::run_filter(filter_args);
     if (scene->parsed()) return sf::cli::run_scene(scene_args);
     if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
+    if (evaluate_layouts->parsed()) return sf::cli::run_evaluate_layouts(layouts_args);
     if (soft->parsed()) return sf::cli::run_soft(soft_args);
     if (coherent.app->parsed()) return sf::cli::run_coherent(coherent);
   } catch (const sf::InputError& e) {

@@ -1,0 +1,363 @@
+// evaluate-layouts: layouts x cascade counts x methods at equal total texels along a camera path
+// (layout_eval.hpp).
+#include "layout_eval.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "eval_util.hpp"
+#include "io_detail.hpp"
+#include "layer_render.hpp"
+#include "scene_library.hpp"
+#include "scene_render.hpp"
+#include "shadowfilter/depth_range.hpp"
+#include "shadowfilter/errors.hpp"
+#include "shadowfilter/layered.hpp"
+#include "shadowfilter/methods.hpp"
+
+namespace sf::eval {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::vector<LayoutConfig> make_configs(const LayoutEvalRequest& r) {
+  std::vector<LayoutConfig> configs;
+  for (const std::string& name : r.layouts) {
+    const LayoutKind kind = parse_layout(name);
+    if (kind == LayoutKind::Single || kind == LayoutKind::Tsm) {
+      configs.push_back({kind, 1, true, r.total_size});
+      continue;
+    }
+    for (int k : r.cascade_counts) {
+      configs.push_back({kind, k, true, equal_texel_side(r.total_size, k)});
+      if (kind == LayoutKind::Pssm && r.unstabilized_too)
+        configs.push_back({kind, k, false, equal_texel_side(r.total_size, k)});
+    }
+  }
+  return configs;
+}
+
+struct Accumulator {
+  LayoutRow row;
+  FrameMetrics sum;
+  size_t frames_soft = 0;
+  double flicker_sum = 0;
+  int flicker_pairs = 0;
+  std::vector<double> times, prefilter, reconstruct;
+};
+
+// One layout and method on one frame: the visibility, and (runs > 0) the median wall time of
+// prefilter + reconstruct with every input resident on the device, after one untimed run (program
+// builds, first allocations), as evaluate's measure() times a single map.
+struct LayeredTiming {
+  std::vector<float> visibility;
+  double median_ms = 0, prefilter_ms = 0, reconstruct_ms = 0;
+};
+
+LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const CascadeSet& set,
+                           const std::vector<HostImage>& maps, const ViewReceivers& view, int runs) {
+  LayeredPipeline pipe(rt, o, set);
+  auto& q = rt->queue();
+  const auto up = [&](const std::vector<float>& h) {
+    cl::Buffer b(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));
+    if (!h.empty()) q.enqueueWriteBuffer(b, CL_TRUE, 0, h.size() * sizeof(float), h.data());
+    return b;
+  };
+  std::vector<cl::Buffer> depth;
+  std::vector<MapRange> ranges;
+  for (const HostImage& m : maps) {
+    depth.push_back(up(m.data));
+    ranges.push_back(depth_range(m));
+  }
+  pipe.set_depth_ranges(ranges);  // no device reduction inside the timed loop
+  DeviceViewReceivers rx;
+  rx.count = view.count();
+  rx.width = view.width;
+  rx.x = up(view.x), rx.y = up(view.y), rx.z = up(view.z), rx.depth = up(view.depth);
+  rx.dxx = up(view.dxx), rx.dxy = up(view.dxy), rx.dxz = up(view.dxz);
+  rx.dyx = up(view.dyx), rx.dyy = up(view.dyy), rx.dyz = up(view.dyz);
+  cl::Buffer vis(rt->context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, rx.count * sizeof(float)));
+  std::vector<double> wall, pre, rec;
+  for (int i = 0; i < 1 + runs; ++i) {
+    const auto t0 = Clock::now();
+    const cl::Event filtered = pipe.prefilter(depth);
+    filtered.wait();
+    const double pre_ms = ms_since(t0);
+    const EventList after{filtered};
+    pipe.reconstruct(rx, vis, &after);
+    q.finish();
+    if (i == 0) continue;
+    wall.push_back(ms_since(t0));
+    pre.push_back(pre_ms);
+    rec.push_back(wall.back() - pre_ms);
+  }
+  LayeredTiming t;
+  t.visibility.resize(rx.count);
+  if (rx.count) q.enqueueReadBuffer(vis, CL_TRUE, 0, rx.count * sizeof(float), t.visibility.data());
+  t.median_ms = detail::median(wall);
+  t.prefilter_ms = detail::median(pre);
+  t.reconstruct_ms = detail::median(rec);
+  return t;
+}
+
+// Per configuration: the previous frame's set and maps (the flicker figure).
+struct Previous {
+  bool valid = false;
+  CascadeSet set;
+  std::vector<HostImage> maps;
+};
+
+}  // namespace
+
+std::string LayoutConfig::label() const {
+  std::string s;
+  switch (kind) {
+    case LayoutKind::Single:
+      s = "single";
+      break;
+    case LayoutKind::Tsm:
+      s = "tsm";
+      break;
+    case LayoutKind::Pssm:
+      s = "pssm" + std::to_string(cascades);
+      break;
+    case LayoutKind::PssmTsm:
+      s = "pssm" + std::to_string(cascades) + "+tsm";
+      break;
+  }
+  if (!stabilize) s += " unstable";
+  return s;
+}
+
+int equal_texel_side(int total_size, int layers) {
+  const double side = total_size / std::sqrt(static_cast<double>(layers));
+  return std::max(8, static_cast<int>(std::lround(side / 8.0)) * 8);
+}
+
+FrameMetrics frame_metrics(const std::vector<float>& v, const std::vector<float>& ref_hard,
+                           const std::vector<float>& ref_soft, const std::vector<uint8_t>& mask,
+                           const std::vector<uint8_t>& near) {
+  FrameMetrics m;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!mask[i]) continue;
+    ++m.counted;
+    const double e = v[i] - ref_hard[i];
+    m.sq_hard += e * e;
+    if (!ref_soft.empty()) m.sq_soft += (v[i] - ref_soft[i]) * double(v[i] - ref_soft[i]);
+    const bool wrong = (v[i] >= 0.5f) != (ref_hard[i] >= 0.5f);
+    m.mismatched += wrong;
+    if (near[i]) {
+      ++m.counted_near;
+      m.mismatched_near += wrong;
+    }
+  }
+  return m;
+}
+
+double mean_abs_difference(const std::vector<float>& a, const std::vector<float>& b, const std::vector<uint8_t>& mask) {
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (mask[i]) sum += std::abs(double(a[i]) - b[i]), ++n;
+  return n ? sum / n : 0.0;
+}
+
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * (values.size() - 1) + 0.5));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
+std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, const LayoutEvalRequest& r,
+                                        const std::function<void(const std::string&)>& progress) {
+  if (r.scenes.empty()) throw InputError("evaluate-layouts needs a scene");
+  if (r.frames < 1 || r.frames > 1000) throw InputError("--frames must lie in 1..1000");
+  if (r.total_size < 8 || r.total_size > 16384) throw InputError("--total-size must lie in 8..16384");
+  if (r.timing_runs < 1) throw InputError("--runs must be at least 1");
+  for (const std::string& m : r.methods) find_method(m);  // InputError for unknown methods
+  const std::vector<LayoutConfig> configs = make_configs(r);
+  const auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+
+  std::vector<LayoutRow> rows;
+  for (const std::string& scene_name : r.scenes) {
+    scene::SceneDefaults defaults = scene::is_builtin_scene(scene_name) ? scene::make_builtin_scene(scene_name)
+                                                                        : scene::load_mesh_scene(scene_name);
+    scene::SceneSetup setup;
+    setup.geometry = defaults.geometry;
+    setup.light = scene::LightView::fit_ortho(setup.geometry, defaults.light_direction, 0.01);
+    setup.camera = defaults.camera;
+    setup.camera.width = r.receivers_width;
+    setup.camera.height = r.receivers_height;
+    setup.light_size = defaults.light_size;
+    setup.samples = std::max(1, r.soft_samples);
+    setup.threads = r.threads;
+    setup.progress = false;
+    scene::CameraPathOptions path;
+    path.frames = r.frames;
+    path.kind = r.camera_path == "orbit" ? scene::CameraPathKind::Orbit : scene::CameraPathKind::Walk;
+    double near_depth = defaults.camera_near, far_depth = defaults.camera_far;
+    if (!(near_depth > 0.0 && far_depth > near_depth)) {
+      const scene::ViewDepths depths = scene::default_view_depths(setup.camera, setup.geometry);
+      near_depth = depths.near_depth;
+      far_depth = depths.far_depth;
+    }
+    const std::vector<scene::PerspectiveCamera> cameras = scene::camera_path(setup.camera, path, far_depth);
+    const std::vector<WorldBox> boxes = scene::geometry_boxes(setup.geometry);
+    const Point3 light_dir = scene::to_point(setup.light.forward);
+    const scene::SceneRenderer renderer(setup);
+
+    std::map<std::string, Accumulator> acc;  // key: config label + method
+    std::vector<Previous> previous(configs.size());
+    for (int frame = 0; frame < r.frames; ++frame) {
+      const auto t_view = Clock::now();
+      const scene::CameraImages camera = renderer.camera_view(cameras[frame], r.soft_samples > 0);
+      const ViewReceivers view = scene::view_receivers(camera.view);
+      say(scene_name + " frame " + std::to_string(frame) + ": camera view and references in " +
+          detail::fmt(ms_since(t_view) / 1000.0, 3) + " s");
+      const size_t n = view.count();
+      std::vector<uint8_t> mask(n, 0), near(n, 0);
+      const double near_limit = near_depth + 0.1 * (far_depth - near_depth);
+      for (size_t i = 0; i < n; ++i) {
+        const bool facing = view.ndl.empty() || !(view.ndl[i] <= 0.0f);
+        mask[i] = std::isfinite(view.depth[i]) && facing;
+        near[i] = mask[i] && view.depth[i] <= near_limit;
+      }
+      const std::vector<float>& hard = camera.reference_hard.data;
+      const std::vector<float> soft = r.soft_samples > 0 ? camera.reference_soft.data : std::vector<float>{};
+      const CameraFrustum frustum = scene::camera_frustum(cameras[frame], near_depth, far_depth);
+
+      for (size_t c = 0; c < configs.size(); ++c) {
+        const LayoutConfig& config = configs[c];
+        LayoutOptions lo;
+        lo.kind = config.kind;
+        lo.cascades = config.cascades;
+        lo.map_size = config.layer_size;
+        lo.split_lambda = r.split_lambda;
+        lo.stabilize = config.stabilize;
+        lo.blend = r.blend;
+        const CascadeSet set = fit_layout(lo, frustum, light_dir, boxes);
+        const std::vector<HostImage> maps = scene::render_layers(renderer.tracer(), set, r.threads, false);
+
+        // Texels per pixel in the layer that serves each receiver (every 4th pixel: a quantile
+        // needs no more).
+        std::vector<double> texels, texels_near;
+        for (size_t i = 0; i < n; i += 4) {
+          if (!mask[i]) continue;
+          const Point3 p{view.x[i], view.y[i], view.z[i]};
+          const CascadeChoice choice = select_cascade(set, view.depth[i], p);
+          if (choice.layer[0] < 0) continue;
+          const double f = layer_footprint(set, choice.layer[0], p, {view.dxx[i], view.dxy[i], view.dxz[i]},
+                                           {view.dyx[i], view.dyy[i], view.dyz[i]});
+          texels.push_back(f);
+          if (near[i]) texels_near.push_back(f);
+        }
+
+        for (const std::string& method : r.methods) {
+          FilterOptions o;
+          o.method = method;
+          o.blur.radius = r.blur_radius;
+          o.lookup.kind = r.lookup;
+          Accumulator& a = acc[config.label() + "|" + method];
+          LayoutRow& row = a.row;
+          row.scene = setup.geometry.name;
+          row.layout = config.label();
+          row.method = method;
+          row.layers = static_cast<int>(set.layers.size());
+          row.layer_size = config.layer_size;
+          row.stabilize = config.stabilize;
+          ++row.frames;
+
+          const LayeredTiming timed = time_layered(rt, o, set, maps, view, r.timing_runs);
+          const FrameMetrics m = frame_metrics(timed.visibility, hard, soft, mask, near);
+          a.sum.counted += m.counted;
+          a.sum.counted_near += m.counted_near;
+          a.sum.sq_hard += m.sq_hard;
+          a.sum.sq_soft += m.sq_soft;
+          a.sum.mismatched += m.mismatched;
+          a.sum.mismatched_near += m.mismatched_near;
+          a.times.push_back(timed.median_ms);
+          a.prefilter.push_back(timed.prefilter_ms);
+          a.reconstruct.push_back(timed.reconstruct_ms);
+          if (!soft.empty()) ++a.frames_soft;
+          row.texels_p10 += quantile(texels, 0.1);
+          row.texels_p50 += quantile(texels, 0.5);
+          row.texels_p90 += quantile(texels, 0.9);
+          row.texels_near_p50 += quantile(texels_near, 0.5);
+          if (previous[c].valid) {
+            // The same world points (this frame's receivers) through last frame's layers: what a
+            // viewer sees change on a static scene as the camera moves.
+            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, view, 0);
+            a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
+            ++a.flicker_pairs;
+          }
+        }
+        previous[c] = {true, set, maps};
+        say(scene_name + " frame " + std::to_string(frame) + ": " + config.label() + " done");
+      }
+    }
+    for (const LayoutConfig& config : configs) {
+      for (const std::string& method : r.methods) {
+        Accumulator& a = acc[config.label() + "|" + method];
+        LayoutRow row = a.row;
+        const double frames = std::max(1, row.frames);
+        row.counted = static_cast<size_t>(a.sum.counted / frames);
+        row.counted_near = static_cast<size_t>(a.sum.counted_near / frames);
+        row.rmse_hard = a.sum.counted ? std::sqrt(a.sum.sq_hard / a.sum.counted) : 0.0;
+        row.rmse_soft = a.frames_soft && a.sum.counted ? std::sqrt(a.sum.sq_soft / a.sum.counted) : -1.0;
+        row.mismatch = a.sum.counted ? a.sum.mismatched / a.sum.counted : 0.0;
+        row.mismatch_near = a.sum.counted_near ? a.sum.mismatched_near / a.sum.counted_near : 0.0;
+        row.texels_p10 /= frames;
+        row.texels_p50 /= frames;
+        row.texels_p90 /= frames;
+        row.texels_near_p50 /= frames;
+        row.flicker = a.flicker_pairs ? a.flicker_sum / a.flicker_pairs : -1.0;
+        row.time_ms = detail::median(a.times);
+        row.prefilter_ms = detail::median(a.prefilter);
+        row.reconstruct_ms = detail::median(a.reconstruct);
+        rows.push_back(row);
+      }
+    }
+  }
+  return rows;
+}
+
+void write_layout_csv(const std::string& path, const std::vector<LayoutRow>& rows) {
+  std::ostringstream out;
+  out.imbue(std::locale::classic());
+  out << "scene,layout,method,layers,layer_size,stabilize,frames,receivers,rmse_hard,rmse_soft,mismatch,"
+         "mismatch_near,receivers_near,texels_p10,texels_p50,texels_p90,texels_near_p50,flicker,time_ms,"
+         "prefilter_ms,reconstruct_ms\n";
+  for (const LayoutRow& w : rows)
+    out << w.scene << ',' << w.layout << ',' << w.method << ',' << w.layers << ',' << w.layer_size << ','
+        << (w.stabilize ? 1 : 0) << ',' << w.frames << ',' << w.counted << ',' << w.rmse_hard << ',' << w.rmse_soft
+        << ',' << w.mismatch << ',' << w.mismatch_near << ',' << w.counted_near << ',' << w.texels_p10 << ','
+        << w.texels_p50 << ',' << w.texels_p90 << ',' << w.texels_near_p50 << ',' << w.flicker << ',' << w.time_ms
+        << ',' << w.prefilter_ms << ',' << w.reconstruct_ms << '\n';
+  io::detail::write_text_atomically(path, out.str(), "results file");
+}
+
+std::string layout_markdown(const std::vector<LayoutRow>& rows) {
+  using detail::fmt;
+  std::ostringstream out;
+  out << "| scene | layout | method | layers | ms/frame | mismatched | mismatched, nearest 10% | RMSE hard | "
+         "RMSE soft | texels/pixel p10 / p50 / p90 (nearest 10%: p50) | flicker |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const LayoutRow& w : rows)
+    out << "| " << w.scene << " | " << w.layout << " | " << w.method << " | " << w.layers << " x " << w.layer_size
+        << "² | " << fmt(w.time_ms, 4) << " | " << fmt(100 * w.mismatch, 3) << "% | " << fmt(100 * w.mismatch_near, 3)
+        << "% | " << fmt(w.rmse_hard, 3) << " | " << (w.rmse_soft < 0 ? std::string("-") : fmt(w.rmse_soft, 3)) << " | "
+        << fmt(w.texels_p10, 2) << " / " << fmt(w.texels_p50, 2) << " / " << fmt(w.texels_p90, 2) << " ("
+        << fmt(w.texels_near_p50, 2) << ") | " << (w.flicker < 0 ? std::string("-") : fmt(w.flicker, 3)) << " |\n";
+  return out.str();
+}
+
+}  // namespace sf::eval

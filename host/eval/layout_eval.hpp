@@ -1,0 +1,96 @@
+#pragma once
+// `shadowfilter evaluate-layouts` (issue 15, seed 001): shadow-map layouts (single, pssm, tsm,
+// pssm+tsm) x cascade counts x methods at equal total texels, on a scene seen along a camera path,
+// measured against the ray-traced references of every frame. The scene is rendered in process
+// (Embree): the camera view and its references once per frame, the layers of every layout per
+// frame; each layout is filtered by the layered pipeline (layered.hpp).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "shadowfilter/cascades.hpp"
+#include "shadowfilter/options.hpp"
+#include "shadowfilter/runtime.hpp"
+
+namespace sf::eval {
+
+// One layout of the comparison: its kind, layer count and stabilisation; the layer size follows
+// from the total texels.
+struct LayoutConfig {
+  LayoutKind kind = LayoutKind::Single;
+  int cascades = 1;
+  bool stabilize = true;
+  int layer_size = 0;
+  std::string label() const;  // "single", "pssm4", "pssm4 unstable", "tsm", "pssm4+tsm"
+};
+
+// Layer side for `layers` layers of equal total texels with one map of side `total_size`:
+// total_size / sqrt(layers), rounded to a multiple of 8 (4096 -> 4 x 2048, 2 x 2896).
+int equal_texel_side(int total_size, int layers);
+
+struct LayoutEvalRequest {
+  std::vector<std::string> scenes;  // built-in names or mesh files
+  std::vector<std::string> layouts{"single", "pssm", "tsm", "pssm+tsm"};
+  std::vector<int> cascade_counts{4};  // for pssm and pssm+tsm
+  int total_size = 4096;               // side of the single map; the others match its texels
+  bool unstabilized_too = true;        // pssm also without stabilisation (the flicker figure)
+  std::vector<std::string> methods{"pcf", "esm", "vsm"};
+  int blur_radius = 1;  // in layer 0's texels (layered.hpp scales it per layer)
+  Lookup lookup = Lookup::Mips;
+  int frames = 4;                    // along the camera path
+  std::string camera_path = "walk";  // walk | orbit (layer_render.hpp)
+  int receivers_width = 1920, receivers_height = 1080;
+  int soft_samples = 16;  // 0: no soft reference (its RMSE column is empty)
+  double split_lambda = 0.5;
+  double blend = 0.1;
+  int timing_runs = 3;  // per frame and configuration (median)
+  int threads = 0;
+  std::string device;
+};
+
+// The figures of one (scene, layout, method), averaged over the frames (flicker over frame pairs).
+struct LayoutRow {
+  std::string scene, layout, method;
+  int layers = 1, layer_size = 0;
+  bool stabilize = true;
+  int frames = 0;
+  size_t counted = 0;                    // receivers compared per frame (mean)
+  double rmse_hard = 0, rmse_soft = -1;  // -1: no soft reference
+  double mismatch = 0;                   // fraction with (v >= 0.5) != (hard reference lit)
+  double mismatch_near = 0;              // the same over the nearest 10% of the camera's view depths
+  size_t counted_near = 0;
+  // Shadow-map texels per screen pixel along a pixel's side (the footprint f of its layer), over
+  // the frame's receivers and over the nearest 10%: quantiles; < 1 is a texel larger than a pixel
+  // (perspective aliasing).
+  double texels_p10 = 0, texels_p50 = 0, texels_p90 = 0, texels_near_p50 = 0;
+  double flicker = -1;  // mean |v_t - v_{t-1}| at frame t's receivers (-1: one frame)
+  double time_ms = 0;   // per frame: layers' transform, blur, pyramids, reconstruction, blend
+  double prefilter_ms = 0, reconstruct_ms = 0;
+};
+
+// Metrics of one frame (exposed for the tests).
+struct FrameMetrics {
+  size_t counted = 0, counted_near = 0;
+  double sq_hard = 0, sq_soft = 0, mismatched = 0, mismatched_near = 0;
+};
+// Accumulates one frame: v against the references over `mask`; near marks the nearest 10%.
+FrameMetrics frame_metrics(const std::vector<float>& v, const std::vector<float>& ref_hard,
+                           const std::vector<float>& ref_soft, const std::vector<uint8_t>& mask,
+                           const std::vector<uint8_t>& near);
+// Mean |a - b| over mask (0 when the mask is empty).
+double mean_abs_difference(const std::vector<float>& a, const std::vector<float>& b, const std::vector<uint8_t>& mask);
+// Quantile q in [0, 1] of the values (nearest rank; 0 for none).
+double quantile(std::vector<double> values, double q);
+
+// Runs the whole comparison; `progress` (may be empty) gets one line per finished step.
+std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, const LayoutEvalRequest& request,
+                                        const std::function<void(const std::string&)>& progress = {});
+
+// results_layouts.csv; a Markdown table in the shape of seed 001's Table 2 with the error columns.
+void write_layout_csv(const std::string& path, const std::vector<LayoutRow>& rows);
+std::string layout_markdown(const std::vector<LayoutRow>& rows);
+
+}  // namespace sf::eval

@@ -301,11 +301,8 @@ TEST_P(LayeredScene, EveryLayoutMatchesTheSingleMapWhereBothResolve) {
   FilterOptions opt;
   opt.method = c.method;
   opt.blur.radius = c.radius;
-  // A warped layer's depth is linear in the world but not across its texels (its texel size
-  // changes along the warp), so a planar receiver is a curved one there: the slope-scaled bias
-  // that docs/receiver_plane.md gives curved receivers (half a texel of the plane's slope keeps
-  // the tsm layer of this scene free of acne; the default 0 leaves pcf at 0.89 on lit receivers).
-  opt.receiver_plane.slope_bias = 0.5f;
+  // Defaults otherwise: a warped layer's slope-scaled bias comes from layer_filter_options
+  // (kWarpedSlopeBias), which this test holds to keeping lit ground lit under every warp.
   for (LayoutKind kind : all_layouts()) {
     sets.push_back(layout(kind, kMapSize));
     results.push_back(filter_layered(runtime_ptr(), opt, sets.back(), render_maps(sets.back()), view));

@@ -24,6 +24,14 @@ double layer_reference_texel(const CascadeSet& set, int layer) {
 
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer) {
   FilterOptions o = options;
+  // A warped layer (a projective row 3) stores linear depth on texels whose size changes along the
+  // warp, so a planar receiver's depth is not linear across them and the receiver plane from its
+  // neighbours misses the support's texels by a fraction of a texel's depth change where the warp
+  // compresses: the slope-scaled bias covers that (kWarpedSlopeBias; docs/cascades.md, "What the
+  // tests found"), unless the caller asked for more.
+  const auto& m = set.layers.at(layer).transform.m;
+  if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0)
+    o.receiver_plane.slope_bias = std::max(o.receiver_plane.slope_bias, kWarpedSlopeBias);
   if (layer == 0 || options.blur.radius <= 0) return o;
   const double scale = layer_reference_texel(set, 0) / layer_reference_texel(set, layer);
   const double radius = options.blur.radius * scale;

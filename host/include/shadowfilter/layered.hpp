@@ -44,6 +44,10 @@ double layer_reference_texel(const CascadeSet& set, int layer);
 // the given sigma, or (2R+1)/6 when it is 0), R_k = round(R_0 s), and 0 (no blur) where R_0 s < 1:
 // a blur narrower than one texel of the layer is below what the layer resolves. InputError when
 // R_k exceeds kMaxBlurRadius (a layer much finer than layer 0).
+// A warped layer's receiver plane also gets a slope-scaled bias of at least kWarpedSlopeBias
+// texels (ReceiverPlaneOptions::slope_bias): measured, the least that keeps lit ground lit under
+// every warp of tests/test_layered.cpp.
+constexpr float kWarpedSlopeBias = 0.5f;
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
 
 // Device seconds of the last prefilter and reconstruct (0 on non-profiling queues).

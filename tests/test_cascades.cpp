@@ -119,8 +119,8 @@ TEST(Cascades, NearTexelsShrinkWithCascadesAndWarps) {
   EXPECT_GT(sf::layer_texel_size(tsm, 0, far_point), 5 * sf::layer_texel_size(tsm, 0, near_point));
 }
 
-// The 80% rule: the focus point (geometric mean of near and far on the camera's axis) lands on
-// the 80% line of the trapezoid's map.
+// The 80% rule: the focus point (near (far/near)^tsm_focus on the camera's axis) lands on the 80%
+// line of the trapezoid's map.
 TEST(Cascades, TrapezoidMapsTheFocusPointToTheEightyPercentLine) {
   LayoutOptions o;
   o.kind = LayoutKind::Tsm;
@@ -130,7 +130,7 @@ TEST(Cascades, TrapezoidMapsTheFocusPointToTheEightyPercentLine) {
   cam.forward = {0, 0, -1};
   cam.up = {0, 1, 0};
   const CascadeSet set = sf::fit_layout(o, cam, {0.0, -1.0, 0.6}, world());
-  const double focus = std::sqrt(cam.near_depth * cam.far_depth);
+  const double focus = cam.near_depth * std::pow(cam.far_depth / cam.near_depth, o.tsm_focus);
   const Point3 p{cam.position[0], cam.position[1], cam.position[2] - focus};
   const auto top = set.layers[0].transform.apply({cam.position[0], cam.position[1], cam.position[2] - cam.near_depth});
   const auto q = set.layers[0].transform.apply(p);

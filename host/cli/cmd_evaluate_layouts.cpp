@@ -60,6 +60,10 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
   c->add_option("--split-lambda", a.request.split_lambda, "Practical split blend (0 uniform .. 1 logarithmic)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  c->add_option("--tsm-focus", a.request.tsm_focus,
+                "Trapezoids' focus point, a fraction of each slice's log depth range (80% rule)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   c->add_option("--cascade-blend", a.request.blend, "Blend band, a fraction of each layer's range")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.99));

@@ -242,6 +242,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
         lo.cascades = config.cascades;
         lo.map_size = config.layer_size;
         lo.split_lambda = r.split_lambda;
+        lo.tsm_focus = r.tsm_focus;
         lo.stabilize = config.stabilize;
         lo.blend = r.blend;
         const CascadeSet set = fit_layout(lo, frustum, light_dir, boxes);

@@ -45,6 +45,7 @@ struct LayoutEvalRequest {
   int receivers_width = 1920, receivers_height = 1080;
   int soft_samples = 16;  // 0: no soft reference (its RMSE column is empty)
   double split_lambda = 0.5;
+  double tsm_focus = LayoutOptions{}.tsm_focus;
   double blend = 0.1;
   int timing_runs = 3;  // per frame and configuration (median)
   int threads = 0;

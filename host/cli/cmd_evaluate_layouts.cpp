@@ -54,6 +54,12 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
   c->add_option("--camera-path", a.request.camera_path, "walk | orbit")
       ->capture_default_str()
       ->check(CLI::IsMember({"walk", "orbit"}));
+  c->add_option("--step", a.request.walk_step, "Walk: metres (scene units) per frame")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  c->add_option("--orbit-step", a.request.orbit_step_degrees, "Orbit: degrees per frame")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 360.0));
   c->add_option("--receivers", a.receivers, "Camera view WIDTHxHEIGHT")->capture_default_str();
   c->add_option("--samples", a.request.soft_samples, "Area-light samples of the soft reference (a square; 0 = none)")
       ->capture_default_str();

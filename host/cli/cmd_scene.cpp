@@ -66,7 +66,7 @@ CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
   c->add_option("--cascades", a.cascades, "Layers of pssm and pssm+tsm (default 4)")->each([&a](const std::string&) {
     a.cascades_given = true;
   });
-  c->add_option("--split-lambda", a.split_lambda, "Practical split blend: 0 uniform .. 1 logarithmic (default 0.5)");
+  c->add_option("--split-lambda", a.split_lambda, "Practical split blend: 0 uniform .. 1 logarithmic (default 0.75)");
   c->add_flag("--no-stabilize", a.no_stabilize, "Tight layer boxes instead of texel-snapped bounding spheres");
   c->add_option("--tsm-focus", a.tsm_focus, "TSM focus: fraction of the slice's log depth range (default 0.8)");
   c->add_option("--cascade-blend", a.cascade_blend, "Blend band at the end of each layer's split (default 0.1)");

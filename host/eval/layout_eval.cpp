@@ -204,6 +204,13 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
     scene::CameraPathOptions path;
     path.frames = r.frames;
     path.kind = r.camera_path == "orbit" ? scene::CameraPathKind::Orbit : scene::CameraPathKind::Walk;
+    {
+      const scene::Vec3 look = setup.camera.target - setup.camera.position;
+      scene::Vec3 ahead{look.x, 0.0, look.z};
+      ahead = scene::length(ahead) > 1e-9 ? scene::normalize(ahead) : scene::normalize(look);
+      path.walk_to = setup.camera.position + ((r.frames - 1) * r.walk_step) * ahead;
+      path.orbit_degrees = (r.frames - 1) * r.orbit_step_degrees;
+    }
     double near_depth = defaults.camera_near, far_depth = defaults.camera_far;
     if (!(near_depth > 0.0 && far_depth > near_depth)) {
       const scene::ViewDepths depths = scene::default_view_depths(setup.camera, setup.geometry);
@@ -234,6 +241,15 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       const std::vector<float>& hard = camera.reference_hard.data;
       const std::vector<float> soft = r.soft_samples > 0 ? camera.reference_soft.data : std::vector<float>{};
       const CameraFrustum frustum = scene::camera_frustum(cameras[frame], near_depth, far_depth);
+      // This frame's receivers with their view depths in the previous frame's camera (flicker).
+      ViewReceivers previous_view = view;
+      if (frame > 0) {
+        const CameraFrustum before = scene::camera_frustum(cameras[frame - 1], near_depth, far_depth);
+        for (size_t i = 0; i < n; ++i)
+          previous_view.depth[i] = static_cast<float>((view.x[i] - before.position[0]) * before.forward[0] +
+                                                      (view.y[i] - before.position[1]) * before.forward[1] +
+                                                      (view.z[i] - before.position[2]) * before.forward[2]);
+      }
 
       for (size_t c = 0; c < configs.size(); ++c) {
         const LayoutConfig& config = configs[c];
@@ -294,9 +310,11 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           row.texels_p90 += quantile(texels, 0.9);
           row.texels_near_p50 += quantile(texels_near, 0.5);
           if (previous[c].valid) {
-            // The same world points (this frame's receivers) through last frame's layers: what a
-            // viewer sees change on a static scene as the camera moves.
-            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, view, 0);
+            // The same world points (this frame's receivers) through last frame's layers, each
+            // picking its layer by its view depth in last frame's camera: what the previous frame
+            // showed there. On a static scene the reference does not change at a world point, so
+            // every difference is the layout's (texels moving, receivers changing layers).
+            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, previous_view, 0);
             a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
             ++a.flicker_pairs;
           }

@@ -10,7 +10,6 @@
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
-#include "shadowfilter/methods.hpp"
 
 namespace sf {
 
@@ -33,18 +32,6 @@ FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSe
   const auto& m = set.layers.at(layer).transform.m;
   if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0)
     o.receiver_plane.slope_bias = std::max(o.receiver_plane.slope_bias, kWarpedSlopeBias);
-  // The default depth bias keeps its size in texels: the methods' defaults were measured on maps
-  // of kBiasReferenceTexels texels across a scene about as deep as it is wide, where one texel
-  // spans 1/kBiasReferenceTexels of the depth range; a layer whose texel spans t of its range
-  // gets the default times t kBiasReferenceTexels. (Unscaled, pcf's 0.003 of a 300 m cascade is
-  // a metre of bias: contact shadows pull away from every wall of city.) A bias the caller set
-  // is theirs, in the layer's own depth units.
-  if (!o.depth_test.bias) {
-    const double range = 1.0 / std::sqrt(m[8] * m[8] + m[9] * m[9] + m[10] * m[10]);  // world per unit d
-    const double per_texel = layer_reference_texel(set, layer) / range;
-    if (std::isfinite(per_texel) && per_texel > 0.0)
-      o.depth_test.bias = static_cast<float>(depth_bias(options) * per_texel * kBiasReferenceTexels);
-  }
   if (layer == 0 || options.blur.radius <= 0) return o;
   const double scale = layer_reference_texel(set, 0) / layer_reference_texel(set, layer);
   const double radius = options.blur.radius * scale;

@@ -48,10 +48,6 @@ double layer_reference_texel(const CascadeSet& set, int layer);
 // texels (ReceiverPlaneOptions::slope_bias): measured, the least that keeps lit ground lit under
 // every warp of tests/test_layered.cpp.
 constexpr float kWarpedSlopeBias = 0.5f;
-// An unset depth bias (DepthTestOptions::bias) becomes the method's default scaled to the layer's
-// texel: default x (world texel / world depth range) x kBiasReferenceTexels, the bias per texel of
-// depth that the defaults have on the 512-texel maps they were measured on.
-constexpr double kBiasReferenceTexels = 512.0;
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
 
 // Device seconds of the last prefilter and reconstruct (0 on non-profiling queues).

@@ -43,10 +43,10 @@ struct LayoutEvalRequest {
   int frames = 4;                    // along the camera path
   std::string camera_path = "walk";  // walk | orbit (layer_render.hpp)
   // Camera motion per frame: a walk's step (scene units: metres in city and treeline) along the
-  // look direction on the ground, an orbit's angle (degrees). 0.25 m is 7.5 m/s at 30 frames per
-  // second, two texels of a 2048 cascade over city's first 250 m: enough for a texel grid that
-  // follows the camera to crawl, small enough that few receivers change layers.
-  double walk_step = 0.25, orbit_step_degrees = 0.25;
+  // look direction on the ground, an orbit's angle (degrees). 0.05 m is a walk, 1.5 m/s at 30
+  // frames per second: half a texel of a 2048 cascade over city's first 100 m, so a texel grid
+  // that follows the camera crawls every frame, and few receivers change layers.
+  double walk_step = 0.05, orbit_step_degrees = 0.05;
   int receivers_width = 1920, receivers_height = 1080;
   int soft_samples = 16;  // 0: no soft reference (its RMSE column is empty)
   double split_lambda = LayoutOptions{}.split_lambda;

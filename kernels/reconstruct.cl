@@ -50,6 +50,16 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
   // map's centre, so that their index math stays in range, and get 1.
   const sf_rxi inside = isfinite(di) & (ui >= 0.0f) & (ui <= 1.0f) & (vi >= 0.0f) & (vi <= 1.0f);
   const sf_rxf one = (sf_rxf)(1.0f), centre = (sf_rxf)(0.5f);
+  // A vector of receivers all outside (background, or served by another layer of a cascade set:
+  // layered.hpp) needs no lookup: their visibility is 1 whatever the basis holds.
+#if SF_RX_VEC == 1
+  if (!inside) {  // a scalar comparison is 1, not -1: any() would test its sign bit
+#else
+  if (!any(inside)) {
+#endif
+    sf_rx_vstore(one, out + i0);
+    return;
+  }
   sf_rxf b[SF_CHANNELS];
   sf_rx_lookup(basis, chain, sat, level_offsets, width, height, select(centre, ui, inside),
                select(centre, vi, inside), f ? sf_rx_vload(f + i0) : one, b);

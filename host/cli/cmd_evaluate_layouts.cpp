@@ -12,6 +12,7 @@
 #include "io_detail.hpp"
 #include "layout_eval.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/methods.hpp"
 #include "verbose.hpp"
 
 namespace sf::cli {
@@ -35,7 +36,9 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
       "texels along a camera path: errors against ray-traced references (all receivers and the nearest 10% "
       "of the view), texels per pixel, flicker between frames and time per frame");
   c->add_option("scenes", a.scenes, "Built-in scene names (city, treeline, ...) or mesh files")->required();
-  c->add_option("-o,--output", a.out_dir, "Output directory (results_layouts.csv, results_layouts.md)")->required();
+  c->add_option("-o,--output", a.out_dir,
+                "Output directory (results_layouts.csv, results_layouts.md, layouts_SCENE.png)")
+      ->required();
   c->add_option("--layouts", a.layouts, "Comma-separated: single, pssm, tsm, pssm+tsm")->capture_default_str();
   c->add_option("--cascade-counts", a.cascade_counts, "Comma-separated layer counts of pssm and pssm+tsm")
       ->capture_default_str();
@@ -104,18 +107,26 @@ int run_evaluate_layouts(EvaluateLayoutsArgs& a) {
   const int root = static_cast<int>(std::lround(std::sqrt(std::max(0, r.soft_samples))));
   if (r.soft_samples < 0 || root * root != r.soft_samples) throw InputError("--samples must be a square number");
   r.lookup = a.lookup == "bilinear" ? Lookup::Bilinear : a.lookup == "sat" ? Lookup::Sat : Lookup::Mips;
-  std::error_code ec;
-  fs::create_directories(a.out_dir, ec);
-  if (!fs::is_directory(a.out_dir)) throw InputError("cannot create output directory '" + a.out_dir + "'");
+  for (const std::string& m : r.methods) find_method(m);  // InputError for unknown methods
+  if (r.methods.empty()) throw InputError("--methods names no method");
 
   auto runtime = Runtime::create(r.device);
   apply_verbose(*runtime, a.verbose);
   const auto rows = eval::evaluate_layouts(runtime, r, [&](const std::string& line) {
     if (!a.quiet) std::cerr << line << "\n";
   });
+  // The output directory only once there is something to write: bad input leaves nothing.
+  std::error_code ec;
+  fs::create_directories(a.out_dir, ec);
+  if (!fs::is_directory(a.out_dir)) throw InputError("cannot create output directory '" + a.out_dir + "'");
   const std::string table = eval::layout_markdown(rows);
   eval::write_layout_csv((fs::path(a.out_dir) / "results_layouts.csv").string(), rows);
   io::detail::write_text_atomically((fs::path(a.out_dir) / "results_layouts.md").string(), table, "results file");
+  std::vector<std::string> scenes;
+  for (const auto& row : rows)
+    if (std::find(scenes.begin(), scenes.end(), row.scene) == scenes.end()) scenes.push_back(row.scene);
+  for (const std::string& scene : scenes)
+    eval::write_layout_plot((fs::path(a.out_dir) / ("layouts_" + scene + ".png")).string(), rows, scene);
   if (!a.quiet) std::cout << table;
   return 0;
 }

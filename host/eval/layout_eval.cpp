@@ -9,6 +9,10 @@
 #include <map>
 #include <sstream>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "drawing.hpp"
 #include "eval_util.hpp"
 #include "io_detail.hpp"
 #include "layer_render.hpp"
@@ -377,6 +381,70 @@ std::string layout_markdown(const std::vector<LayoutRow>& rows) {
         << fmt(w.texels_p10, 2) << " / " << fmt(w.texels_p50, 2) << " / " << fmt(w.texels_p90, 2) << " ("
         << fmt(w.texels_near_p50, 2) << ") | " << (w.flicker < 0 ? std::string("-") : fmt(w.flicker, 3)) << " |\n";
   return out.str();
+}
+
+void write_layout_plot(const std::string& path, const std::vector<LayoutRow>& rows, const std::string& scene) {
+  namespace IBA = OIIO::ImageBufAlgo;
+  std::vector<std::string> layouts, methods;
+  const auto add = [](std::vector<std::string>& list, const std::string& s) {
+    if (std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
+  };
+  for (const LayoutRow& w : rows)
+    if (w.scene == scene) add(layouts, w.layout), add(methods, w.method);
+  const auto find = [&](const std::string& layout, const std::string& method) -> const LayoutRow* {
+    for (const LayoutRow& w : rows)
+      if (w.scene == scene && w.layout == layout && w.method == method) return &w;
+    return nullptr;
+  };
+  // Two panels side by side: mismatched pixels in the nearest 10% and flicker, one group of bars
+  // per layout, one bar per method in its colour.
+  const int W = 1200, H = 520, T = 80, B = 70, panel_w = 560, gap = 40, L = 40;
+  OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
+  IBA::fill(img, {1.0f, 1.0f, 1.0f});
+  const std::vector<float> black{0, 0, 0}, grey{0.85f, 0.85f, 0.85f};
+  const std::string title = scene + ": layouts at equal total texels";
+  draw::text(img, 12, 26, title, black, 17);
+  struct Panel {
+    std::string name;
+    double (*value)(const LayoutRow&);
+  };
+  const Panel panels[2] = {{"mismatched pixels against reference_hard, nearest 10% of the view (%)",
+                            [](const LayoutRow& w) { return 100.0 * w.mismatch_near; }},
+                           {"flicker: mean |v(t) - v(t-1)| at the same world points (x 1e-3)",
+                            [](const LayoutRow& w) { return w.flicker < 0 ? 0.0 : 1000.0 * w.flicker; }}};
+  for (int p = 0; p < 2; ++p) {
+    const int x0 = L + p * (panel_w + gap), x1 = x0 + panel_w, y0 = T, y1 = H - B;
+    double vmax = 0;
+    for (const LayoutRow& w : rows)
+      if (w.scene == scene) vmax = std::max(vmax, panels[p].value(w));
+    vmax = vmax > 0 ? vmax * 1.1 : 1.0;
+    draw::text(img, x0, y0 - 14, panels[p].name, black, 12);
+    for (int k = 0; k <= 4; ++k) {
+      const int y = y1 - k * (y1 - y0) / 4;
+      IBA::render_line(img, x0, y, x1, y, grey);
+      draw::text(img, x0 - 36, y + 4, detail::fmt(vmax * k / 4, 2), black, 11);
+    }
+    const int group = panel_w / std::max<size_t>(1, layouts.size());
+    const int bar = std::max(4, (group - 16) / static_cast<int>(std::max<size_t>(1, methods.size())));
+    for (size_t g = 0; g < layouts.size(); ++g) {
+      const int gx = x0 + static_cast<int>(g) * group + 8;
+      for (size_t m = 0; m < methods.size(); ++m) {
+        const LayoutRow* w = find(layouts[g], methods[m]);
+        if (!w) continue;
+        const int h = static_cast<int>(panels[p].value(*w) / vmax * (y1 - y0));
+        IBA::fill(img, draw::method_colour(methods[m]),
+                  OIIO::ROI(gx + static_cast<int>(m) * bar, gx + static_cast<int>(m + 1) * bar - 2, y1 - h, y1));
+      }
+      draw::text(img, gx, y1 + 18, layouts[g], black, 12);
+    }
+    IBA::render_box(img, x0, y0, x1, y1, black);
+  }
+  for (size_t m = 0; m < methods.size(); ++m) {
+    const int x = L + static_cast<int>(m) * 120;
+    IBA::fill(img, draw::method_colour(methods[m]), OIIO::ROI(x, x + 14, H - 30, H - 16));
+    draw::text(img, x + 20, H - 17, methods[m], black, 13);
+  }
+  draw::write_png8(path, img, title);
 }
 
 }  // namespace sf::eval

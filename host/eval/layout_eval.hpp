@@ -98,5 +98,8 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
 // results_layouts.csv; a Markdown table in the shape of seed 001's Table 2 with the error columns.
 void write_layout_csv(const std::string& path, const std::vector<LayoutRow>& rows);
 std::string layout_markdown(const std::vector<LayoutRow>& rows);
+// layouts_<scene>.png: per layout, the methods' mismatched pixels in the nearest 10% and their
+// flicker, as bars (8-bit RGB, written atomically).
+void write_layout_plot(const std::string& path, const std::vector<LayoutRow>& rows, const std::string& scene);
 
 }  // namespace sf::eval

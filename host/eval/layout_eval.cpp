@@ -398,7 +398,7 @@ void write_layout_plot(const std::string& path, const std::vector<LayoutRow>& ro
   };
   // Two panels side by side: mismatched pixels in the nearest 10% and flicker, one group of bars
   // per layout, one bar per method in its colour.
-  const int W = 1200, H = 520, T = 80, B = 70, panel_w = 560, gap = 40, L = 40;
+  const int W = 1260, H = 540, T = 80, B = 84, panel_w = 560, gap = 80, L = 50;
   OIIO::ImageBuf img(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
   IBA::fill(img, {1.0f, 1.0f, 1.0f});
   const std::vector<float> black{0, 0, 0}, grey{0.85f, 0.85f, 0.85f};
@@ -435,7 +435,7 @@ void write_layout_plot(const std::string& path, const std::vector<LayoutRow>& ro
         IBA::fill(img, draw::method_colour(methods[m]),
                   OIIO::ROI(gx + static_cast<int>(m) * bar, gx + static_cast<int>(m + 1) * bar - 2, y1 - h, y1));
       }
-      draw::text(img, gx, y1 + 18, layouts[g], black, 12);
+      draw::text(img, gx, y1 + 18 + static_cast<int>(g % 2) * 15, layouts[g], black, 12);  // staggered
     }
     IBA::render_box(img, x0, y0, x1, y1, black);
   }

@@ -11,6 +11,8 @@ namespace sf {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Stabilised layers move in steps of this many texels: mip levels 0..5 keep their texel blocks.
+constexpr int kStableSnapTexels = 32;
 
 double dot3(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Point3 cross3(const Point3& a, const Point3& b) {
@@ -206,12 +208,18 @@ CascadeLayer fit_uniform(const LayoutOptions& o, const CameraFrustum& cam, const
     double centre_depth = 0, radius = 0;
     slice_sphere(s.a, s.b, k, centre_depth, radius);
     const Point3 centre = add3(cam.position, scale3(centre_depth, cam.forward));
-    // Whole texels along the light's axes: a static texel grid in world space.
-    const double texel = 2.0 * radius / o.map_size;
-    const double cx = std::round(dot3(centre, axes.right) / texel) * texel;
-    const double cy = std::round(dot3(centre, axes.down) / texel) * texel;
-    x = {cx - radius, cx + radius};
-    y = {cy - radius, cy + radius};
+    // The map moves in steps of `snap` texels along the light's axes: a static texel grid in
+    // world space, and static mip levels too up to log2(snap) (a one-texel step regroups every
+    // 2x2 block of the mips: evaluate-layouts measured it as the whole of treeline's residual
+    // flicker). The centre moves up to snap/2 texels off the sphere's, so the square is that much
+    // wider than the sphere: texel = 2 r / (size - snap).
+    const int snap = std::min(kStableSnapTexels, std::max(1, o.map_size / 8));
+    const double texel = 2.0 * radius / (o.map_size - snap);
+    const double half = 0.5 * texel * o.map_size, step = snap * texel;
+    const double cx = std::round(dot3(centre, axes.right) / step) * step;
+    const double cy = std::round(dot3(centre, axes.down) / step) * step;
+    x = {cx - half, cx + half};
+    y = {cy - half, cy + half};
   } else {
     for (const Point3& c : corners) x.add(dot3(c, axes.right)), y.add(dot3(c, axes.down));
   }

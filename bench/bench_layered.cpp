@@ -94,12 +94,7 @@ void BM_LayeredFrame(benchmark::State& state) {
   opt.esm_classify.mode = EsmClassify::None;  // as esm_pipeline (bench_pipeline.cpp)
   const CameraFrustum cam = bench_camera();
   const ViewReceivers view = ground_view(cam);
-  DeviceViewReceivers rx;
-  rx.count = view.count();
-  rx.width = view.width;
-  rx.x = to_device(view.x), rx.y = to_device(view.y), rx.z = to_device(view.z), rx.depth = to_device(view.depth);
-  rx.dxx = to_device(view.dxx), rx.dxy = to_device(view.dxy), rx.dxz = to_device(view.dxz);
-  rx.dyx = to_device(view.dyx), rx.dyy = to_device(view.dyy), rx.dyz = to_device(view.dyz);
+  const DeviceViewReceivers rx = upload_view_receivers(runtime(), view);
   cl::Buffer vis = device_buffer(view.count() * sizeof(float));
   Frame single = make_frame(opt, LayoutKind::Single, 1, size, cam);
   Frame four = make_frame(opt, LayoutKind::Pssm, 4, size / 2, cam);

@@ -180,12 +180,7 @@ struct DeviceView {
 };
 DeviceView upload(const ViewReceivers& v) {
   DeviceView d;
-  d.rx.count = v.count();
-  d.rx.width = v.width;
-  const std::vector<float>* host[] = {&v.x, &v.y, &v.z, &v.depth, &v.dxx, &v.dxy, &v.dxz, &v.dyx, &v.dyy, &v.dyz};
-  cl::Buffer* dev[] = {&d.rx.x,   &d.rx.y,   &d.rx.z,   &d.rx.depth, &d.rx.dxx,
-                       &d.rx.dxy, &d.rx.dxz, &d.rx.dyx, &d.rx.dyy,   &d.rx.dyz};
-  for (int n = 0; n < 10; ++n) *dev[n] = test::to_device(*host[n]);
+  d.rx = upload_view_receivers(test::runtime(), v);
   d.visibility = test::to_device(std::vector<float>(v.count(), -1.0f));
   return d;
 }

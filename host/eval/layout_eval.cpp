@@ -65,7 +65,7 @@ struct LayeredTiming {
 };
 
 LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const CascadeSet& set,
-                           const std::vector<HostImage>& maps, const ViewReceivers& view, int runs) {
+                           const std::vector<HostImage>& maps, const DeviceViewReceivers& rx, int runs) {
   LayeredPipeline pipe(rt, o, set);
   auto& q = rt->queue();
   const auto up = [&](const std::vector<float>& h) {
@@ -80,12 +80,6 @@ LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptio
     ranges.push_back(depth_range(m));
   }
   pipe.set_depth_ranges(ranges);  // no device reduction inside the timed loop
-  DeviceViewReceivers rx;
-  rx.count = view.count();
-  rx.width = view.width;
-  rx.x = up(view.x), rx.y = up(view.y), rx.z = up(view.z), rx.depth = up(view.depth);
-  rx.dxx = up(view.dxx), rx.dxy = up(view.dxy), rx.dxz = up(view.dxz);
-  rx.dyx = up(view.dyx), rx.dyy = up(view.dyy), rx.dyz = up(view.dyz);
   cl::Buffer vis(rt->context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, rx.count * sizeof(float)));
   std::vector<double> wall, pre, rec;
   for (int i = 0; i < 1 + runs; ++i) {
@@ -208,13 +202,8 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
     scene::CameraPathOptions path;
     path.frames = r.frames;
     path.kind = r.camera_path == "orbit" ? scene::CameraPathKind::Orbit : scene::CameraPathKind::Walk;
-    {
-      const scene::Vec3 look = setup.camera.target - setup.camera.position;
-      scene::Vec3 ahead{look.x, 0.0, look.z};
-      ahead = scene::length(ahead) > 1e-9 ? scene::normalize(ahead) : scene::normalize(look);
-      path.walk_to = setup.camera.position + ((r.frames - 1) * r.walk_step) * ahead;
-      path.orbit_degrees = (r.frames - 1) * r.orbit_step_degrees;
-    }
+    path.walk_to = setup.camera.position + ((r.frames - 1) * r.walk_step) * scene::ground_ahead(setup.camera);
+    path.orbit_degrees = (r.frames - 1) * r.orbit_step_degrees;
     double near_depth = defaults.camera_near, far_depth = defaults.camera_far;
     if (!(near_depth > 0.0 && far_depth > near_depth)) {
       const scene::ViewDepths depths = scene::default_view_depths(setup.camera, setup.geometry);
@@ -243,16 +232,22 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
         near[i] = mask[i] && view.depth[i] <= near_limit;
       }
       const std::vector<float>& hard = camera.reference_hard.data;
-      const std::vector<float> soft = r.soft_samples > 0 ? camera.reference_soft.data : std::vector<float>{};
+      static const std::vector<float> kNoSoft;
+      const std::vector<float>& soft = r.soft_samples > 0 ? camera.reference_soft.data : kNoSoft;
       const CameraFrustum frustum = scene::camera_frustum(cameras[frame], near_depth, far_depth);
-      // This frame's receivers with their view depths in the previous frame's camera (flicker).
-      ViewReceivers previous_view = view;
+      // The view on the device once a frame; for the flicker figure, the same receivers with their
+      // view depths in the previous frame's camera (only the depth buffer differs).
+      const DeviceViewReceivers rx = upload_view_receivers(*rt, view);
+      DeviceViewReceivers previous_rx = rx;
       if (frame > 0) {
         const CameraFrustum before = scene::camera_frustum(cameras[frame - 1], near_depth, far_depth);
+        std::vector<float> depth(n);
         for (size_t i = 0; i < n; ++i)
-          previous_view.depth[i] = static_cast<float>((view.x[i] - before.position[0]) * before.forward[0] +
-                                                      (view.y[i] - before.position[1]) * before.forward[1] +
-                                                      (view.z[i] - before.position[2]) * before.forward[2]);
+          depth[i] = static_cast<float>((view.x[i] - before.position[0]) * before.forward[0] +
+                                        (view.y[i] - before.position[1]) * before.forward[1] +
+                                        (view.z[i] - before.position[2]) * before.forward[2]);
+        previous_rx.depth = cl::Buffer(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(n, 1) * sizeof(float));
+        if (n) rt->queue().enqueueWriteBuffer(previous_rx.depth, CL_TRUE, 0, n * sizeof(float), depth.data());
       }
 
       for (size_t c = 0; c < configs.size(); ++c) {
@@ -297,7 +292,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           row.stabilize = config.stabilize;
           ++row.frames;
 
-          const LayeredTiming timed = time_layered(rt, o, set, maps, view, r.timing_runs);
+          const LayeredTiming timed = time_layered(rt, o, set, maps, rx, r.timing_runs);
           const FrameMetrics m = frame_metrics(timed.visibility, hard, soft, mask, near);
           a.sum.counted += m.counted;
           a.sum.counted_near += m.counted_near;
@@ -318,7 +313,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
             // picking its layer by its view depth in last frame's camera: what the previous frame
             // showed there. On a static scene the reference does not change at a world point, so
             // every difference is the layout's (texels moving, receivers changing layers).
-            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, previous_view, 0);
+            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, previous_rx, 0);
             a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
             ++a.flicker_pairs;
           }

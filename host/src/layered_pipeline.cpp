@@ -52,6 +52,31 @@ FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSe
   return o;
 }
 
+DeviceViewReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events) {
+  const size_t count = view.count();
+  const std::vector<float>* host[] = {&view.x,   &view.y,   &view.z,   &view.depth, &view.dxx,
+                                      &view.dxy, &view.dxz, &view.dyx, &view.dyy,   &view.dyz};
+  for (const auto* a : host)
+    if (a->size() != count) throw InputError("the view receivers' data does not match their size");
+  DeviceViewReceivers rx;
+  rx.count = count;
+  rx.width = view.width;
+  cl::Buffer* device[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
+  try {
+    for (int n = 0; n < 10; ++n) {
+      *device[n] = cl::Buffer(runtime.context(), CL_MEM_READ_ONLY, std::max<size_t>(count, 1) * sizeof(float));
+      if (count == 0) continue;
+      cl::Event written;
+      runtime.queue().enqueueWriteBuffer(*device[n], events ? CL_FALSE : CL_TRUE, 0, count * sizeof(float),
+                                         host[n]->data(), nullptr, events ? &written : nullptr);
+      if (events) events->push_back(written);
+    }
+  } catch (const cl::Error& e) {
+    detail::throw_device_error("upload_view_receivers", e);
+  }
+  return rx;
+}
+
 double LayeredTimes::total() const {
   const StageTimes& s = sum;
   return s.transform + s.blur + s.pyramid + s.sat + s.zmax + s.reconstruct + s.classify + project + blend;
@@ -243,10 +268,6 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
                        std::to_string(set.width) + "x" + std::to_string(set.height));
   }
   const size_t count = view.count();
-  const std::vector<float>* arrays[] = {&view.x,   &view.y,   &view.z,   &view.depth, &view.dxx,
-                                        &view.dxy, &view.dxz, &view.dyx, &view.dyy,   &view.dyz};
-  for (const auto* a : arrays)
-    if (a->size() != count) throw InputError("filter_layered: the view receivers' data does not match their size");
   if (!view.ndl.empty() && view.ndl.size() != count)
     throw InputError("filter_layered: the view receivers' ndl does not match their size");
 
@@ -278,11 +299,7 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
   };
   std::vector<cl::Buffer> depth;
   for (const HostImage& m : maps) depth.push_back(upload(m.data));
-  DeviceViewReceivers rx;
-  rx.count = count;
-  rx.width = view.width;
-  cl::Buffer* device[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
-  for (int n = 0; n < 10; ++n) *device[n] = upload(*arrays[n]);
+  const DeviceViewReceivers rx = upload_view_receivers(rt, view, &uploads);
   cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, std::max<size_t>(count, 1) * sizeof(float));
 
   EventList filtered{pipe.prefilter(depth, uploads.empty() ? nullptr : &uploads)};

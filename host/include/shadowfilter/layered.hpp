@@ -34,6 +34,11 @@ struct DeviceViewReceivers {
   cl::Buffer dxx, dxy, dxz, dyx, dyy, dyz;
 };
 
+// The view receivers in new device buffers (count and width set). With `events` the writes are
+// non-blocking and their events are appended to it; without, they block. InputError when an
+// array's length differs from view.count().
+DeviceViewReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events = nullptr);
+
 // The world size of a layer's texel where the blur is matched: layer_texel_size at the world
 // point of its map centre, (u, v, d) = (1/2, 1/2, 1/2). A warped layer's texels vary across its
 // map; the centre is the one point every layout has.

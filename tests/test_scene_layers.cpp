@@ -2,16 +2,15 @@
 // large scenes, the camera view as world positions (view.exr), the layers' depth maps, camera
 // paths and their options. Tiny sizes: the whole file runs in seconds.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <sstream>
 
 #include "cascade_io.hpp"
+#include "cli_runner.hpp"
 #include "image_io.hpp"
 #include "io_detail.hpp"
 #include "layer_render.hpp"
@@ -25,26 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace sf::scene;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string err;
-};
-
-std::string read_all(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliRun scene_cli(const std::string& args, const std::string& dir) {
-  const std::string err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SF_CLI_PATH) + " scene " + args + " > /dev/null 2> " + err;
-  const int status = std::system(cmd.c_str());
-  CliRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(err)};
-  fs::remove(err);
-  return r;
-}
+// `shadowfilter scene ARGS` (cli_runner.hpp).
+RunResult scene_cli(const std::string& args, const std::string& dir) { return run_cli("scene " + args, dir); }
 
 SceneRequest tiny_request(const std::string& scene) {
   SceneRequest request;
@@ -104,7 +85,7 @@ TEST(SceneLayers, CityAndTreelineHaveShadows) {
 TEST(SceneLayers, ViewMatchesReceiversAndLayersLoadBack) {
   const std::string dir = temp_dir("scene_layers_view");
   const std::string out = dir + "/city";
-  const CliRun r =
+  const RunResult r =
       scene_cli("city -o " + out + " --size 64 --receivers 64x48 --samples 1 -q --layout pssm --cascades 3", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const ViewReceivers view = io::load_view_receivers(out + "/view.exr");
@@ -147,7 +128,7 @@ TEST(SceneLayers, ViewMatchesReceiversAndLayersLoadBack) {
     EXPECT_TRUE(std::all_of(z.begin(), z.end(), [](float d) { return d >= 0.0f && d <= 1.0f; }));
     EXPECT_LT(*std::min_element(z.begin(), z.end()), 1.0f) << "layer " << k << " sees nothing";
   }
-  EXPECT_NE(read_all(out + "/scene.json").find("\"world_to_map\""), std::string::npos);
+  EXPECT_NE(slurp(out + "/scene.json").find("\"world_to_map\""), std::string::npos);
 }
 
 // A `single` layer fitted without stabilisation is an orthographic map: the scene renderer's own
@@ -201,7 +182,7 @@ TEST(SceneLayers, SingleLayerMatchesRayTracedDepths) {
 TEST(SceneLayers, FramesMoveTheCamera) {
   const std::string dir = temp_dir("scene_layers_frames");
   const std::string out = dir + "/orbit";
-  const CliRun r =
+  const RunResult r =
       scene_cli("spheres -o " + out +
                     " --size 32 --receivers 32x24 --samples 1 -q --frames 3 --camera-path orbit --layout single",
                 dir);
@@ -212,8 +193,8 @@ TEST(SceneLayers, FramesMoveTheCamera) {
   EXPECT_FALSE(fs::exists(fs::path(out) / "frame_003"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "shadowmap.exr"));
   EXPECT_FALSE(fs::exists(fs::path(out) / "receivers.exr"));
-  EXPECT_NE(read_all(fs::path(out) / "frame_000/view.exr"), read_all(fs::path(out) / "frame_002/view.exr"));
-  EXPECT_NE(read_all(fs::path(out) / "scene.json").find("\"dir\": \"frame_002\""), std::string::npos);
+  EXPECT_NE(slurp(fs::path(out) / "frame_000/view.exr"), slurp(fs::path(out) / "frame_002/view.exr"));
+  EXPECT_NE(slurp(fs::path(out) / "scene.json").find("\"dir\": \"frame_002\""), std::string::npos);
 
   for (const char* path : {"walk", "orbit"}) {
     SceneRequest request = tiny_request("city");
@@ -244,7 +225,8 @@ class SceneLayerErrors : public ::testing::TestWithParam<std::pair<const char*, 
 TEST_P(SceneLayerErrors, ExitTwoOneLineNothingWritten) {
   const auto& [args, expect] = GetParam();
   const std::string dir = temp_dir("scene_layer_errors_" + std::to_string(std::hash<std::string>{}(args)));
-  const CliRun r = scene_cli(std::string(args) + " --size 16 --receivers 16x12 --samples 1 -q -o " + dir + "/out", dir);
+  const RunResult r =
+      scene_cli(std::string(args) + " --size 16 --receivers 16x12 --samples 1 -q -o " + dir + "/out", dir);
   EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
   EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -128,6 +128,12 @@ sf::ViewReceivers view_receivers(const HostImage& view) {
   return v;
 }
 
+Vec3 ground_ahead(const PerspectiveCamera& camera) {
+  const Vec3 axis = normalize(camera.target - camera.position);
+  const Vec3 ahead{axis.x, 0.0, axis.z};
+  return length(ahead) > 1e-9 ? normalize(ahead) : axis;
+}
+
 std::vector<PerspectiveCamera> camera_path(const PerspectiveCamera& start, const CameraPathOptions& options,
                                            double far_depth) {
   if (options.frames < 1 || options.frames > kMaxFrames)
@@ -142,12 +148,7 @@ std::vector<PerspectiveCamera> camera_path(const PerspectiveCamera& start, const
     if (options.walk_to) {
       walk_to = *options.walk_to;
     } else {
-      // Ahead on the ground: the look direction without its vertical part (or the look direction
-      // itself when the camera looks straight down or up).
-      const Vec3 axis = normalize(look);
-      Vec3 ahead{axis.x, 0.0, axis.z};
-      ahead = length(ahead) > 1e-9 ? normalize(ahead) : axis;
-      walk_to = start.position + (0.1 * far_depth) * ahead;
+      walk_to = start.position + (0.1 * far_depth) * ground_ahead(start);
     }
   }
   for (int i = 0; i < options.frames; ++i) {

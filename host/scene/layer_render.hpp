@@ -47,6 +47,10 @@ std::vector<HostImage> render_layers(const RayTracer& tracer, const sf::CascadeS
 // reads the file back).
 sf::ViewReceivers view_receivers(const HostImage& view);
 
+// The direction a walk takes: the camera's look direction without its vertical part (the look
+// direction itself when the camera looks straight down or up), unit length.
+Vec3 ground_ahead(const PerspectiveCamera& camera);
+
 // A camera path of `frames` cameras starting with `start`:
 //  Walk: a straight line from start.position to `walk_to` (default: 10% of far_depth ahead along
 //        the look direction projected on the ground), the look direction kept (the target moves

@@ -187,6 +187,27 @@ SceneDefaults thin() {
   return s;
 }
 
+// A ground mesh over |x|, |z| <= half: cells x cells squares of two triangles each, the vertex
+// of grid point (i, j) at height(x, z).
+TriMesh height_field(const std::string& name, double half, int cells, double (*height)(double, double)) {
+  TriMesh mesh;
+  mesh.name = name;
+  mesh.ground = true;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      const double x = -half + 2.0 * half * i / cells;
+      const double z = -half + 2.0 * half * j / cells;
+      mesh.vertices.push_back({x, height(x, z), z});
+    }
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
+      mesh.triangles.push_back({a, c, b});
+      mesh.triangles.push_back({b, c, d});
+    }
+  return mesh;
+}
+
 double terrain_height(double x, double z) {
   return 0.9 + 0.55 * std::sin(0.8 * x + 0.4) * std::cos(0.65 * z - 0.3) + 0.3 * std::sin(1.7 * x + 1.3 * z + 2.0) +
          0.14 * std::sin(3.1 * x - 2.6 * z + 0.7) + 0.07 * std::cos(5.3 * x + 4.1 * z + 1.9) +
@@ -201,22 +222,7 @@ SceneDefaults terrain() {
   g.name = "terrain";
   s.purpose = "self-shadowing height field under a low light: acne and bias";
   constexpr int kCells = 200;
-  TriMesh mesh;
-  mesh.name = "terrain";
-  mesh.ground = true;
-  for (int j = 0; j <= kCells; ++j)
-    for (int i = 0; i <= kCells; ++i) {
-      const double x = -kFloorHalfSize + 2.0 * kFloorHalfSize * i / kCells;
-      const double z = -kFloorHalfSize + 2.0 * kFloorHalfSize * j / kCells;
-      mesh.vertices.push_back({x, terrain_height(x, z), z});
-    }
-  for (int j = 0; j < kCells; ++j)
-    for (int i = 0; i < kCells; ++i) {
-      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
-      mesh.triangles.push_back({a, c, b});
-      mesh.triangles.push_back({b, c, d});
-    }
-  g.meshes.push_back(std::move(mesh));
+  g.meshes.push_back(height_field("terrain", kFloorHalfSize, kCells, terrain_height));
   g.description.push_back(
       "{\"type\": \"height_field\", \"name\": \"terrain\", \"extent\": [-4, 4], \"cells\": 200, "
       "\"height\": \"0.9 + 0.55 sin(0.8x+0.4) cos(0.65z-0.3) + 0.3 sin(1.7x+1.3z+2) + 0.14 "
@@ -312,21 +318,7 @@ SceneDefaults treeline() {
       "occluders, self-shadowing ground, PSSM and TSM (seed 001)";
   constexpr double kHalf = 500.0;
   constexpr int kCells = 80;
-  TriMesh ground;
-  ground.name = "terrain";
-  ground.ground = true;
-  for (int j = 0; j <= kCells; ++j)
-    for (int i = 0; i <= kCells; ++i) {
-      const double x = -kHalf + 2.0 * kHalf * i / kCells, z = -kHalf + 2.0 * kHalf * j / kCells;
-      ground.vertices.push_back({x, treeline_height(x, z), z});
-    }
-  for (int j = 0; j < kCells; ++j)
-    for (int i = 0; i < kCells; ++i) {
-      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
-      ground.triangles.push_back({a, c, b});
-      ground.triangles.push_back({b, c, d});
-    }
-  g.meshes.push_back(std::move(ground));
+  g.meshes.push_back(height_field("terrain", kHalf, kCells, treeline_height));
   g.description.push_back(
       "{\"type\": \"height_field\", \"name\": \"terrain\", \"extent\": [-500, 500], \"cells\": 80, "
       "\"height\": \"12 sin(x/170+0.3) cos(z/210-0.5) + 6 sin((x+z)/90+1) + 2 sin(x/37-z/45)\"}");

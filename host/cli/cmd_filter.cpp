@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "image_io.hpp"
+#include "output_file.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -22,17 +23,6 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 }  // namespace
-
-// The output must never overwrite one of the inputs.
-void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  for (const auto& in : inputs) {
-    if (in.empty()) continue;
-    if (fs::exists(out, ec) && fs::equivalent(out, in, ec))
-      throw InputError("output '" + out + "' is the input '" + in + "'; refusing to overwrite an input");
-  }
-}
 
 CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* c = app.add_subcommand("filter", "Filter a shadow map and write the visibility of receivers");
@@ -74,7 +64,8 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
                 "OpenCL device: P:D, index, gpu, cpu or a name substring "
                 "(default: $SHADOWFILTER_DEVICE, else first GPU, else CPU)");
   c->add_option("--vector-width", a.options.schedule.blur_vector_width, "Blur texels per work-item (4, 8, 16)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({4, 8, 16}));
   c->add_option("--schedule", a.options.schedule.family,
                 "Launch shapes of the blur, SAT and pyramid: auto (by device type), cpu or gpu")
       ->transform(CLI::CheckedTransformer(
@@ -115,13 +106,9 @@ int run_filter(const FilterArgs& a) {
   if (a.receivers.empty() == a.receiver_depth.empty())
     throw InputError("give exactly one of --receivers or --receiver-depth");
   const std::string preview = a.preview ? io::preview_path(a.output) : "";
-  check_output_is_not_an_input(a.output, {shadow_map, a.receivers, a.receiver_depth});
-  if (!preview.empty()) check_output_is_not_an_input(preview, {shadow_map, a.receivers, a.receiver_depth});
-  if (!a.flags_out.empty()) {
-    if (classify_mode(a.options) == EsmClassify::None)
-      throw InputError("--flags-out needs a classification (--method esm, or --esm-classify zmax or threshold)");
-    check_output_is_not_an_input(a.flags_out, {shadow_map, a.receivers, a.receiver_depth, a.output});
-  }
+  if (!a.flags_out.empty() && classify_mode(a.options) == EsmClassify::None)
+    throw InputError("--flags-out needs a classification (--method esm, or --esm-classify zmax or threshold)");
+  io::check_outputs({a.output, preview, a.flags_out}, {shadow_map, a.receivers, a.receiver_depth});
 
   const io::DepthLoadOptions load = depth_load_options(a);
   const HostImage depth = io::load_depth_map(shadow_map, load);

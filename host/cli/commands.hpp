@@ -68,8 +68,6 @@ int run_filter(const FilterArgs& args);
 int run_filter_batch(const FilterArgs& args);
 // filter --cascades: the layered maps of a cascade set onto a camera view (filter_layered.cpp).
 int run_filter_layered(const FilterArgs& args);
-// InputError when `out` is one of `inputs` (an existing file that is the same file).
-void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs);
 // --encoding, --near, --far and --nonfinite as the loaders take them (InputError when invalid).
 io::DepthLoadOptions depth_load_options(const FilterArgs& args);
 
@@ -78,7 +76,7 @@ struct SceneArgs {
   int map_size = 2048, samples = 64, threads = 0;
   unsigned seed = 1;
   std::vector<double> light_dir, light_pos;
-  double fov = 0.0;
+  double fov = std::numeric_limits<double>::quiet_NaN();         // NaN: fitted
   double light_size = std::numeric_limits<double>::quiet_NaN();  // NaN: the scene's default
   bool quiet = false;
   // Camera and path (NaN / empty: the scene's default; CLI numbers are finite, finite_numbers.hpp).

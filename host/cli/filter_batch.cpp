@@ -93,7 +93,7 @@ int run_filter_batch(const FilterArgs& a) {
       } catch (const InputError& e) {
         throw InputError(frames[i].where + ": " + e.what());
       }
-  check_batch_outputs(frames, previews);
+  check_batch_outputs(frames, previews, a.frames);
 
   const io::DepthLoadOptions load = depth_load_options(a);
   auto runtime = Runtime::create(a.device);

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "image_io.hpp"
+#include "output_file.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
@@ -53,8 +54,7 @@ int run_filter_layered(const FilterArgs& a) {
   std::vector<std::string> inputs = files;
   inputs.push_back(a.view);
   const std::string preview = a.preview ? io::preview_path(a.output) : "";
-  check_output_is_not_an_input(a.output, inputs);
-  if (!preview.empty()) check_output_is_not_an_input(preview, inputs);
+  io::check_outputs({a.output, preview}, inputs);
 
   io::LayeredMaps layered = io::load_cascade_set(files);
   if (!std::isnan(a.cascade_blend)) layered.set.blend = a.cascade_blend;

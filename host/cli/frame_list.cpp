@@ -1,13 +1,12 @@
 #include "frame_list.hpp"
 
-#include <sys/stat.h>
-
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::cli {
 namespace {
@@ -44,17 +43,13 @@ std::string relative_to(const fs::path& dir, const std::string& path) {
   return p.is_absolute() ? p.string() : (dir / p).lexically_normal().string();
 }
 
-// One key per file whatever the spelling of its path: device and inode where the file exists
-// (links included), else its normalised absolute path (an output not written yet).
-std::string file_key(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
-  return fs::absolute(path).lexically_normal().string();
-}
+// One key per file whatever the spelling of its path (io::file_identity).
+std::string file_key(const std::string& path) { return io::file_identity(path); }
 
 }  // namespace
 
 std::vector<FrameSpec> read_frame_list(const std::string& list) {
+  io::record_input(list);
   std::ifstream in(list);
   if (!in) throw InputError("frame list '" + list + "': cannot open it");
   const fs::path dir = fs::path(list).parent_path();
@@ -103,8 +98,9 @@ std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, cons
 }
 
 void check_batch_outputs(const std::vector<FrameSpec>& frames,
-                         const std::vector<std::vector<std::string>>& extra_outputs) {
+                         const std::vector<std::vector<std::string>>& extra_outputs, const std::string& list) {
   std::map<std::string, std::string> inputs;  // file -> the first frame reading it
+  if (!list.empty()) inputs.emplace(file_key(list), "the frame list");
   for (const FrameSpec& f : frames)
     for (const std::string* in : {&f.shadow_map, &f.receivers, &f.receiver_depth})
       if (!in->empty()) inputs.emplace(file_key(*in), f.where);

@@ -23,8 +23,9 @@ std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, cons
                                       const std::string& extension);
 
 // Refuses a batch (InputError) where two frames write one file or a frame's output (or its
-// `extra` outputs, e.g. the preview) is any frame's input: checked before any frame runs.
+// `extra` outputs, e.g. the preview) is any frame's input or the list itself (`list`, "" for
+// none): checked before any frame runs.
 void check_batch_outputs(const std::vector<FrameSpec>& frames,
-                         const std::vector<std::vector<std::string>>& extra_outputs);
+                         const std::vector<std::vector<std::string>>& extra_outputs, const std::string& list);
 
 }  // namespace sf::cli

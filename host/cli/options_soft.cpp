@@ -14,6 +14,7 @@
 #include "image_io.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::cli {
 namespace {
@@ -179,10 +180,12 @@ int run_soft(const SoftArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   SoftOptions opt = soft_options(a);
   if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");
+  io::check_outputs({a.output}, {a.shadow_map, a.receivers, a.receiver_depth, a.lights});
   std::vector<SoftLightInput> lights;
   if (!a.lights.empty()) {
     if (!a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
       throw InputError("--lights replaces --shadow-map and --receivers");
+    io::record_input(a.lights);
     std::ifstream in(a.lights);
     if (!in) throw InputError("cannot read the light list '" + a.lights + "'");
     const auto dir = std::filesystem::path(a.lights).parent_path();

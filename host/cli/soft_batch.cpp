@@ -21,7 +21,7 @@ int run_soft_batch(const SoftArgs& a) {
     throw InputError("--frames replaces --shadow-map, --receivers, --receiver-depth and --lights");
   const SoftOptions opt = soft_options(a);
   const std::vector<FrameSpec> frames = read_frame_list(a.frames);
-  check_batch_outputs(frames, {});
+  check_batch_outputs(frames, {}, a.frames);
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
   SoftTimes device;

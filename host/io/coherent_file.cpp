@@ -4,11 +4,13 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
 
 #include "io_detail.hpp"
+#include "output_file.hpp"
 
 namespace sf::io {
 namespace {
@@ -136,18 +138,11 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
   for (uint32_t v : c.segments) w.u32(v);
   w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
 
-  detail::TemporaryFile temporary(detail::temporary_path_for(path));
-  {
-    std::ofstream out(temporary.path(), std::ios::binary | std::ios::trunc);
-    if (!out) fail(kOutputRole, path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
-    out.write(reinterpret_cast<const char*>(w.bytes.data()), std::streamsize(w.bytes.size()));
-    out.close();
-    if (!out) fail(kOutputRole, path, "write failed (" + std::string(std::strerror(errno)) + ")");
-  }
-  detail::move_into_place(temporary, path, kOutputRole);
+  write_file(path, kOutputRole, w.bytes.data(), w.bytes.size());
 }
 
 CoherentFile read_coherent(const std::string& path) {
+  record_input(path);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail(kInputRole, path, "no such file");
   std::ifstream in(path, std::ios::binary);

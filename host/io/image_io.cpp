@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "io_detail.hpp"
+#include "output_file.hpp"
 
 namespace sf::io {
 namespace {
@@ -153,6 +154,7 @@ namespace detail {
 // checked (and the message is always consumed so that it can't leak into a later call).
 RawImage read_raw(const std::string& path, const std::string& role) {
   require_existing_file(path, role);
+  record_input(path);
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
   auto input = OIIO::ImageInput::open(path, &config);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::scene {
 
@@ -112,6 +113,7 @@ EnvMap envmap_from_image(const HostImage& image, const std::string& what) {
 }
 
 EnvMap load_envmap(const std::string& path) {
+  io::record_input(path);
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -179,6 +181,8 @@ HostImage synthetic_sky(const SkyOptions& o) {
                      std::to_string(o.height));
   for (double v : {o.sun_elevation, o.sun_azimuth, o.sun_radius, o.sun_radiance})
     if (!std::isfinite(v)) throw InputError("sky: sun parameters must be finite");
+  if (!(o.sun_elevation >= -90.0 && o.sun_elevation <= 90.0))
+    throw InputError("sky: --sun-elevation must lie in [-90, 90] degrees");
   if (o.sun_radius <= 0.0 || o.sun_radius > 45.0 || o.sun_radiance < 0.0 || o.sun_radiance > 60000.0)
     throw InputError("sky: sun radius must be in (0, 45] degrees and its radiance in [0, 60000] (half floats)");
   const double deg = kPi / 180.0;

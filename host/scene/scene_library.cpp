@@ -12,6 +12,7 @@
 
 #include "scene_files.hpp"
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::scene {
 namespace {
@@ -398,6 +399,7 @@ SceneDefaults make_builtin_scene(const std::string& name) {
 }
 
 SceneDefaults load_mesh_scene(const std::string& path) {
+  io::record_input(path);
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError("cannot read mesh '" + path + "': no such file");

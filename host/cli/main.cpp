@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "finite_numbers.hpp"
+#include "help_format.hpp"
 #include "option_names.hpp"
 #include "options_soft.hpp"
 #include "shadowfilter/errors.hpp"
@@ -12,8 +13,11 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"shadowfilter: pre-filtered shadow maps on OpenCL devices"};
+  app.formatter(sf::cli::wrapping_formatter(sf::cli::help_width()));  // before the commands: they inherit it
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
+  app.set_version_flag("--version", "shadowfilter " SF_VERSION);
+  app.footer("Start with `shadowfilter filter --help`; your own depth buffers: docs/inputs.md");
   sf::cli::DevicesArgs devices_args;
   sf::cli::MethodsArgs methods_args;
   sf::cli::FilterArgs filter_args;
@@ -28,6 +32,8 @@ int main(int argc, char** argv) {
   CLI::App* evaluate_layouts = sf::cli::add_evaluate_layouts_command(app, layouts_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
+  sf::cli::ReceiversArgs receivers_args;
+  CLI::App* receivers = sf::cli::add_receivers_command(app, receivers_args);
   sf::cli::CoherentCommands coherent;
   sf::cli::add_coherent_command(app, coherent);
   sf::cli::require_finite_numbers(app);
@@ -36,6 +42,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "shadowfilter: " << e.what() << " (see --help)\n";
@@ -49,6 +57,7 @@ int main(int argc, char** argv) {
     if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
     if (evaluate_layouts->parsed()) return sf::cli::run_evaluate_layouts(layouts_args);
     if (soft->parsed()) return sf::cli::run_soft(soft_args);
+    if (receivers->parsed()) return sf::cli::run_receivers(receivers_args);
     if (coherent.app->parsed()) return sf::cli::run_coherent(coherent);
   } catch (const sf::InputError& e) {
     std::cerr << "shadowfilter: error: " << sf::cli::cli_message(e.what()) << "\n";

@@ -10,6 +10,7 @@
 #include "batch_runner.hpp"
 #include "frame_list.hpp"
 #include "image_io.hpp"
+#include "depth_inputs.hpp"
 #include "options_soft.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
@@ -19,6 +20,9 @@ namespace sf::cli {
 int run_soft_batch(const SoftArgs& a) {
   if (!a.lights.empty() || !a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
     throw InputError("--frames replaces --shadow-map, --receivers, --receiver-depth and --lights");
+  if (!a.inputs.camera.empty() || !a.inputs.camera_depth.empty())
+    throw InputError("--frames names each frame's camera on its line (camera= camera-depth=), not --camera");
+  validate_depth_args(a.inputs);
   const SoftOptions opt = soft_options(a);
   const std::vector<FrameSpec> frames = read_frame_list(a.frames);
   check_batch_outputs(frames, {});
@@ -33,7 +37,12 @@ int run_soft_batch(const SoftArgs& a) {
   const BatchReport report = run_batch<std::vector<SoftLightInput>, HostImage>(
       frames, settings,
       [&](const FrameSpec& f) {
-        return std::vector<SoftLightInput>{load_soft_light(f.shadow_map, f.receivers, f.receiver_depth, a)};
+        const FrameFiles files{f.shadow_map, f.receivers,    f.receiver_depth,
+                               f.camera,     f.camera_depth, f.light.empty() ? a.inputs.light : f.light};
+        std::vector<std::string> warnings;
+        std::vector<SoftLightInput> light{load_soft_frame(files, a, &warnings)};
+        print_warnings(warnings, f.where);
+        return light;
       },
       [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
         // One light through what a single run calls: the same bytes.

@@ -124,7 +124,7 @@ struct View {
   int width = 0, height = 0;
 
   M4 view_matrix() const {
-    return {right.x,    right.y,    right.z,    -dot(right, eye),   up.x, up.y, up.z, -dot(up, eye),
+    return {right.x,    right.y,    right.z,    -dot(right, eye),  up.x, up.y, up.z, -dot(up, eye),
             -forward.x, -forward.y, -forward.z, dot(forward, eye), 0,    0,    0,    1};
   }
   M4 projection_matrix() const {
@@ -244,7 +244,7 @@ inline HostImage render_map(const Scene& s, const View& light, Store store) {
 
 // What a camera sees through each pixel centre.
 struct CameraTruth {
-  std::vector<float> window;  // its depth buffer (background: the far end, 1 or 0)
+  std::vector<float> window;      // its depth buffer (background: the far end, 1 or 0)
   std::vector<V3> point, normal;  // normal turned towards the camera
   std::vector<int> surface;       // -1 background
 };

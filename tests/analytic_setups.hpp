@@ -2,6 +2,7 @@
 // The cameras and lights the input tests render the analytic scene with (analytic_scene.hpp),
 // and the comparison of a visibility image with the ray-cast truth away from shadow edges.
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "analytic_scene.hpp"
@@ -63,6 +64,35 @@ inline bool away_from_shadow_edges(const Scene& s, const View& light, V3 p, V3 n
     if (lit(s, light, q, n) != truth) return false;
   }
   return true;
+}
+
+// The JSON of a camera or light file (docs/inputs.md) holding `vp`'s matrices at full precision,
+// with `extra` keys (", \"clip\": \"d3d\"") appended.
+inline std::string view_json(const ViewProjection& vp, const std::string& extra = "") {
+  auto list = [](const std::array<double, 16>& m) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "[";
+    for (int i = 0; i < 16; ++i) s << (i ? ", " : "") << m[size_t(i)];
+    s << "]";
+    return s.str();
+  };
+  return "{\"view\": " + list(vp.view) + ", \"projection\": " + list(vp.projection) + extra + "}";
+}
+
+// The file of a View: its matrices, clip space, reversed-Z and the far depth of an infinite plane.
+inline std::string view_file(const View& v) {
+  std::string extra = std::string(", \"clip\": \"") + clip_space_name(v.clip) + "\"";
+  if (v.depth != Depth::Conventional) extra += ", \"reversed_z\": true";
+  if (v.depth == Depth::ReversedInfinite && v.kind == Kind::Perspective) {
+    std::ostringstream far;
+    far << v.far_plane;
+    extra += ", \"far\": " + far.str();
+  }
+  ViewProjection vp;
+  vp.view = v.view_matrix();
+  vp.projection = v.projection_matrix();
+  return view_json(vp, extra);
 }
 
 struct Mismatches {

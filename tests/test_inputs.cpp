@@ -70,7 +70,8 @@ TEST(LightEncoding, WindowDepthOfEveryProjectionDecodesToLinearDepth) {
 // OpenGL's window depth with the default glDepthRange and D3D's [0, 1] depth are the same
 // hyperbola; OpenGL's NDC z is not.
 TEST(LightEncoding, OpenGlWindowDepthEqualsD3dDepthButNotNdc) {
-  const View gl = spot_light(ClipSpace::OpenGL, Depth::Conventional), d3d = spot_light(ClipSpace::D3D, Depth::Conventional);
+  const View gl = spot_light(ClipSpace::OpenGL, Depth::Conventional),
+             d3d = spot_light(ClipSpace::D3D, Depth::Conventional);
   const V3 p = gl.eye + 5.0 * gl.forward;
   EXPECT_NEAR(gl.window_depth(p), d3d.window_depth(p), 1e-12);
   DepthDecoding ndc{DepthEncoding::PerspectiveNdc, gl.near_plane, gl.far_plane};
@@ -86,19 +87,11 @@ TEST(LightEncoding, AnInfiniteFarPlaneNeedsTheDepthOfDOne) {
 
 // --- camera and light files ---------------------------------------------------------------------
 
-std::string json_of(const ViewProjection& vp, const std::string& extra = "") {
-  auto list = [](const std::array<double, 16>& m) {
-    std::string s = "[";
-    for (int i = 0; i < 16; ++i) s += (i ? ", " : "") + std::to_string(m[size_t(i)]);
-    return s + "]";
-  };
-  return "{\"view\": " + list(vp.view) + ", \"projection\": " + list(vp.projection) + extra + "}";
-}
-
 TEST(ViewFile, ParsesMatricesClipAndFar) {
   const View light = spot_light(ClipSpace::D3D, Depth::ReversedInfinite);
   const io::ViewFile f = io::parse_view_file(
-      json_of(light.matrices(), ", \"clip\": \"d3d\", \"reversed_z\": true, \"far\": 16, \"width\": 128, \"height\": 128"),
+      view_json(light.matrices(),
+                ", \"clip\": \"d3d\", \"reversed_z\": true, \"far\": 16, \"width\": 128, \"height\": 128"),
       "light 'l.json'");
   EXPECT_EQ(f.view_projection.clip, ClipSpace::D3D);
   EXPECT_EQ(f.view_projection.reversed_z, std::optional<bool>(true));
@@ -125,21 +118,21 @@ TEST(ViewFile, RefusesWhatIsNotACameraInOneLine) {
   const std::string src = "light 'l.json'";
   expect_input_error([&] { io::parse_view_file("{\"view\": [1, 2", src); }, {src, "not JSON"});
   expect_input_error([&] { io::parse_view_file("[1, 2]", src); }, {src, "expected an object"});
-  expect_input_error([&] { io::parse_view_file(json_of(vp, ", \"fov\": 60"), src); }, {src, "unknown key \"fov\""});
+  expect_input_error([&] { io::parse_view_file(view_json(vp, ", \"fov\": 60"), src); }, {src, "unknown key \"fov\""});
   expect_input_error([&] { io::parse_view_file("{\"view\": [1,2,3], \"projection\": [[1]]}", src); },
                      {src, "must be 16 numbers", "got array of "});
-  expect_input_error([&] { io::parse_view_file(json_of(vp, ", \"clip\": \"metal\""), src); }, {src, "\"clip\""});
+  expect_input_error([&] { io::parse_view_file(view_json(vp, ", \"clip\": \"metal\""), src); }, {src, "\"clip\""});
   expect_input_error([&] { io::parse_view_file("{\"view\": [1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}", src); },
                      {src, "\"projection\" is missing"});
-  expect_input_error([&] { io::parse_view_file(json_of(transposed_view), src); }, {src, "transposed"});
-  expect_input_error([&] { io::parse_view_file(json_of(transposed_projection), src); }, {src, "transposed"});
-  expect_input_error([&] { io::parse_view_file(json_of(vp, ", \"reversed_z\": true"), src); },
+  expect_input_error([&] { io::parse_view_file(view_json(transposed_view), src); }, {src, "transposed"});
+  expect_input_error([&] { io::parse_view_file(view_json(transposed_projection), src); }, {src, "transposed"});
+  expect_input_error([&] { io::parse_view_file(view_json(vp, ", \"reversed_z\": true"), src); },
                      {src, "\"reversed_z\" is true", "window depth 0"});
   expect_input_error([&] { io::parse_view_file(std::string(100, '[') + std::string(100, ']'), src); },
                      {src, "nested deeper"});
   ViewProjection singular = vp;
   singular.projection.fill(0.0);
-  expect_input_error([&] { io::parse_view_file(json_of(singular), src); }, {src, "singular"});
+  expect_input_error([&] { io::parse_view_file(view_json(singular), src); }, {src, "singular"});
 }
 
 // --- receivers from a camera --------------------------------------------------------------------
@@ -189,7 +182,8 @@ struct ReceiverCase {
 
 std::vector<ReceiverCase> receiver_cases() {
   return {
-      {"gl camera, gl ortho light", camera_view(ClipSpace::OpenGL, Depth::Conventional), ortho_light(ClipSpace::OpenGL)},
+      {"gl camera, gl ortho light", camera_view(ClipSpace::OpenGL, Depth::Conventional),
+       ortho_light(ClipSpace::OpenGL)},
       {"d3d camera, gl spot light", camera_view(ClipSpace::D3D, Depth::Conventional),
        spot_light(ClipSpace::OpenGL, Depth::Conventional)},
       {"reversed infinite d3d camera, reversed vulkan spot light", camera_view(ClipSpace::D3D, Depth::ReversedInfinite),
@@ -276,7 +270,8 @@ TEST(CameraReceivers, EveryKindOfCameraDepthGivesTheSameReceivers) {
     for (size_t i = 0; i < rx.count(); ++i) {
       EXPECT_EQ(std::isnan(rx.d[i]), std::isnan(reference.d[i])) << i;
       if (std::isnan(reference.d[i]) || reference.u[i] < 0) continue;
-      worst = std::max({worst, double(std::fabs(rx.u[i] - reference.u[i])), double(std::fabs(rx.d[i] - reference.d[i]))});
+      worst =
+          std::max({worst, double(std::fabs(rx.u[i] - reference.u[i])), double(std::fabs(rx.d[i] - reference.d[i]))});
     }
     EXPECT_LE(worst, 2e-5);
   }
@@ -353,8 +348,7 @@ TEST(AnalyticShadows, FilterOfCameraReceiversMatchesTheRayCastTruth) {
     EXPECT_LE(m.fraction(), 0.005) << m.mismatched << " of " << m.compared << " (" << m.skipped << " near edges)";
     // Both lit and shadowed pixels are compared: the scene casts shadows the map must hold.
     size_t shadowed = 0;
-    for (size_t i = 0; i < truth.surface.size(); ++i)
-      shadowed += truth.surface[i] >= 0 && r.visibility.data[i] < 0.5f;
+    for (size_t i = 0; i < truth.surface.size(); ++i) shadowed += truth.surface[i] >= 0 && r.visibility.data[i] < 0.5f;
     EXPECT_GT(shadowed, 1500u);
   }
 }

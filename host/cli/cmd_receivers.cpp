@@ -19,8 +19,7 @@ using Clock = std::chrono::steady_clock;
 
 void parse_map_size(const std::string& text, int* w, int* h) {
   char tail = 0;
-  if (std::sscanf(text.c_str(), "%dx%d%c", w, h, &tail) != 2 || *w <= 0 || *h <= 0 || *w > (1 << 16) ||
-      *h > (1 << 16))
+  if (std::sscanf(text.c_str(), "%dx%d%c", w, h, &tail) != 2 || *w <= 0 || *h <= 0 || *w > (1 << 16) || *h > (1 << 16))
     throw InputError("--map-size must be WxH with 1..65536 texels a side, got '" + text + "'");
 }
 
@@ -54,17 +53,17 @@ CLI::App* add_receivers_command(CLI::App& app, ReceiversArgs& a) {
   c->add_option("--threads", a.threads, "Threads (default: every core)");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
   c->add_flag("--json", a.json, "Print the summary as one JSON object instead of a line of text");
-  c->footer(std::string(
-                "Writes per camera pixel: u, v (the surface point in the light's map, [0, 1], texel i's centre at "
-                "(i + 0.5) / W), d = (z - near) / (far - near) along the light's axis, f = the pixel's footprint in "
-                "the map's level-0 texels, ndl = n.l towards the light; NaN on background pixels; u = v = -1 "
-                "outside the light's frustum. Its header names the map size and the light's planes.\n\n") +
-            "Examples:\n"
-            "  shadowfilter receivers --camera camera.json --camera-depth camera_depth.exr --light sun.json "
-            "--shadow-map sun_depth.exr -o rx.exr\n"
-            "  shadowfilter receivers --camera camera.json --camera-depth Z.exr --camera-depth-kind view --light "
-            "lamp.json --map-size 2048x2048 -o rx.exr\n"
-            "docs/inputs.md: the JSON files, clip spaces (opengl, d3d, vulkan), reversed-Z, Blender");
+  c->footer(
+      std::string("Writes per camera pixel: u, v (the surface point in the light's map, [0, 1], texel i's centre at "
+                  "(i + 0.5) / W), d = (z - near) / (far - near) along the light's axis, f = the pixel's footprint in "
+                  "the map's level-0 texels, ndl = n.l towards the light; NaN on background pixels; u = v = -1 "
+                  "outside the light's frustum. Its header names the map size and the light's planes.\n\n") +
+      "Examples:\n"
+      "  shadowfilter receivers --camera camera.json --camera-depth camera_depth.exr --light sun.json "
+      "--shadow-map sun_depth.exr -o rx.exr\n"
+      "  shadowfilter receivers --camera camera.json --camera-depth Z.exr --camera-depth-kind view --light "
+      "lamp.json --map-size 2048x2048 -o rx.exr\n"
+      "docs/inputs.md: the JSON files, clip spaces (opengl, d3d, vulkan), reversed-Z, Blender");
   return c;
 }
 
@@ -74,11 +73,11 @@ int run_receivers(const ReceiversArgs& a) {
     throw InputError("give --shadow-map MAP or --map-size WxH (footprints are in the map's texels)");
   const std::string ext = extension_of(a.output);
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
-    throw InputError("output image '" + a.output + "': receivers are written as float .exr or .tif (5 channels), not '" +
-                     ext + "'");
+    throw InputError("output image '" + a.output +
+                     "': receivers are written as float .exr or .tif (5 channels), not '" + ext + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0, got " + std::to_string(a.threads));
-  check_output_is_not_an_input(a.output, {a.inputs.camera, a.inputs.camera_depth, a.inputs.light, a.inputs.normals,
-                                          a.shadow_map});
+  check_output_is_not_an_input(
+      a.output, {a.inputs.camera, a.inputs.camera_depth, a.inputs.light, a.inputs.normals, a.shadow_map});
   int map_w = 0, map_h = 0;
   if (!a.map_size.empty()) {
     parse_map_size(a.map_size, &map_w, &map_h);

@@ -138,8 +138,10 @@ void validate_depth_args(const DepthInputArgs& a) {
           "--light gives the planes (its projection); drop --near/--far (an infinite far plane takes \"far\" in the "
           "light's file)");
     if (!a.encoding.empty() && a.encoding != "linear")
-      throw InputError("with --light the map is the light's window depth, or --encoding linear (world units along its "
-                       "axis); got --encoding " + a.encoding);
+      throw InputError(
+          "with --light the map is the light's window depth, or --encoding linear (world units along its "
+          "axis); got --encoding " +
+          a.encoding);
   }
   if (a.encoding == "reversed-linear" && (!std::isnan(a.near_plane) || !std::isnan(a.far_plane)))
     throw InputError("--encoding reversed-linear stores 1 - d; --near/--far do not apply to it");
@@ -163,8 +165,8 @@ io::DepthLoadOptions map_decoding(const DepthInputArgs& a, const std::optional<i
       o.encoding = DepthEncoding::Linear;
       o.near_plane = pd.near_plane;
       o.far_plane = pd.far_plane;
-      o.flag = "linear depth in world units along light '" + light_path + "''s axis, " + number(pd.near_plane) +
-               ".." + number(pd.far_plane);
+      o.flag = "linear depth in world units along light '" + light_path + "''s axis, " + number(pd.near_plane) + ".." +
+               number(pd.far_plane);
     } else {
       o.encoding = d.encoding;
       o.near_plane = d.near_plane;
@@ -180,8 +182,7 @@ io::DepthLoadOptions map_decoding(const DepthInputArgs& a, const std::optional<i
   return o;
 }
 
-std::optional<io::DepthLoadOptions> stated_receiver_decoding(const DepthInputArgs& a,
-                                                             const io::DepthLoadOptions& map) {
+std::optional<io::DepthLoadOptions> stated_receiver_decoding(const DepthInputArgs& a, const io::DepthLoadOptions& map) {
   if (a.receiver_encoding.empty()) return std::nullopt;
   io::DepthLoadOptions o = map;
   o.flag = "--receiver-encoding";
@@ -211,8 +212,8 @@ LoadedReceivers load_receivers_of(const FrameFiles& f, const DepthInputArgs& a, 
   if (!f.camera.empty())
     out.receivers = camera_frame_receivers(f, a, depth, &out.warnings);
   else
-    out.receivers = io::load_receivers(f.receivers, f.receiver_depth, depth, map, stated_receiver_decoding(a, map),
-                                       &out.header);
+    out.receivers =
+        io::load_receivers(f.receivers, f.receiver_depth, depth, map, stated_receiver_decoding(a, map), &out.header);
   return out;
 }
 
@@ -238,7 +239,8 @@ std::vector<std::string> fit_warnings(const HostImage& depth, const Receivers& r
     if (fit.u_max > 2.0 || fit.v_max > 2.0)
       w.push_back(percent(fit.outside, placed) + " of the receivers fall outside the map: u, v span [" +
                   number(fit.u_min) + ", " + number(fit.u_max) + "] x [" + number(fit.v_min) + ", " +
-                  number(fit.v_max) + "], texel indices? Receivers need u, v in [0, 1] (texel i's centre at (i + 0.5) / " +
+                  number(fit.v_max) +
+                  "], texel indices? Receivers need u, v in [0, 1] (texel i's centre at (i + 0.5) / " +
                   std::to_string(depth.width) + "); outside the map they come out lit");
     else
       w.push_back(percent(fit.outside, placed) +
@@ -268,10 +270,11 @@ std::vector<std::string> fit_warnings(const HostImage& depth, const Receivers& r
   const DepthDecoding d = map.decoding();
   if (has_planes(d) && std::isfinite(header.light_near) && std::isfinite(header.light_far)) {
     const double tolerance = 1e-6 * std::max(1.0, std::fabs(d.far_plane));
-    if (std::fabs(header.light_near - d.near_plane) > tolerance || std::fabs(header.light_far - d.far_plane) > tolerance)
+    if (std::fabs(header.light_near - d.near_plane) > tolerance ||
+        std::fabs(header.light_far - d.far_plane) > tolerance)
       w.push_back("the receivers were made for a light with planes " + number(header.light_near) + ".." +
-                  number(header.light_far) + " (their header), the map is decoded with " + number(d.near_plane) +
-                  ".." + number(d.far_plane) + ": their d and the map's differ in scale");
+                  number(header.light_far) + " (their header), the map is decoded with " + number(d.near_plane) + ".." +
+                  number(d.far_plane) + ": their d and the map's differ in scale");
   }
   return w;
 }

@@ -20,11 +20,11 @@ namespace sf::cli {
 struct DepthInputArgs {
   std::string encoding;           // --encoding; "" = linear (or the light's window depth with --light)
   std::string receiver_encoding;  // --receiver-encoding; "" = the map's
-  double near_plane = std::numeric_limits<double>::quiet_NaN();  // --near; NaN: not given
-  double far_plane = std::numeric_limits<double>::quiet_NaN();   // --far
-  std::string beyond_far = "error";                              // --beyond-far error|far
-  std::string nonfinite = "error";                               // --nonfinite error|far
-  std::string light;                                             // --light LIGHT.json
+  double near_plane = std::numeric_limits<double>::quiet_NaN();             // --near; NaN: not given
+  double far_plane = std::numeric_limits<double>::quiet_NaN();              // --far
+  std::string beyond_far = "error";                                         // --beyond-far error|far
+  std::string nonfinite = "error";                                          // --nonfinite error|far
+  std::string light;                                                        // --light LIGHT.json
   std::string camera, camera_depth, camera_depth_kind = "window", normals;  // --camera ... (receivers in memory)
 };
 

@@ -23,8 +23,10 @@ class WrappingFormatter : public CLI::Formatter {
       const bool two_columns = indent >= 2 && line.size() > column && line[column - 1] == ' ' && line[column] != ' ';
       if (two_columns) indent = column;
       // An option's name line running past the width (its exclusions): continue under the name.
-      else if (indent == 2 && line.size() > 3 && line[2] == '-') indent = 6;
-      else if (!two_columns) indent = indent == 0 ? 2 : indent + 4;  // a paragraph's or an example's continuation
+      else if (indent == 2 && line.size() > 3 && line[2] == '-')
+        indent = 6;
+      else if (!two_columns)
+        indent = indent == 0 ? 2 : indent + 4;  // a paragraph's or an example's continuation
       out += wrap_line(line, width_, std::min(indent, width_ / 2)) + "\n";
     }
     return out;

@@ -67,7 +67,8 @@ std::array<double, 16> matrix(const json& value, const std::string& key, const s
   }
   if (numbers.size() != 16)
     refuse(source, "\"" + key + "\" must be 16 numbers, row-major (or 4 rows of 4), got " +
-                       std::string(value.type_name()) + (value.is_array() ? " of " + std::to_string(value.size()) : ""));
+                       std::string(value.type_name()) +
+                       (value.is_array() ? " of " + std::to_string(value.size()) : ""));
   std::array<double, 16> m{};
   for (size_t i = 0; i < 16; ++i) {
     if (!numbers[i]->is_number()) refuse(source, "\"" + key + "\" element " + std::to_string(i) + " is not a number");
@@ -167,7 +168,8 @@ CameraDepthKind parse_camera_depth_kind(const std::string& name) {
   for (CameraDepthKind k :
        {CameraDepthKind::Window, CameraDepthKind::View, CameraDepthKind::Distance, CameraDepthKind::Position})
     if (name == camera_depth_kind_name(k)) return k;
-  throw InputError("unknown camera depth kind '" + detail::one_line(name) + "'; valid: window, view, distance, position");
+  throw InputError("unknown camera depth kind '" + detail::one_line(name) +
+                   "'; valid: window, view, distance, position");
 }
 
 CameraDepth load_camera_depth(const std::string& path, CameraDepthKind kind) {
@@ -199,8 +201,8 @@ std::vector<float> load_normal_image(const std::string& path, int width, int hei
                      "; normals need a float image (EXR, TIFF, PFM) holding world-space x y z in [-1, 1]");
   if (raw.width != width || raw.height != height)
     detail::fail(role, path,
-                 "size " + std::to_string(raw.width) + "x" + std::to_string(raw.height) + " differs from the camera's " +
-                     std::to_string(width) + "x" + std::to_string(height));
+                 "size " + std::to_string(raw.width) + "x" + std::to_string(raw.height) +
+                     " differs from the camera's " + std::to_string(width) + "x" + std::to_string(height));
   const std::vector<int> c =
       detail::three_channels(raw, {{"N.x", "N.y", "N.z"}, {"X", "Y", "Z"}, {"x", "y", "z"}}, path, role);
   std::vector<float> normals(raw.texels() * 3);

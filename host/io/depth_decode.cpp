@@ -149,8 +149,8 @@ void decode_depths(std::vector<float>& values, const DepthLoadOptions& opt, cons
   const double tolerance = 1e-6 * (range.hi - range.lo) + 4.0 * FLT_EPSILON * scale;
   const bool infinite = d.encoding == DepthEncoding::ReversedInfinite;
   // Past the far plane: above hi, or below lo for the reversed encodings (their far end is lo).
-  const bool far_is_low = d.encoding == DepthEncoding::Reversed || infinite ||
-                          d.encoding == DepthEncoding::ReversedLinear;
+  const bool far_is_low =
+      d.encoding == DepthEncoding::Reversed || infinite || d.encoding == DepthEncoding::ReversedLinear;
   double lo = INFINITY, hi = -INFINITY;
   size_t bad = 0;
   for (float& value : values) {

@@ -4,8 +4,10 @@
 #include "shadowfilter/camera_receivers.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -50,20 +52,32 @@ struct CameraModel {
   double ndc_a = 0.0, ndc_b = 0.0;  // the near plane's z_ndc and the window-depth midpoint's: both finite
   Vec3 eye{}, forward{};            // eye (perspective) and unit viewing direction, world space
   int width = 0, height = 0;
+  bool affine_rays = false;  // the rays' ends as a0 + x_ndc ax + y_ndc ay (and b0, bx, by)
+  Vec3 a0{}, ax{}, ay{}, b0{}, bx{}, by{};
 
   CameraModel(const ViewProjection& vp, int w, int h) : width(w), height(h) {
     depth = projection_depth(vp);
     clip = vp.clip;
     view = to_mat(vp.view);
     Mat4 world_to_clip = detail::multiply(to_mat(vp.projection), view);
-    if (!detail::invert(world_to_clip, &clip_to_world))
-      throw InputError("projection x view is singular (no inverse)");
+    if (!detail::invert(world_to_clip, &clip_to_world)) throw InputError("projection x view is singular (no inverse)");
     ndc_a = ndc_of_window(depth.reversed ? 1.0 : 0.0, clip);
     ndc_b = ndc_of_window(0.5, clip);
     Mat4 view_to_world;
     detail::invert(view, &view_to_world);
     eye = affine_point(view_to_world, {0.0, 0.0, 0.0});
     forward = normalized(affine_direction(view_to_world, {0.0, 0.0, depth.forward}));
+    // A projection whose depth depends on z alone (projection_depth) unprojects a plane of
+    // constant z_ndc affinely: its w does not vary with x, y. The rays' ends are then affine in
+    // (x_ndc, y_ndc); checked, with the general unprojection as the fallback.
+    auto affine = [&](double zn, Vec3* base, Vec3* dx, Vec3* dy) {
+      *base = unproject(0.0, 0.0, zn);
+      *dx = unproject(1.0, 0.0, zn) - *base;
+      *dy = unproject(0.0, 1.0, zn) - *base;
+      const Vec3 corner = unproject(1.0, 1.0, zn), predicted = *base + *dx + *dy;
+      return length(corner - predicted) <= 1e-9 * (length(corner) + length(*dx) + length(*dy));
+    };
+    affine_rays = affine(ndc_a, &a0, &ax, &ay) && affine(ndc_b, &b0, &bx, &by);
   }
 
   // Normalised device x, y of image position (px, py) in pixels (0..width, 0..height; row 0 at the top).
@@ -82,6 +96,11 @@ struct CameraModel {
   // window-depth midpoint (not normalised).
   void ray(double px, double py, Vec3* origin, Vec3* direction) const {
     const double xn = ndc_x(px), yn = ndc_y(py);
+    if (affine_rays) {
+      *origin = a0 + xn * ax + yn * ay;
+      *direction = b0 + xn * bx + yn * by - *origin;
+      return;
+    }
     *origin = unproject(xn, yn, ndc_a);
     *direction = unproject(xn, yn, ndc_b) - *origin;
   }
@@ -128,20 +147,21 @@ struct LightModel {
   Vec3 direction_to_light(const Vec3& p) const { return depth.perspective ? normalized(position - p) : to_light; }
 };
 
-// Runs body(row_begin, row_end) over [0, rows) in contiguous blocks, one per thread.
+// Runs body(row_begin, row_end) over [0, rows) in blocks of 16 rows that the threads take in
+// turn as they finish (a picture's background, which costs nothing, gathers in some rows).
 template <class Body>
 void for_row_blocks(int rows, int threads, const Body& body) {
-  const int n = std::max(1, std::min(threads, rows));
-  if (n == 1) {
-    body(0, rows);
-    return;
-  }
+  constexpr int kBlock = 16;
+  const int blocks = (rows + kBlock - 1) / kBlock;
+  const int n = std::max(1, std::min(threads, blocks));
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int b = next++; b < blocks; b = next++) body(b * kBlock, std::min(rows, (b + 1) * kBlock));
+  };
   std::vector<std::thread> workers;
-  workers.reserve(size_t(n));
-  for (int t = 0; t < n; ++t) {
-    const int begin = int(int64_t(rows) * t / n), end = int(int64_t(rows) * (t + 1) / n);
-    workers.emplace_back([&body, begin, end] { body(begin, end); });
-  }
+  workers.reserve(size_t(n - 1));
+  for (int t = 1; t < n; ++t) workers.emplace_back(work);
+  work();
   for (std::thread& w : workers) w.join();
 }
 
@@ -163,11 +183,13 @@ void check_inputs(const CameraDepth& depth, const CameraReceiverOptions& opt, co
     throw InputError("the normal image holds " + std::to_string(opt.normals.size()) + " values, expected " +
                      std::to_string(size_t(depth.width) * depth.height * 3) + " (3 per camera pixel)");
   if (opt.map_width <= 0 || opt.map_height <= 0)
-    throw InputError("CameraReceiverOptions::map_width and map_height must be positive (the shadow map's size, "
-                     "which footprints are measured in)");
+    throw InputError(
+        "CameraReceiverOptions::map_width and map_height must be positive (the shadow map's size, "
+        "which footprints are measured in)");
   if (depth.kind == CameraDepthKind::Distance && !camera.depth.perspective)
-    throw InputError("CameraDepth::kind distance (along each pixel's ray from the eye) needs a perspective camera; "
-                     "an orthographic one has no eye: use view");
+    throw InputError(
+        "CameraDepth::kind distance (along each pixel's ray from the eye) needs a perspective camera; "
+        "an orthographic one has no eye: use view");
   if (depth.kind != CameraDepthKind::Window) return;
   // Window depth lies in [0, 1]; beyond rounding it is another kind of depth.
   double lo = INFINITY, hi = -INFINITY;
@@ -211,8 +233,10 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
   // Pass 1: world points (NaN x on background) and the continuity measure q of each pixel: the
   // inverse axis distance for a perspective camera (affine across a plane in screen space), the
   // distance itself for an orthographic one.
-  std::vector<Vec3> points(n);
-  std::vector<double> q(n, kNaN);
+  // Written whole by pass 1 on the threads, so left uninitialised here (zeroing 64 MB at 1080p
+  // would cost a serial pass of its own).
+  std::unique_ptr<Vec3[]> points(new Vec3[n]);
+  std::unique_ptr<double[]> q(new double[n]);
   const double empty_window = camera.depth.reversed ? 0.0 : 1.0;
   const double far_limit = camera.depth.infinite_far ? INFINITY : camera.depth.far_plane;
   for_row_blocks(H, threads, [&](int y0, int y1) {
@@ -242,6 +266,7 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
           }
         }
         points[i] = p;
+        q[i] = kNaN;
         if (std::isfinite(p.x)) {
           const double z = camera.axis_distance(p);
           q[i] = camera.depth.perspective ? 1.0 / z : z;
@@ -348,12 +373,14 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
         const Vec3 plane_n = has_normal ? normal : -1.0 * view_dir;
         const double cap = camera.depth.perspective ? length(p - camera.eye)
                                                     : std::fabs(camera.depth.far_plane - camera.depth.near_plane);
+        const double cap2 = cap * cap;
         auto edge_point = [&](const Vec3& o, const Vec3& dir) {
           const double den = dot(dir, plane_n);
           const double t = den != 0.0 ? dot(p - o, plane_n) / den : kNaN;
           Vec3 hit = o + t * dir;
           Vec3 offset = hit - p;
-          if (!(t > 0.0) || !std::isfinite(length(offset)) || length(offset) > cap) {
+          const double offset2 = dot(offset, offset);
+          if (!(t > 0.0) || !(offset2 <= cap2)) {  // NaN fails the test too
             // The edge ray misses the plane (or meets it far away): `cap` along the plane, towards the ray.
             const double s = camera.axis_distance(p);
             const double a = camera.axis_distance(o), b = camera.axis_distance(o + dir);
@@ -367,7 +394,8 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
           double ua, va, ub, vb;
           light.uv(a, &ua, &va);
           light.uv(b, &ub, &vb);
-          return std::hypot((ub - ua) * map_w, (vb - va) * map_h);
+          const double du = (ub - ua) * map_w, dv = (vb - va) * map_h;
+          return std::sqrt(du * du + dv * dv);  // not hypot: its overflow care costs a sixth of the run
         };
         const double fx = texel_distance(edge_point(side_o[size_t(x)], side_d[size_t(x)]),
                                          edge_point(side_o[size_t(x) + 1], side_d[size_t(x) + 1]));

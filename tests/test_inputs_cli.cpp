@@ -70,7 +70,8 @@ class InputsCli : public ::testing::Test {
 // from shadow edges.
 TEST_F(InputsCli, CameraReceiversThroughEveryRouteMatchTheRayCastTruth) {
   write_scene();
-  RunResult r = run_cli("receivers" + camera_args() + " --shadow-map " + path("map.exr") + " -o " + path("rx.exr"), dir_);
+  RunResult r =
+      run_cli("receivers" + camera_args() + " --shadow-map " + path("map.exr") + " -o " + path("rx.exr"), dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_EQ(count_lines(r.out), 1u) << r.out;
@@ -231,8 +232,8 @@ TEST_F(InputsCli, CameraInputsThatCannotBeReadAreRefused) {
                          " --light " + path("transposed.json") + " --map-size 128x128",
                      "transposed");
   expect_input_error(rx + " --map-size 128x128 --camera-depth-kind position", "camera depth");
-  expect_input_error("filter --shadow-map " + path("map.exr") + " --camera " + path("camera.json") + " --camera-depth " +
-                         path("camera_depth.exr"),
+  expect_input_error("filter --shadow-map " + path("map.exr") + " --camera " + path("camera.json") +
+                         " --camera-depth " + path("camera_depth.exr"),
                      "--camera needs --light");
   expect_input_error("filter --shadow-map " + path("map.exr") + camera_args() + " --near 1 --far 9",
                      "--light gives the planes");
@@ -249,20 +250,19 @@ TEST_F(InputsCli, CameraInputsThatCannotBeReadAreRefused) {
 // Help a newcomer can read: every command's --help without CLI11's enum maps, within 80 columns
 // when not a terminal, with an example; --version; --json where scripts read summaries.
 TEST_F(InputsCli, HelpVersionAndJson) {
-  for (const char* cmd : {"", "filter", "soft", "receivers", "scene", "devices", "methods", "evaluate",
-                          "evaluate-layouts", "coherent build", "coherent render"}) {
+  for (const char* cmd :
+       {"", "filter", "soft", "receivers", "scene", "devices", "methods", "evaluate", "evaluate-layouts", "coherent",
+        "coherent build", "coherent info", "coherent render", "coherent sky"}) {
     SCOPED_TRACE(cmd);
     const RunResult r = run_cli(std::string(cmd) + " --help", dir_);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.out.find("->"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(std::string(cmd).empty() ? "Start with" : "Example"), std::string::npos) << r.out;
     std::istringstream lines(r.out);
     for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 80u) << line;
   }
-  for (const char* cmd : {"filter", "soft", "receivers"}) {
-    const RunResult r = run_cli(std::string(cmd) + " --help", dir_);
-    EXPECT_NE(r.out.find("Example"), std::string::npos) << cmd;
-    EXPECT_NE(r.out.find("docs/inputs.md"), std::string::npos) << cmd;
-  }
+  for (const char* cmd : {"filter", "soft", "receivers"})
+    EXPECT_NE(run_cli(std::string(cmd) + " --help", dir_).out.find("docs/inputs.md"), std::string::npos) << cmd;
   EXPECT_NE(run_cli("filter --help", dir_).out.find("Receivers: a float EXR/TIFF with channels u v d [f [ndl]]"),
             std::string::npos);
   RunResult r = run_cli("--version", dir_);

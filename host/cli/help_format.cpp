@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <sstream>
+#include <utility>
 
 namespace sf::cli {
 namespace {
@@ -48,6 +49,37 @@ std::shared_ptr<CLI::Formatter> wrapping_formatter(size_t width) {
   auto f = std::make_shared<WrappingFormatter>(width);
   f->column_width(30);
   return f;
+}
+
+void add_examples(CLI::App& app) {
+  const std::pair<const char*, const char*> examples[] = {
+      {"scene",
+       "Examples:\n  shadowfilter scene spheres -o out/spheres --size 512 --receivers 640x480\n"
+       "  shadowfilter scene city -o out/city --layout pssm --cascades 4\n"
+       "docs/scenes.md: the files, conventions and built-in scenes"},
+      {"evaluate",
+       "Examples:\n  shadowfilter evaluate data/spheres data/fence -o out/eval --grid quick\n"
+       "  shadowfilter evaluate data/spheres -o out/auto --auto --max-error 0.02\n"
+       "docs/results.md: what the figures measure"},
+      {"evaluate-layouts",
+       "Example:\n  shadowfilter evaluate-layouts city -o out/layouts --frames 4 --receivers 640x360\n"
+       "docs/cascades.md"},
+      {"coherent",
+       "Example:\n  shadowfilter coherent build sphere -o sphere.csm && shadowfilter coherent info sphere.csm"},
+  };
+  for (const auto& [name, text] : examples)
+    for (CLI::App* sub : app.get_subcommands({}))
+      if (sub->get_name() == name && sub->get_footer().empty()) sub->footer(text);
+  for (CLI::App* coherent : app.get_subcommands({}))
+    if (coherent->get_name() == "coherent")
+      for (CLI::App* sub : coherent->get_subcommands({}))
+        if (sub->get_footer().empty())
+          sub->footer(
+              "Example:\n  shadowfilter coherent build sphere -o sphere.csm\n"
+              "  shadowfilter coherent render sphere.csm --envmap data/envmaps/sky.exr -o sphere.png\n"
+              "docs/coherent.md, docs/coherent_render.md");
+  // Last: subcommands created after a footer would inherit it.
+  app.footer("Start with `shadowfilter filter --help`; your own depth buffers: docs/inputs.md");
 }
 
 std::string wrap_line(const std::string& line, size_t width, size_t indent) {

@@ -17,6 +17,11 @@ constexpr const char* kReceiverFormatHelp =
     "footprint in level-0 texels (default 1), ndl = n.l towards the light (<= 0: faces away, visibility 0); "
     "background: d = NaN.";
 
+// Examples at the foot of the commands whose registration gives none (scene, evaluate,
+// evaluate-layouts, coherent and its subcommands), and the top level's pointer to where to
+// start: every --help ends with one. Called once every command is registered.
+void add_examples(CLI::App& app);
+
 // The terminal's width in columns when stdout is one (at least 40), else 80.
 size_t help_width();
 

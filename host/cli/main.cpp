@@ -17,7 +17,6 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
   app.set_version_flag("--version", "shadowfilter " SF_VERSION);
-  app.footer("Start with `shadowfilter filter --help`; your own depth buffers: docs/inputs.md");
   sf::cli::DevicesArgs devices_args;
   sf::cli::MethodsArgs methods_args;
   sf::cli::FilterArgs filter_args;
@@ -37,6 +36,7 @@ int main(int argc, char** argv) {
   sf::cli::CoherentCommands coherent;
   sf::cli::add_coherent_command(app, coherent);
   sf::cli::require_finite_numbers(app);
+  sf::cli::add_examples(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

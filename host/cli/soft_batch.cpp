@@ -34,17 +34,25 @@ int run_soft_batch(const SoftArgs& a) {
   BatchSettings settings;
   settings.keep_going = a.keep_going;
   settings.progress = !a.quiet && ::isatty(STDERR_FILENO);
-  const BatchReport report = run_batch<std::vector<SoftLightInput>, HostImage>(
+  struct Loaded {
+    std::vector<SoftLightInput> light;
+    std::vector<std::string> warnings;  // printed once the frame is written
+  };
+  struct Done {
+    HostImage visibility;
+    std::vector<std::string> warnings;
+  };
+  const BatchReport report = run_batch<Loaded, Done>(
       frames, settings,
       [&](const FrameSpec& f) {
         const FrameFiles files{f.shadow_map, f.receivers,    f.receiver_depth,
                                f.camera,     f.camera_depth, f.light.empty() ? a.inputs.light : f.light};
-        std::vector<std::string> warnings;
-        std::vector<SoftLightInput> light{load_soft_frame(files, a, &warnings)};
-        print_warnings(warnings, f.where);
-        return light;
+        Loaded loaded;
+        loaded.light.push_back(load_soft_frame(files, a, &loaded.warnings));
+        return loaded;
       },
-      [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
+      [&](const FrameSpec&, Loaded& loaded) {
+        std::vector<SoftLightInput>& light = loaded.light;
         // One light through what a single run calls: the same bytes.
         SoftOptions o = opt;
         o.light = light.front().light;
@@ -55,9 +63,12 @@ int run_soft_batch(const SoftArgs& a) {
         device.sat += r.times.sat;
         device.reconstruct += r.times.reconstruct;
         receivers_done += light.front().receivers.count();
-        return std::move(r.visibility);
+        return Done{std::move(r.visibility), std::move(loaded.warnings)};
       },
-      [&](const FrameSpec& f, const HostImage& visibility) { io::write_image(f.output, visibility); });
+      [&](const FrameSpec& f, const Done& done) {
+        io::write_image(f.output, done.visibility);
+        print_warnings(done.warnings, f.where);
+      });
 
   if (!a.quiet) {
     const double per_frame = 1e3 / double(std::max<size_t>(report.frames - report.failed, 1));

@@ -103,12 +103,13 @@ double empty_value(const DepthDecoding& d) {
   }
 }
 
-double decode_depth(double w, const DepthDecoding& dd) {
-  if (!std::isfinite(w)) return std::numeric_limits<double>::quiet_NaN();
-  const double n = dd.near_plane, f = dd.far_plane;
-  switch (dd.encoding) {
+double decode_depth(double stored, const DepthDecoding& decoding) {
+  if (!std::isfinite(stored)) return std::numeric_limits<double>::quiet_NaN();
+  double w = stored;
+  const double n = decoding.near_plane, f = decoding.far_plane;
+  switch (decoding.encoding) {
     case DepthEncoding::Linear:
-      return has_planes(dd) ? (w - n) / (f - n) : w;
+      return has_planes(decoding) ? (w - n) / (f - n) : w;
     case DepthEncoding::PerspectiveNdc:
       w = 0.5 * (w + 1.0);
       [[fallthrough]];
@@ -127,9 +128,9 @@ double decode_depth(double w, const DepthDecoding& dd) {
   return w;
 }
 
-double depth_distance(double d, const DepthDecoding& dd) {
-  if (!has_planes(dd)) return std::numeric_limits<double>::quiet_NaN();
-  return dd.near_plane + d * (dd.far_plane - dd.near_plane);
+double depth_distance(double d, const DepthDecoding& decoding) {
+  if (!has_planes(decoding)) return std::numeric_limits<double>::quiet_NaN();
+  return decoding.near_plane + d * (decoding.far_plane - decoding.near_plane);
 }
 
 }  // namespace sf

@@ -8,7 +8,8 @@
 
 namespace sf {
 
-ReceiverFit receiver_fit(const HostImage& depth, const Receivers& rx, double tolerance) {
+ReceiverFit receiver_fit(const HostImage& depth, const Receivers& receivers, double tolerance) {
+  const Receivers& rx = receivers;
   ReceiverFit fit;
   fit.receivers = rx.count();
   const double inf = std::numeric_limits<double>::infinity();
@@ -18,8 +19,9 @@ ReceiverFit receiver_fit(const HostImage& depth, const Receivers& rx, double tol
     const double d = rx.d[i];
     double u, v;
     if (rx.grid) {
-      u = (double(i % size_t(rx.width)) + 0.5) / rx.width;
-      v = (double(i / size_t(rx.width)) + 0.5) / rx.height;
+      const size_t row = i / size_t(rx.width), column = i % size_t(rx.width);  // grid texel (column, row)
+      u = (double(column) + 0.5) / rx.width;
+      v = (double(row) + 0.5) / rx.height;
     } else {
       u = rx.u[i];
       v = rx.v[i];

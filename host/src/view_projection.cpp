@@ -13,7 +13,8 @@ namespace {
 
 std::string row_text(const std::array<double, 16>& m, int row) {
   std::ostringstream s;
-  s << "(" << m[row * 4] << " " << m[row * 4 + 1] << " " << m[row * 4 + 2] << " " << m[row * 4 + 3] << ")";
+  const size_t r = size_t(row) * 4;
+  s << "(" << m[r] << " " << m[r + 1] << " " << m[r + 2] << " " << m[r + 3] << ")";
   return s.str();
 }
 

@@ -50,9 +50,13 @@ void require_shallow(const std::string& text, const std::string& source) {
 }
 
 std::string json_error(const std::string& what) {
-  // "[json.exception.parse_error.101] parse error at line 1, ..." without the bracketed id.
+  // "[json.exception.parse_error.101] parse error at line 1, ..." without the bracketed id, and
+  // with the bytes it quotes from the file made printable (the file may be anything).
   const size_t end = what.find("] ");
-  return what.compare(0, 1, "[") == 0 && end != std::string::npos ? what.substr(end + 2) : what;
+  std::string text = what.compare(0, 1, "[") == 0 && end != std::string::npos ? what.substr(end + 2) : what;
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  return text;
 }
 
 std::array<double, 16> matrix(const json& value, const std::string& key, const std::string& source) {

@@ -92,17 +92,6 @@ StoredRange stored_range(const DepthDecoding& d) {
   }
 }
 
-double empty_value(const DepthDecoding& d) {
-  switch (d.encoding) {
-    case DepthEncoding::Reversed:
-    case DepthEncoding::ReversedInfinite:
-    case DepthEncoding::ReversedLinear:
-      return 0.0;
-    default:
-      return stored_range(d).hi;
-  }
-}
-
 double decode_depth(double stored, const DepthDecoding& decoding) {
   if (!std::isfinite(stored)) return std::numeric_limits<double>::quiet_NaN();
   double w = stored;
@@ -126,11 +115,6 @@ double decode_depth(double stored, const DepthDecoding& decoding) {
       return 1.0 - w;
   }
   return w;
-}
-
-double depth_distance(double d, const DepthDecoding& decoding) {
-  if (!has_planes(decoding)) return std::numeric_limits<double>::quiet_NaN();
-  return decoding.near_plane + d * (decoding.far_plane - decoding.near_plane);
 }
 
 }  // namespace sf

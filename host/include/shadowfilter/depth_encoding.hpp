@@ -59,16 +59,9 @@ struct StoredRange {
 };
 StoredRange stored_range(const DepthDecoding& decoding);
 
-// The stored value that means "nothing hit" (d = 1): the far end of stored_range (0 for the
-// reversed encodings).
-double empty_value(const DepthDecoding& decoding);
-
 // d of one stored value, in double precision, without range checks: a value outside the stored
 // range decodes to d outside [0, 1] (past the far plane's pole, to a d of the wrong sign). NaN
 // and infinities give NaN.
 double decode_depth(double stored, const DepthDecoding& decoding);
-
-// The distance along the axis of a decoded d: N + d (F - N) (NaN without planes).
-double depth_distance(double d, const DepthDecoding& decoding);
 
 }  // namespace sf

@@ -180,7 +180,8 @@ TEST_F(Cli, NarrowStorageWithBlurRuns) {
 }
 
 TEST_F(Cli, ArgumentErrors) {
-  expect_input_error("filter --shadow-map " + path("sm.exr"), "--receivers or --receiver-depth");
+  expect_input_error("filter --shadow-map " + path("sm.exr"),
+                     "exactly one of --receivers, --receiver-depth or --camera");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --method nosuch",
                      "unknown method");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --esm-c 500",

@@ -70,15 +70,16 @@ TEST_F(FaultInjection, AFullDiskFailsTheRunAndLeavesNothing) {
   fs::create_directory(mnt);
   const std::string probe =
       run_shell("unshare -rm sh -c \"mount -t tmpfs -o size=64k tmpfs " + mnt + " && echo mounted\"", dir_).out;
-  if (probe.find("mounted") == std::string::npos) GTEST_SKIP() << "no tmpfs mount here (the file size limit test covers it)";
-  for (const std::string& out : {"out.exr", "out.png", "out.pfm", "preview.pfm --preview"}) {
+  if (probe.find("mounted") == std::string::npos)
+    GTEST_SKIP() << "no tmpfs mount here (the file size limit test covers it)";
+  for (const std::string out : {"out.exr", "out.png", "out.pfm", "preview.pfm --preview"}) {
     const std::string name = out.substr(0, out.find(' '));
     const std::string extra = out.find(' ') == std::string::npos ? "" : out.substr(out.find(' '));
-    const RunResult r = run_shell("unshare -rm sh -c \"mount -t tmpfs -o size=64k tmpfs " + mnt +
-                                      " && (head -c 1000000 /dev/zero > " + mnt + "/pad 2>/dev/null; true) && " +
-                                      SF_CLI_PATH + " " + filter_args(mnt + "/" + name) + extra +
-                                      "; rc=\\$?; ls -A " + mnt + " >&2; exit \\$rc\"",
-                                  dir_);
+    const RunResult r =
+        run_shell("unshare -rm sh -c \"mount -t tmpfs -o size=64k tmpfs " + mnt + " && (head -c 1000000 /dev/zero > " +
+                      mnt + "/pad 2>/dev/null; true) && " + SF_CLI_PATH + " " + filter_args(mnt + "/" + name) + extra +
+                      "; rc=\\$?; ls -A " + mnt + " >&2; exit \\$rc\"",
+                  dir_);
     EXPECT_EQ(r.exit_code, 2) << out << ": " << r.err;
     EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << out << ": " << r.err;
     EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
@@ -92,7 +93,8 @@ TEST_F(FaultInjection, AFileSizeLimitFailsTheRunAndKeepsTheEarlierOutput) {
   const std::string before = slurp(path("out.exr"));
   ASSERT_GT(before.size(), 4096u);
   for (const std::string name : {"out.exr", "new.png"}) {
-    const RunResult r = run_shell("ulimit -f 2; exec " + std::string(SF_CLI_PATH) + " " + filter_args(path(name)), dir_);
+    const RunResult r =
+        run_shell("ulimit -f 2; exec " + std::string(SF_CLI_PATH) + " " + filter_args(path(name)), dir_);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_EQ(count_lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
@@ -151,9 +153,9 @@ TEST_F(FaultInjection, AnInterruptedSceneLeavesNoPartialDirectory) {
   for (int signal_number : {SIGINT, SIGTERM}) {
     SCOPED_TRACE(signal_number);
     const std::string out = path("scene");
-    const pid_t pid = spawn_cli({"scene", "spheres", "-o", out, "--size", "2048", "--receivers", "1920x1080",
-                                 "--samples", "256", "-q"},
-                                path("err.txt"));
+    const pid_t pid = spawn_cli(
+        {"scene", "spheres", "-o", out, "--size", "2048", "--receivers", "1920x1080", "--samples", "256", "-q"},
+        path("err.txt"));
     ASSERT_GT(pid, 0);
     const bool running = wait_until(pid, [&] {
       for (const auto& e : fs::directory_iterator(dir_))

@@ -174,11 +174,16 @@ TEST_F(OutputFile, TheWriterRefusesAFileThisProcessRead) {
   HostImage img(4, 4, 1, 0.5f);
   io::write_image(path("read.exr"), img);
   fs::create_symlink("read.exr", path("alias.exr"));
-  (void)io::load_depth_map(path("read.exr"), {});  // recorded as an input
+  (void)io::load_depth_map(path("read.exr"), {});  // the guard is off: not recorded
+  io::write_image(path("read.exr"), img);          // a library user may rewrite what it read
+  io::guard_inputs_read(true);                     // as the CLI runs
+  (void)io::load_depth_map(path("read.exr"), {});
   const std::string before = read_all(path("read.exr"));
   for (const std::string& out : {path("read.exr"), path("alias.exr")})
     EXPECT_THROW(io::write_image(out, HostImage(4, 4, 1, 0.25f)), InputError) << out;
+  io::guard_inputs_read(false);
   EXPECT_EQ(read_all(path("read.exr")), before);
+  EXPECT_NO_THROW(io::write_image(path("read.exr"), img));
 }
 
 TEST_F(OutputFile, UnfinishedFilesAreListedUntilTheyAreInPlace) {
@@ -206,8 +211,8 @@ TEST_F(OutputFile, UnfinishedFilesAreListedUntilTheyAreInPlace) {
 class OutputOverInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = temp_dir(std::string("output_over_input_") +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ =
+        temp_dir(std::string("output_over_input_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     io::write_image(path("map.exr"), random_depth(32, 32, 7, 0.3f, 0.9f));
     HostImage rx(8, 6, 4);
     rx.channel_names = {"u", "v", "d", "f"};
@@ -240,16 +245,16 @@ TEST_F(OutputOverInput, EveryCommandRefusesIt) {
   const std::string soft = "soft --method pcss --light-extent 1 --light-size 0.1 -q ";
   expect_refused(soft + "--shadow-map " + path("map.exr") + " --receivers " + path("rx.exr") + " -o " + path("rx.exr"),
                  "rx.exr");
-  expect_refused(soft + "--shadow-map " + path("map.exr") + " --receiver-depth " + path("rd.exr") + " -o " +
-                     path("rd.exr"),
-                 "rd.exr");
+  expect_refused(
+      soft + "--shadow-map " + path("map.exr") + " --receiver-depth " + path("rd.exr") + " -o " + path("rd.exr"),
+      "rd.exr");
   expect_refused(soft + "--lights " + path("lights.txt") + " -o " + path("lights.txt"), "lights.txt");
   expect_refused("filter --frames " + path("frames.txt") + " -q", "frames.txt");
   expect_refused("coherent build " + path("mesh.obj") + " -o " + path("mesh.obj") + " --views 4x4 --res 16 -q",
                  "mesh.obj");
-  expect_refused("filter --shadow-map " + path("map.exr") + " --receivers " + path("rx.exr") + " -o " +
-                     path("map.exr") + " -q",
-                 "map.exr");
+  expect_refused(
+      "filter --shadow-map " + path("map.exr") + " --receivers " + path("rx.exr") + " -o " + path("map.exr") + " -q",
+      "map.exr");
 }
 
 TEST_F(OutputOverInput, RenderRefusesItsEnvironmentMap) {
@@ -264,8 +269,8 @@ TEST_F(OutputOverInput, RenderRefusesItsEnvironmentMap) {
 }
 
 TEST_F(OutputOverInput, TwoOutputsOfOneRunAreRefused) {
-  const RunResult r = run_cli("filter --shadow-map " + path("map.exr") + " --receivers " + path("rx.exr") +
-                                  " -o " + path("same.exr") + " --flags-out " + path("same.exr") + " -q",
+  const RunResult r = run_cli("filter --shadow-map " + path("map.exr") + " --receivers " + path("rx.exr") + " -o " +
+                                  path("same.exr") + " --flags-out " + path("same.exr") + " -q",
                               dir_);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("named twice"), std::string::npos) << r.err;

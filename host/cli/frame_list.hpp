@@ -8,13 +8,18 @@ namespace sf::cli {
 
 struct FrameSpec {
   std::string where;  // "LIST:LINE" for a list's frame, the map's path for --output-dir frames
-  std::string shadow_map, receivers, receiver_depth, output;  // one of receivers, receiver_depth
+  std::string shadow_map, receivers, receiver_depth, output;  // one of receivers, receiver_depth or camera
+  std::string camera, camera_depth;                           // receivers from a camera (camera= camera-depth=)
+  std::string light;                                          // the frame's light (light=), else the command's --light
 };
 
-// A frame list: one frame a line, `SHADOWMAP RECEIVERS OUTPUT` or `SHADOWMAP depth=RECEIVER_DEPTH
-// OUTPUT`, fields separated by blanks (a field with blanks in double quotes), paths relative to
-// the list's directory; blank lines and text after '#' are ignored. InputError naming the line
-// for any other line, and for a list without frames.
+// A frame list: one frame a line,
+//   SHADOWMAP RECEIVERS OUTPUT
+//   SHADOWMAP depth=RECEIVER_DEPTH OUTPUT
+//   SHADOWMAP camera=CAMERA.json camera-depth=CAMERA_DEPTH OUTPUT
+// each optionally with light=LIGHT.json before OUTPUT; fields separated by blanks (a field with
+// blanks in double quotes), paths relative to the list's directory; blank lines and text after
+// '#' are ignored. InputError naming the line for any other line, and for a list without frames.
 std::vector<FrameSpec> read_frame_list(const std::string& list);
 
 // One frame per map, sharing one receiver file: the output is DIR/<map's stem><extension>.

@@ -30,7 +30,9 @@ bool ignored_at_start(int signal_number) {
   }
   const size_t removed = io::remove_unfinished_outputs_before_exit();
   std::fprintf(stderr, "\nshadowfilter: interrupted by %s%s%s; %zu unfinished output%s removed\n",
-               signal_number == SIGINT ? "SIGINT" : signal_number == SIGTERM ? "SIGTERM" : "SIGHUP",
+               signal_number == SIGINT    ? "SIGINT"
+               : signal_number == SIGTERM ? "SIGTERM"
+                                          : "SIGHUP",
                report.empty() ? "" : ": ", report.c_str(), removed, removed == 1 ? "" : "s");
   std::fflush(stderr);
   ::_exit(128 + signal_number);

@@ -8,7 +8,9 @@
 #include "commands.hpp"
 #include "finite_numbers.hpp"
 #include "interrupts.hpp"
+#include "help_format.hpp"
 #include "option_names.hpp"
+#include "output_file.hpp"
 #include "options_soft.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -49,9 +51,12 @@ int main(int argc, char** argv) try {
   // Past a file size limit (ulimit -f) a write fails with EFBIG and is reported like a full disk,
   // instead of the default SIGXFSZ ending the process mid-write.
   std::signal(SIGXFSZ, SIG_IGN);
+  sf::io::guard_inputs_read(true);  // no output of a command replaces a file it read
   CLI::App app{"shadowfilter: pre-filtered shadow maps on OpenCL devices"};
+  app.formatter(sf::cli::wrapping_formatter(sf::cli::help_width()));  // before the commands: they inherit it
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
+  app.set_version_flag("--version", "shadowfilter " SF_VERSION);
   sf::cli::DevicesArgs devices_args;
   sf::cli::MethodsArgs methods_args;
   sf::cli::FilterArgs filter_args;
@@ -66,14 +71,19 @@ int main(int argc, char** argv) try {
   CLI::App* evaluate_layouts = sf::cli::add_evaluate_layouts_command(app, layouts_args);
   sf::cli::SoftArgs soft_args;
   CLI::App* soft = sf::cli::add_soft_command(app, soft_args);
+  sf::cli::ReceiversArgs receivers_args;
+  CLI::App* receivers = sf::cli::add_receivers_command(app, receivers_args);
   sf::cli::CoherentCommands coherent;
   sf::cli::add_coherent_command(app, coherent);
   sf::cli::require_finite_numbers(app);
+  sf::cli::add_examples(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "shadowfilter: " << e.what() << " (see --help)\n";
@@ -86,6 +96,7 @@ int main(int argc, char** argv) try {
   if (evaluate->parsed()) return sf::cli::run_evaluate(evaluate_args);
   if (evaluate_layouts->parsed()) return sf::cli::run_evaluate_layouts(layouts_args);
   if (soft->parsed()) return sf::cli::run_soft(soft_args);
+  if (receivers->parsed()) return sf::cli::run_receivers(receivers_args);
   if (coherent.app->parsed()) return sf::cli::run_coherent(coherent);
   return 1;
 } catch (...) {

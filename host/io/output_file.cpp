@@ -19,6 +19,7 @@ namespace fs = std::filesystem;
 
 struct InputRegistry {
   std::mutex mutex;
+  bool on = false;
   std::map<std::string, std::string> files;  // identity -> the path it was read by
 };
 
@@ -45,7 +46,7 @@ void refuse_if_input(const std::string& path) {
 }
 
 std::unique_ptr<sf::detail::StagedFile> stage(const std::string& path, const std::string& role, const void* data,
-                                          size_t size) {
+                                              size_t size) {
   refuse_if_input(path);
   try {
     return std::make_unique<sf::detail::StagedFile>(path, data, size);
@@ -107,7 +108,14 @@ void record_input(const std::string& path) {
   if (::stat(path.c_str(), &st) != 0) return;  // the reader reports a missing file itself
   InputRegistry& r = inputs_read();
   std::lock_guard<std::mutex> lock(r.mutex);
-  r.files.emplace(file_identity(path), path);
+  if (r.on) r.files.emplace(file_identity(path), path);
+}
+
+void guard_inputs_read(bool on) {
+  InputRegistry& r = inputs_read();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  r.on = on;
+  if (!on) r.files.clear();
 }
 
 void check_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {

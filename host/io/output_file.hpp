@@ -41,8 +41,11 @@ class OutputSet {
 // the absolute path with its existing directories resolved (an output not written yet).
 std::string file_identity(const std::string& path);
 
-// Records `path` as an input of this process (the readers call it as they open a file).
+// Records `path` as an input of this process (the readers call it as they open a file) while
+// the guard is on. The CLI turns it on for the whole process; a program that uses the library
+// (a test, a script that rewrites a file it read) leaves it off.
 void record_input(const std::string& path);
+void guard_inputs_read(bool on);
 
 // InputError when an output is one of the inputs (or of the files read so far), or two outputs are
 // one file. Inputs that are empty strings are skipped.

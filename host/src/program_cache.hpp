@@ -24,6 +24,7 @@ bool read_cache_entry(const std::string& path, const std::string& key, std::vect
 
 // Writes the entry (no fsync: a torn entry fails its checksum). Returns "" or the reason it failed;
 // a cache that cannot be written never fails a run.
-std::string write_cache_entry(const std::string& path, const std::string& key, const std::vector<unsigned char>& binary);
+std::string write_cache_entry(const std::string& path, const std::string& key,
+                              const std::vector<unsigned char>& binary);
 
 }  // namespace sf::detail

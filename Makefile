@@ -6,7 +6,7 @@ OUT ?= out
 # stop `make run`.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: deps deps-bench deps-dev configure build run test bench data meshes mesh-scenes coherent-table clean
+.PHONY: deps deps-bench deps-dev configure build run test bench bench-smoke data meshes mesh-scenes coherent-table clean
 .PHONY: fresh-check oclgrind sanitize tidy format format-check
 
 deps:
@@ -92,6 +92,21 @@ bench: build deps-bench
 	    e = [b["name"] for b in d["benchmarks"] if b.get("error_occurred")]; \
 	    print(f"bench: {n} results, {len(e)} with errors {e}")' $(OUT)/bench.json.part
 	@mv $(OUT)/bench.json.part $(OUT)/bench.json && echo "bench: wrote $(OUT)/bench.json"
+
+# Every benchmark once, at the least time (1 repetition, one timed run after the warm-up): what
+# CI runs so that a benchmark that breaks (an error, a failed agreement check such as
+# esm_vs_opencv's) fails the build instead of waiting for the next `make bench`. Its figures mean
+# nothing; the JSON is kept in $(BUILD)/bench-smoke.json.
+bench-smoke: build deps-bench
+	@cmake -S . -B $(BUILD) -DSF_BUILD_BENCH=ON > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target sf_bench
+	@SF_BENCH_REPETITIONS=1 SF_BENCH_MIN_TIME=0.0001 $(BUILD)/sf_bench \
+	    --benchmark_out=$(BUILD)/bench-smoke.json --benchmark_out_format=json > $(BUILD)/bench-smoke.log 2>&1 \
+	  || { tail -n 20 $(BUILD)/bench-smoke.log; echo "bench-smoke: sf_bench failed"; exit 1; }
+	@python3 -c 'import json, sys; b = json.load(open(sys.argv[1]))["benchmarks"]; \
+	    e = [x["name"] + ": " + x.get("error_message", "") for x in b if x.get("error_occurred")]; \
+	    print(f"bench-smoke: {len(b)} benchmarks, {len(e)} with errors"); [print("  " + m) for m in e]; \
+	    sys.exit(1 if e or not b else 0)' $(BUILD)/bench-smoke.json
 
 # Regenerates the bundled scenes in data/ (deterministic: same files, byte for byte).
 DATA_SCENES ?= spheres fence backyard contact thin

@@ -385,6 +385,31 @@ TEST_F(InputBounds, MeshWithNonFiniteVerticesIsRefused) {
   expect_refusal([&] { scene::read_mesh_file(path("junk.ply")); }, {"mesh '" + path("junk.ply") + "': "});
 }
 
+// Inputs the fuzz harnesses found (tests/fuzz/regressions): assimp 5.2 loops for ever on a PLY
+// header without end_header and aborts (an ai_assert in its triangulation) on faces without
+// indices; OpenEXR allocates a string attribute of the size the header states.
+std::string regression(const std::string& harness, const std::string& name) {
+  return std::string(SF_FUZZ_DIR) + "/regressions/" + harness + "/" + name;
+}
+
+TEST(FuzzRegressions, MeshesThatHungOrAbortedAssimpAreRefused) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string hang = regression("mesh", "ply_header_without_end_header.ply");
+  expect_refusal([&] { scene::read_mesh_file(hang); },
+                 {"mesh '" + hang + "': a PLY header without end_header in its first 1048576 bytes"});
+  expect_refusal([&] { scene::read_mesh_file(regression("mesh", "ply_faces_without_indices.ply")); },
+                 {"face 3 of mesh 0 has no vertices"});
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+TEST(FuzzRegressions, ExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrReadsIt) {
+  const std::string exr = regression("image", "exr_attribute_of_1886220163_bytes.exr");
+  expect_refusal([&] { io::load_depth_map(exr, {}); },
+                 {"shadow map '" + exr +
+                  "': truncated or corrupt: header attribute 'Exif:ImaSoftware' declares "
+                  "1886220163 bytes, the file holds 740 after it"});
+}
+
 TEST_F(InputBounds, EnvironmentMapChannelsAreOneThreeOrFour) {
   for (int channels : {1, 2, 3, 4, 5, 6}) {
     SCOPED_TRACE(channels);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "exr_header.hpp"
 #include "image_bounds.hpp"
 #include "input_file.hpp"
 #include "io_detail.hpp"
@@ -16,8 +17,10 @@ namespace sf::io {
 namespace {
 
 using detail::check_declared_image_size;
+using detail::check_exr_header;
 using detail::details_suffix;
 using detail::fail;
+using detail::is_exr_file;
 using detail::RawImage;
 using detail::read_raw;
 
@@ -142,12 +145,14 @@ void require_float_receivers(const RawImage& img, const std::string& path) {
 namespace detail {
 
 // Reads subimage 0, miplevel 0 as float: only a regular file, and only once its declared size
-// fits the memory budget and the file's size (image_bounds.hpp). OIIO readers report a truncated
+// fits the memory budget and the file's size (image_bounds.hpp; an OpenEXR header is walked
+// before OpenEXR allocates what it declares, exr_header.hpp). OIIO readers report a truncated
 // or corrupt file either by read_image() returning false or only by a pending error message, so
 // both are checked (and the message is always consumed so that it can't leak into a later call).
 RawImage read_raw(const std::string& path, const std::string& role) {
   const uint64_t file_bytes = require_regular_file(path, role);
   return with_out_of_memory_named(path, role, [&] {
+    if (is_exr_file(path)) check_exr_header(path, file_bytes, role);
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
     auto input = OIIO::ImageInput::open(path, &config);

@@ -85,6 +85,15 @@ class InputBounds : public ::testing::Test {
   std::string dir_;
 };
 
+// The command must exit 2 with one line on stderr holding `expect`.
+void expect_cli_refusal(const std::string& args, const std::string& dir, const std::string& expect,
+                        const std::string& env = "") {
+  const RunResult r = run_cli(args, dir, env);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+}
+
 // --- only regular files ----------------------------------------------------------------------
 
 struct Reader {
@@ -385,9 +394,10 @@ TEST_F(InputBounds, MeshWithNonFiniteVerticesIsRefused) {
   expect_refusal([&] { scene::read_mesh_file(path("junk.ply")); }, {"mesh '" + path("junk.ply") + "': "});
 }
 
-// Inputs the fuzz harnesses found (tests/fuzz/regressions): assimp 5.2 loops for ever on a PLY
-// header without end_header and aborts (an ai_assert in its triangulation) on faces without
-// indices; OpenEXR allocates a string attribute of the size the header states.
+// Inputs the fuzz harnesses found (tests/fuzz/regressions): assimp 5.2 loops for ever on PLY
+// headers it does not expect (no end_header, a character before it), aborts (an ai_assert in its
+// triangulation) on faces without indices and crashes on a damaged OFF file; OpenEXR allocates a
+// string attribute of the size the header states.
 std::string regression(const std::string& harness, const std::string& name) {
   return std::string(SF_FUZZ_DIR) + "/regressions/" + harness + "/" + name;
 }
@@ -396,10 +406,48 @@ TEST(FuzzRegressions, MeshesThatHungOrAbortedAssimpAreRefused) {
   const auto start = std::chrono::steady_clock::now();
   const std::string hang = regression("mesh", "ply_header_without_end_header.ply");
   expect_refusal([&] { scene::read_mesh_file(hang); },
-                 {"mesh '" + hang + "': a PLY header without end_header in its first 1048576 bytes"});
+                 {"mesh '" + hang + "': PLY header line 7: unexpected 'elemev 0nt face 4'"});
+  expect_refusal([&] { scene::read_mesh_file(regression("mesh", "ply_end_header_after_a_bracket.ply")); },
+                 {"PLY header line 9: unexpected '[end_header'"});
   expect_refusal([&] { scene::read_mesh_file(regression("mesh", "ply_faces_without_indices.ply")); },
-                 {"face 3 of mesh 0 has no vertices"});
+                 {"PLY header line 6: expected 'property TYPE NAME' or 'property list TYPE TYPE NAME', found "
+                  "'property floa????"});
+  expect_refusal([&] { scene::read_mesh_file(regression("mesh", "ply_face_of_zero_vertices.ply")); },
+                 {"face 0 of mesh 0 has no vertices"});
+  // assimp's OFF importer dereferences a face it never filled: the crash stays in the child.
+  const std::string off = regression("mesh", "off_that_crashes_assimp.off");
+  expect_refusal([&] { scene::read_mesh_file(off); },
+                 {"mesh '" + off + "': assimp crashed reading it (Segmentation fault)"});
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+TEST(PlyHeader, TheGrammarIsChecked) {
+  const std::string dir = temp_dir("ply_header");
+  const std::string start = "ply\nformat ascii 1.0\n";
+  const std::string tail =
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const auto header = [&](const std::string& text) {
+    write_bytes(dir + "/m.ply", text);
+    return dir + "/m.ply";
+  };
+  EXPECT_EQ(scene::read_mesh_file(header(start + "comment made by hand\r\n" + tail)).triangles.size(), 1u);
+  expect_refusal([&] { scene::read_mesh_file(header("plx\n" + tail)); }, {"line 1: expected 'ply'"});
+  expect_refusal([&] { scene::read_mesh_file(header("ply\nformat text 1.0\n" + tail)); },
+                 {"line 2: expected 'format ascii|binary_little_endian|binary_big_endian VERSION'"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "property float x\n" + tail)); },
+                 {"line 3: a property before any element"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "element vertex -3\n" + tail)); },
+                 {"line 3: expected 'element NAME COUNT'"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "\n" + tail)); }, {"line 3: an empty line"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + " comment\n" + tail)); }, {"line 3: blanks before"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "element vertex 3\nproperty quad x\n")); },
+                 {"line 4: expected 'property TYPE NAME'"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "element vertex 3\nend_header now\n")); },
+                 {"line 4: expected 'end_header' alone"});
+  expect_refusal([&] { scene::read_mesh_file(header(start + "element vertex 3\n")); },
+                 {"line 4: no end_header within the first 1048576 bytes"});
 }
 
 TEST(FuzzRegressions, ExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrReadsIt) {
@@ -408,6 +456,15 @@ TEST(FuzzRegressions, ExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrReadsIt
                  {"shadow map '" + exr +
                   "': truncated or corrupt: header attribute 'Exif:ImaSoftware' declares "
                   "1886220163 bytes, the file holds 740 after it"});
+}
+
+TEST_F(InputBounds, SoftReadsTheLightFromACheckedHeader) {
+  // soft reads the map's header for its light before its pixels: the same checks come first.
+  const std::string exr = regression("image", "exr_attribute_of_1886220163_bytes.exr");
+  expect_cli_refusal("soft --method pcss --shadow-map " + exr + " --receiver-depth " + exr + " -o " + path("o.exr"),
+                     dir_, "declares 1886220163 bytes");
+  expect_cli_refusal("soft --method pcss --shadow-map /dev/zero --receiver-depth " + exr + " -o " + path("o.exr"), dir_,
+                     "shadow map '/dev/zero': is a character device");
 }
 
 TEST_F(InputBounds, EnvironmentMapChannelsAreOneThreeOrFour) {
@@ -426,14 +483,6 @@ TEST_F(InputBounds, EnvironmentMapChannelsAreOneThreeOrFour) {
 }
 
 // --- the command line: exit 2, one line --------------------------------------------------------
-
-void expect_cli_refusal(const std::string& args, const std::string& dir, const std::string& expect,
-                        const std::string& env = "") {
-  const RunResult r = run_cli(args, dir, env);
-  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
-  EXPECT_EQ(count_lines(r.err), 1u) << r.err;
-  EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
-}
 
 TEST_F(InputBounds, CliRefusesNonFilesHugeHeadersAndBadLists) {
   io::write_image(path("map.exr"), HostImage(8, 8, 1, 0.5f));

@@ -10,7 +10,7 @@
 
 #include "filter_options.hpp"
 #include "image_io.hpp"
-#include "input_file.hpp"
+#include "image_bounds.hpp"
 #include "io_detail.hpp"
 #include "light_list.hpp"
 #include "verbose.hpp"
@@ -78,32 +78,16 @@ double header_extent(const OIIO::ImageSpec& spec, double given, const std::strin
 }  // namespace
 
 SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
-  io::require_regular_file(path, "shadow map");
   SoftLight L;
-  L.near_plane = NAN;
-  L.far_plane = NAN;
-  L.extent = NAN;
-  L.fov_degrees = NAN;
-  L.size = NAN;
-  std::string type;
-  auto in = OIIO::ImageInput::open(path);
-  if (in) {
-    const OIIO::ImageSpec& spec = in->spec();
-    type = spec.get_string_attribute("light_type");
-    L.near_plane = light_value(a.light_near, header_number(spec, "near"), "near", "--light-near", path);
-    L.far_plane = light_value(a.light_far, header_number(spec, "far"), "far", "--light-far", path);
-    L.fov_degrees = light_value(a.light_fov, header_number(spec, "fov_degrees"), "fov_degrees", "--light-fov", path);
-    L.size = light_value(a.light_size, header_number(spec, "light_size"), "light_size", "--light-size", path);
-    L.extent = header_extent(spec, a.light_extent, path);
-    in->close();
-  } else {
-    OIIO::geterror();  // consumed: the map's reader reports what is wrong with it
-    L.near_plane = a.light_near;
-    L.far_plane = a.light_far;
-    L.fov_degrees = a.light_fov;
-    L.size = a.light_size;
-    L.extent = a.light_extent;
-  }
+  const auto in = io::detail::open_checked_image(path, "shadow map");
+  const OIIO::ImageSpec& spec = in->spec();
+  std::string type = spec.get_string_attribute("light_type");
+  L.near_plane = light_value(a.light_near, header_number(spec, "near"), "near", "--light-near", path);
+  L.far_plane = light_value(a.light_far, header_number(spec, "far"), "far", "--light-far", path);
+  L.fov_degrees = light_value(a.light_fov, header_number(spec, "fov_degrees"), "fov_degrees", "--light-fov", path);
+  L.size = light_value(a.light_size, header_number(spec, "light_size"), "light_size", "--light-size", path);
+  L.extent = header_extent(spec, a.light_extent, path);
+  in->close();
   if (!a.light_type.empty()) type = a.light_type;
   if (type == "orthographic") type = "ortho";
   if (type.empty()) type = "ortho";

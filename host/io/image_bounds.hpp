@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace sf::io::detail {
@@ -21,5 +22,11 @@ uint64_t minimum_file_bytes(const OIIO::ImageSpec& spec, const std::string& form
 // the memory budget (input_file.hpp), or when the file is smaller than minimum_file_bytes.
 void check_declared_image_size(const OIIO::ImageSpec& spec, const std::string& format_name, uint64_t file_bytes,
                                const std::string& path, const std::string& role);
+
+// Opens an image after every check that needs no pixels: a regular file (require_regular_file),
+// an OpenEXR header walked before OpenEXR reads it (exr_header.hpp), a readable plain 2D image
+// (not deep, not a volume, not empty), its declared size as check_declared_image_size wants it.
+// read_raw reads the pixels from it; readers of a header alone (soft's light) use it directly.
+std::unique_ptr<OIIO::ImageInput> open_checked_image(const std::string& path, const std::string& role);
 
 }  // namespace sf::io::detail

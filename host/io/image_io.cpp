@@ -144,12 +144,7 @@ void require_float_receivers(const RawImage& img, const std::string& path) {
 
 namespace detail {
 
-// Reads subimage 0, miplevel 0 as float: only a regular file, and only once its declared size
-// fits the memory budget and the file's size (image_bounds.hpp; an OpenEXR header is walked
-// before OpenEXR allocates what it declares, exr_header.hpp). OIIO readers report a truncated
-// or corrupt file either by read_image() returning false or only by a pending error message, so
-// both are checked (and the message is always consumed so that it can't leak into a later call).
-RawImage read_raw(const std::string& path, const std::string& role) {
+std::unique_ptr<OIIO::ImageInput> open_checked_image(const std::string& path, const std::string& role) {
   const uint64_t file_bytes = require_regular_file(path, role);
   return with_out_of_memory_named(path, role, [&] {
     if (is_exr_file(path)) check_exr_header(path, file_bytes, role);
@@ -157,10 +152,20 @@ RawImage read_raw(const std::string& path, const std::string& role) {
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
     auto input = OIIO::ImageInput::open(path, &config);
     if (!input) fail(role, path, "not a readable image" + details_suffix(OIIO::geterror()));
+    require_plain_2d(input->spec(), path, role);
+    check_declared_image_size(input->spec(), input->format_name(), file_bytes, path, role);
+    return input;
+  });
+}
 
+// Reads subimage 0, miplevel 0 as float, once open_checked_image has checked everything that
+// needs no pixels. OIIO readers report a truncated or corrupt file either by read_image()
+// returning false or only by a pending error message, so both are checked (and the message is
+// always consumed so that it can't leak into a later call).
+RawImage read_raw(const std::string& path, const std::string& role) {
+  auto input = open_checked_image(path, role);
+  return with_out_of_memory_named(path, role, [&] {
     const OIIO::ImageSpec& spec = input->spec();
-    require_plain_2d(spec, path, role);
-    check_declared_image_size(spec, input->format_name(), file_bytes, path, role);
     RawImage img;
     img.width = spec.width;
     img.height = spec.height;

@@ -6,18 +6,23 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cctype>
 #include <filesystem>
-#include <fstream>
+#include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "input_file.hpp"
+#include "isolated_read.hpp"
 #include "io_detail.hpp"
+#include "ply_header.hpp"
 
 namespace sf::scene {
 namespace {
 
 const char* const kMeshRole = "mesh";
+// The longest assimp may take over one file (a mesh of millions of triangles takes seconds): past
+// it the file is taken to have sent assimp into a loop.
+constexpr int kMeshReadSeconds = 300;
 
 using io::detail::fail;
 
@@ -82,26 +87,7 @@ void append_triangles(const aiMesh& src, unsigned index, const std::string& path
   }
 }
 
-// assimp 5.2's PLY reader never returns from a header that ends without end_header (a
-// truncated or cut file), so such a header is refused before assimp sees it. A file is read as
-// PLY when its name ends in .ply or it starts with "ply" (assimp's signature check, any case).
-void require_ply_header_end(const std::string& path) {
-  constexpr size_t kMaxPlyHeader = size_t(1) << 20;
-  std::ifstream in(path, std::ios::binary);
-  std::string head(kMaxPlyHeader, '\0');
-  in.read(head.data(), std::streamsize(head.size()));
-  head.resize(size_t(in.gcount()));
-  std::string lower = head.substr(0, 3);
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (lower != "ply" && extension != ".ply") return;
-  if (head.find("end_header") == std::string::npos)
-    fail(kMeshRole, path, "a PLY header without end_header in its first " + std::to_string(kMaxPlyHeader) + " bytes");
-}
-
 TriMesh read_triangles(const std::string& path) {
-  require_ply_header_end(path);
   Assimp::Importer importer;
   const aiScene* ai = importer.ReadFile(path, 0);
   if (!ai) fail(kMeshRole, path, "not a mesh assimp can read" + io::detail::details_suffix(importer.GetErrorString()));
@@ -110,10 +96,64 @@ TriMesh read_triangles(const std::string& path) {
                                     aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (!ai) fail(kMeshRole, path, "not a mesh assimp can use" + io::detail::details_suffix(importer.GetErrorString()));
   TriMesh mesh;
-  mesh.name = std::filesystem::path(path).stem().string();
   for (unsigned m = 0; m < ai->mNumMeshes; ++m)
     if (ai->mMeshes[m]) append_triangles(*ai->mMeshes[m], m, path, mesh);
   if (mesh.triangles.empty()) fail(kMeshRole, path, "it holds no triangles");
+  return mesh;
+}
+
+// The child's answer: 'M', the vertex and triangle counts (8 bytes each), the vertices (3
+// doubles each) and the triangles (3 uint32 each); or 'E' and an InputError's message, or 'X' and
+// another exception's.
+template <class T>
+void append_raw(std::string& out, const T* values, size_t count) {
+  out.append(reinterpret_cast<const char*>(values), count * sizeof(T));
+}
+
+std::string encode_triangles(const std::string& path) {
+  try {
+    const TriMesh mesh = read_triangles(path);
+    std::string out = "M";
+    const uint64_t counts[2] = {mesh.vertices.size(), mesh.triangles.size()};
+    append_raw(out, counts, 2);
+    for (const Vec3& v : mesh.vertices) {
+      const double xyz[3] = {v.x, v.y, v.z};
+      append_raw(out, xyz, 3);
+    }
+    for (const auto& t : mesh.triangles) append_raw(out, t.data(), 3);
+    return out;
+  } catch (const InputError& e) {
+    return std::string("E") + e.what();
+  } catch (const std::bad_alloc&) {
+    return "E" + std::string(kMeshRole) + " '" + path + "': out of memory while reading it";
+  } catch (const std::exception& e) {
+    return std::string("X") + e.what();
+  }
+}
+
+TriMesh decode_triangles(const std::string& answer, const std::string& path) {
+  if (!answer.empty() && answer[0] == 'E') throw InputError(answer.substr(1));
+  if (!answer.empty() && answer[0] == 'X') throw std::runtime_error(answer.substr(1));
+  uint64_t counts[2] = {0, 0};
+  if (answer.size() < 17 || answer[0] != 'M') throw std::runtime_error("mesh '" + path + "': a garbled answer");
+  std::memcpy(counts, answer.data() + 1, 16);
+  if (counts[0] > (answer.size() - 17) / 24 || counts[1] > (answer.size() - 17) / 12 ||
+      answer.size() != 17 + counts[0] * 24 + counts[1] * 12)
+    throw std::runtime_error("mesh '" + path + "': a garbled answer");
+  TriMesh mesh;
+  mesh.vertices.resize(counts[0]);
+  mesh.triangles.resize(counts[1]);
+  const char* at = answer.data() + 17;
+  for (Vec3& v : mesh.vertices) {
+    double xyz[3];
+    std::memcpy(xyz, at, 24);
+    at += 24;
+    v = {xyz[0], xyz[1], xyz[2]};
+  }
+  for (auto& t : mesh.triangles) {
+    std::memcpy(t.data(), at, 12);
+    at += 12;
+  }
   return mesh;
 }
 
@@ -121,7 +161,23 @@ TriMesh read_triangles(const std::string& path) {
 
 TriMesh read_mesh_file(const std::string& path) {
   io::require_regular_file(path, kMeshRole);
-  return io::with_out_of_memory_named(path, kMeshRole, [&] { return read_triangles(path); });
+  if (looks_like_ply(path)) check_ply_header(path, kMeshRole);
+  const IsolatedResult r = run_isolated([&] { return encode_triangles(path); }, kMeshReadSeconds);
+  switch (r.kind) {
+    case IsolatedResult::Kind::Signalled:
+      fail(kMeshRole, path, std::string("assimp crashed reading it (") + ::strsignal(r.signal) + ")");
+    case IsolatedResult::Kind::TimedOut:
+      fail(kMeshRole, path, "assimp did not finish reading it within " + std::to_string(kMeshReadSeconds) + " s");
+    case IsolatedResult::Kind::Failed:
+      throw std::runtime_error("mesh '" + path + "': " + r.failure);
+    case IsolatedResult::Kind::Done:
+      break;
+  }
+  return io::with_out_of_memory_named(path, kMeshRole, [&] {
+    TriMesh mesh = decode_triangles(r.bytes, path);
+    mesh.name = std::filesystem::path(path).stem().string();
+    return mesh;
+  });
 }
 
 }  // namespace sf::scene

@@ -26,16 +26,17 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Main job: ESM (its defaults: c = 120 with z-max classification) with a Gaussian prefilter on
-# the bundled default scene.
-run: build
+# the bundled default scene. Builds the command alone (not the test suite).
+run: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target shadowfilter_cli
 	@mkdir -p $(OUT)
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receivers data/spheres/receivers.exr -o $(OUT)/spheres_esm.exr \
-	    --method esm --blur-radius 3 --preview
+	    --method esm --blur-radius 3 --preview shaded
 	$(BUILD)/shadowfilter filter --shadow-map data/spheres/shadowmap.exr \
 	    --receiver-depth data/spheres/receiver_depth.exr -o $(OUT)/spheres_esm_planar.exr \
 	    --method esm --blur-radius 3
-	@echo "output images: $(OUT)/spheres_esm.exr (camera view; $(OUT)/spheres_esm.png to look at), $(OUT)/spheres_esm_planar.exr (planar receiver)"
+	@echo "output images: $(OUT)/spheres_esm.exr (camera view; to look at: $(OUT)/spheres_esm_shaded.png, the scene shaded by the light, and $(OUT)/spheres_esm.png, the visibility), $(OUT)/spheres_esm_planar.exr (planar receiver)"
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j 2

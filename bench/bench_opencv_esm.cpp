@@ -78,10 +78,13 @@ const EsmInputs& inputs(int n, bool coherent) {
   return in;
 }
 
+// Like for like: the OpenCV pipeline is plain ESM, so ours runs without the z-max classification
+// that EsmClassify::Auto adds for esm (its fall-back changes flagged receivers' visibility).
 FilterOptions esm_options(int radius) {
   FilterOptions opt;
   opt.blur.radius = radius;
   opt.lookup.kind = Lookup::Mips;
+  opt.esm_classify.mode = EsmClassify::None;
   return opt;
 }
 

@@ -9,6 +9,7 @@ set_name="${1:-core}"
 core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers
       pocl-opencl-icd clinfo libopenimageio-dev openimageio-tools libcli11-dev libgtest-dev
       libgmock-dev libembree-dev libassimp-dev
+      nlohmann-json3-dev  # camera and light files (JSON), the CLI's --json summaries
       zlib1g-dev  # assimp's CMake targets link /usr/lib/x86_64-linux-gnu/libz.so, which libassimp-dev does not pull in
       libstb-dev  # examples/embed writes its PNG with stb_image_write (the package test builds it)
       fonts-dejavu-core)  # evaluate's Pareto plots label points with DejaVu Sans (OIIO render_text)

@@ -180,7 +180,8 @@ TEST_F(Cli, NarrowStorageWithBlurRuns) {
 }
 
 TEST_F(Cli, ArgumentErrors) {
-  expect_input_error("filter --shadow-map " + path("sm.exr"), "--receivers or --receiver-depth");
+  expect_input_error("filter --shadow-map " + path("sm.exr"),
+                     "exactly one of --receivers, --receiver-depth or --camera");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --method nosuch",
                      "unknown method");
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " --esm-c 500",
@@ -289,6 +290,39 @@ TEST_F(Cli, HelpAndDevices) {
   EXPECT_NE(r.out.find("(default)"), std::string::npos) << r.out;
   r = run_cli("methods", dir_);
   EXPECT_NE(r.out.find("esm"), std::string::npos) << r.out;
+}
+
+// Values that used to pass (or end the process on an uncaught exception or an Embree assertion):
+// each is refused with exit 2 and one line, before anything is written.
+TEST_F(Cli, ValuesOutsideTheirBoundsAreRefusedInEveryCommand) {
+  const std::string run =
+      "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") + " -o " + path("out.exr") + " ";
+  const std::string scene = "scene spheres -o " + path("scene") + " --size 32 --receivers 16x16 --samples 1 -q ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {run + "--receiver-plane maybe", "--receiver-plane"},
+      {run + "--storage f64", "storage 'f64'"},
+      {run + "--vector-width 0", "--vector-width"},
+      {run + "--vector-width 3", "--vector-width"},
+      {run + "--vector-width 1024", "--vector-width"},
+      {run + "--auto --auto-runs 0", "--auto-runs"},
+      {run + "--auto --auto-rounds 0", "--auto-rounds"},
+      {run + "--auto --max-error -1", "--max-error"},
+      {scene + "--camera-pos 0,0,1e30", "--camera-pos"},
+      {scene + "--camera-fov 1e-30", "--camera-fov"},
+      {scene + "--light perspective --fov 0", "--fov"},
+      {scene + "--threads -1", "--threads"},
+      {"coherent sky -o " + path("sky.exr") + " --sun-elevation 100", "--sun-elevation"},
+      {"coherent build box -o " + path("box.csm") + " --threads -1", "--threads"},
+      {"evaluate " + data_path("spheres") + " -o " + path("eval") + " --methods ''", "names no method"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const RunResult r = run_cli(args, dir_);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+  }
+  for (const char* name : {"out.exr", "scene", "sky.exr", "box.csm", "eval"})
+    EXPECT_FALSE(fs::exists(path(name))) << name;
 }
 
 }  // namespace

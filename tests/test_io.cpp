@@ -225,15 +225,20 @@ TEST_F(ImageIoTest, UnknownChannelFormatIsRejected) {
 TEST(ImageIoEncodingTest, ParsesNamesAndRejectsUnknownOnes) {
   EXPECT_EQ(sf::io::parse_depth_encoding("linear"), DepthEncoding::Linear);
   EXPECT_EQ(sf::io::parse_depth_encoding("perspective"), DepthEncoding::Perspective);
+  EXPECT_EQ(sf::io::parse_depth_encoding("perspective-ndc"), DepthEncoding::PerspectiveNdc);
   EXPECT_EQ(sf::io::parse_depth_encoding("reversed"), DepthEncoding::Reversed);
+  EXPECT_EQ(sf::io::parse_depth_encoding("reversed-infinite"), DepthEncoding::ReversedInfinite);
+  EXPECT_EQ(sf::io::parse_depth_encoding("reversed-linear"), DepthEncoding::ReversedLinear);
   expect_input_error([] { sf::io::parse_depth_encoding("log"); }, {"log", "linear", "perspective", "reversed"});
 }
 
-TEST(ImageIoEncodingTest, LinearClampsToUnitRange) {
+// linearize_depth decodes without clamping: the loaders check the range instead (below).
+TEST(ImageIoEncodingTest, LinearIsTheStoredValueOrWorldUnits) {
   const DepthLoadOptions opt;
   EXPECT_EQ(sf::io::linearize_depth(0.25, opt), 0.25);
-  EXPECT_EQ(sf::io::linearize_depth(-0.5, opt), 0.0);
-  EXPECT_EQ(sf::io::linearize_depth(1.5, opt), 1.0);
+  EXPECT_EQ(sf::io::linearize_depth(1.5, opt), 1.5);
+  EXPECT_NEAR(sf::io::linearize_depth(7.0, encoded(DepthEncoding::Linear, 4.0, 16.0)), 0.25, 1e-15);
+  EXPECT_NEAR(sf::io::linearize_depth(0.25, encoded(DepthEncoding::ReversedLinear, NAN, NAN)), 0.75, 1e-15);
 }
 
 // N = 1, F = 3: z_view = 2 is linear depth 0.5; hardware depth F(z_view - N)/(z_view(F - N)) =
@@ -245,9 +250,18 @@ TEST(ImageIoEncodingTest, PerspectiveMatchesHandComputedValues) {
   EXPECT_NEAR(sf::io::linearize_depth(0.75, opt), 0.5, 1e-12);
   // N = 0.5, F = 10, z = 0.5: z_view = 5 / 5.25 = 20/21, linear = (20/21 - 1/2) / 9.5 = 1/21.
   EXPECT_NEAR(sf::io::linearize_depth(0.5, encoded(DepthEncoding::Perspective, 0.5, 10.0)), 1.0 / 21.0, 1e-12);
-  // Stored values past the far plane clamp to far instead of wrapping through the pole.
-  EXPECT_EQ(sf::io::linearize_depth(1.5, opt), 1.0);
-  EXPECT_EQ(sf::io::linearize_depth(-0.5, opt), 0.0);
+  // OpenGL NDC z: window depth 0.75 is NDC 0.5.
+  EXPECT_NEAR(sf::io::linearize_depth(0.5, encoded(DepthEncoding::PerspectiveNdc, 1.0, 3.0)), 0.5, 1e-12);
+}
+
+// Reversed-Z with an infinite far plane, N = 1 and d = 1 at F = 5: z_view = N / w, so w = 1/3 is
+// z_view 3, d = (3 - 1) / 4 = 1/2; w = 0 is infinitely far: nothing hit, d = 1.
+TEST(ImageIoEncodingTest, ReversedInfiniteMatchesHandComputedValues) {
+  const DepthLoadOptions opt = encoded(DepthEncoding::ReversedInfinite, 1.0, 5.0);
+  EXPECT_NEAR(sf::io::linearize_depth(1.0, opt), 0.0, 1e-12);
+  EXPECT_NEAR(sf::io::linearize_depth(1.0 / 3.0, opt), 0.5, 1e-12);
+  EXPECT_NEAR(sf::io::linearize_depth(0.2, opt), 1.0, 1e-12);
+  EXPECT_EQ(sf::io::linearize_depth(0.0, opt), 1.0);
 }
 
 TEST(ImageIoEncodingTest, ReversedMatchesHandComputedValues) {
@@ -275,18 +289,30 @@ TEST_F(ImageIoTest, InvalidPlanesAreRejected) {
        std::vector<std::pair<double, double>>{{0.0, 1.0}, {-1.0, 1.0}, {2.0, 2.0}, {3.0, 1.0}}) {
     for (DepthEncoding encoding : {DepthEncoding::Perspective, DepthEncoding::Reversed}) {
       expect_input_error([&] { sf::io::load_depth_map(file("p.exr"), encoded(encoding, near_plane, far_plane)); },
-                         {"p.exr", "--near", "--far"});
+                         {"p.exr", "DepthDecoding::near_plane", "got near="});
     }
   }
-  // Linear depth ignores the planes.
-  EXPECT_NO_THROW(sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Linear, 0.0, 0.0)));
+  // Perspective encodings need both planes: no silent defaults.
+  expect_input_error([&] { sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Perspective, NAN, NAN)); },
+                     {"p.exr", "perspective", "needs both"});
+  // Linear depth takes both planes (world units) or neither ([0, 1]).
+  expect_input_error([&] { sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Linear, 0.0, 0.0)); },
+                     {"p.exr", "near=0, far=0"});
+  expect_input_error([&] { sf::io::load_depth_map(file("p.exr"), encoded(DepthEncoding::Linear, 1.0, NAN)); },
+                     {"p.exr", "needs both"});
 }
 
-TEST_F(ImageIoTest, OutOfRangeLinearDepthIsClamped) {
+// Out of the encoding's range beyond rounding: refused with the range found and the fix, never
+// clamped; within rounding (1e-6 of the range) clamped.
+TEST_F(ImageIoTest, OutOfRangeDepthIsRefusedNotClamped) {
   HostImage stored(2, 1);
   stored.data = {-0.25f, 7.0f};
   sf::io::write_image(file("c.exr"), stored);
-  const HostImage depth = sf::io::load_depth_map(file("c.exr"), {});
+  expect_input_error([&] { sf::io::load_depth_map(file("c.exr"), {}); },
+                     {"c.exr", "depths span [-0.25, 7]", "outside [0, 1]", "--near N --far F"});
+  stored.data = {-1e-7f, 1.0000005f};
+  sf::io::write_image(file("r.exr"), stored);
+  const HostImage depth = sf::io::load_depth_map(file("r.exr"), {});
   EXPECT_EQ(depth.data[0], 0.0f);
   EXPECT_EQ(depth.data[1], 1.0f);
 }
@@ -428,13 +454,13 @@ TEST_F(ImageIoTest, HalfReceiversAreAccepted) {
   EXPECT_EQ(sf::io::load_receiver_image(file("rec.exr")).d[3], 0.5f);
 }
 
-TEST_F(ImageIoTest, OddReceiversBecomeBackgroundOrAreClamped) {
+TEST_F(ImageIoTest, OddReceiversBecomeBackgroundOrAreRefused) {
   HostImage img(5, 1, 3, 0.5f);
-  img.at(0, 0, 2) = kNaN;   // d non-finite: background
-  img.at(1, 0, 0) = kNaN;   // u non-finite: background
-  img.at(2, 0, 1) = kInf;   // v non-finite: background
-  img.at(3, 0, 2) = 1.75f;  // finite d: clamped
-  img.at(4, 0, 0) = 1.5f;   // u outside [0,1] is kept (outside the frustum, handled later)
+  img.at(0, 0, 2) = kNaN;        // d non-finite: background
+  img.at(1, 0, 0) = kNaN;        // u non-finite: background
+  img.at(2, 0, 1) = kInf;        // v non-finite: background
+  img.at(3, 0, 2) = 1.0000004f;  // d past 1 within rounding: clamped
+  img.at(4, 0, 0) = 1.5f;        // u outside [0,1] is kept (outside the frustum, handled later)
   sf::io::write_image(file("odd.exr"), img);
   const Receivers rec = sf::io::load_receiver_image(file("odd.exr"));
   EXPECT_TRUE(std::isnan(rec.d[0]));
@@ -442,6 +468,10 @@ TEST_F(ImageIoTest, OddReceiversBecomeBackgroundOrAreClamped) {
   EXPECT_TRUE(std::isnan(rec.d[2]));
   EXPECT_EQ(rec.d[3], 1.0f);
   EXPECT_EQ(rec.u[4], 1.5f);
+  img.at(3, 0, 2) = 1.75f;  // beyond rounding: refused, never clamped
+  sf::io::write_image(file("far.exr"), img);
+  expect_input_error([&] { sf::io::load_receiver_image(file("far.exr")); },
+                     {"receiver image", "far.exr", "depths span [0.5, 1.75]", "outside [0, 1]"});
   EXPECT_EQ(rec.d[4], 0.5f);
 }
 
@@ -512,7 +542,7 @@ TEST_F(ImageIoTest, WrongReceiverChannelCountIsRejected) {
 
 TEST_F(ImageIoTest, ReceiverDepthIsDecodedOnTheShadowMapGrid) {
   HostImage img(3, 2);
-  img.data = {0.0f, 0.75f, 1.0f, kNaN, 2.0f, -kInf};
+  img.data = {0.0f, 0.75f, 1.0f, kNaN, 1.0f, -kInf};
   sf::io::write_image(file("rd.exr"), img);
   const Receivers rec = sf::io::load_receiver_depth(file("rd.exr"), 3, 2, encoded(DepthEncoding::Perspective, 1, 3));
   EXPECT_TRUE(rec.grid);

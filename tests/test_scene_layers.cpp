@@ -235,8 +235,8 @@ TEST_P(SceneLayerErrors, ExitTwoOneLineNothingWritten) {
 
 INSTANTIATE_TEST_SUITE_P(
     BadCameraOptions, SceneLayerErrors,
-    ::testing::Values(std::make_pair("spheres --camera-fov 0", "--camera-fov must lie in (0, 170)"),
-                      std::make_pair("city --camera-fov 170", "--camera-fov must lie in (0, 170)"),
+    ::testing::Values(std::make_pair("spheres --camera-fov 0", "--camera-fov must lie in [0.01, 170)"),
+                      std::make_pair("city --camera-fov 170", "--camera-fov must lie in [0.01, 170)"),
                       std::make_pair("spheres --camera-near 0", "--camera-near and --camera-far"),
                       std::make_pair("city --camera-near 5 --camera-far 2", "--camera-near and --camera-far"),
                       std::make_pair("spheres --camera-pos 1,2,nan", "finite"),

@@ -5,6 +5,8 @@
 // before it are written in full. Any other exception ends the batch (the frames before it still finish writing).
 #include <chrono>
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <cstdio>
 #include <deque>
 #include <functional>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "frame_list.hpp"
+#include "interrupts.hpp"
 #include "progress.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -56,6 +59,11 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
       stop = message;
   };
   scene::Progress bar("frames", frames.size(), settings.progress);
+  // An interrupted batch says how far it got (interrupts.hpp): the frames written in full stay.
+  auto written = std::make_shared<std::atomic<size_t>>(0);
+  const InterruptReport interrupt_report([written, total = frames.size()] {
+    return std::to_string(written->load()) + " of " + std::to_string(total) + " frames written";
+  });
 
   auto start_load = [&](size_t i) {
     return std::async(std::launch::async, [&load, &frames, &seconds_since, i] {
@@ -78,6 +86,7 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
     try {
       report.encode += writing.get();
       ++report.written;
+      ++*written;
     } catch (const InputError& e) {
       failed(frames[writing_index], e.what());
     }

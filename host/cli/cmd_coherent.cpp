@@ -13,6 +13,7 @@
 #include "coherent_reference.hpp"
 #include "coherent_stack.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 #include "progress.hpp"
 #include "shadowfilter/coherent_device.hpp"
 #include "shadowfilter/errors.hpp"
@@ -66,6 +67,7 @@ std::string size_summary(const coherent::CompressedStack& c) {
 }
 
 int run_build(const BuildArgs& a) {
+  io::check_outputs({a.output}, {a.source});
   coherent::StackLayout layout;
   parse_views(a.views, layout);
   layout.resolution = a.resolution;
@@ -156,7 +158,9 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
                 "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast) or embree (every view "
                 "ray-cast; the same depths at texel centres)")
       ->capture_default_str();
-  b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")->capture_default_str();
+  b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   b->add_option("--compress", build->compress,
                 "Where the segments are fitted: device (OpenCL kernel), host (the scalar reference; same bytes) or "
                 "auto (device on a GPU, else host)")

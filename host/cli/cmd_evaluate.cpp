@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "option_names.hpp"
+#include "output_file.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "shadowfilter/errors.hpp"
@@ -181,11 +182,9 @@ int run_evaluate(const EvaluateArgs& a) {
   eval::write_csv((fs::path(a.out_dir) / "results.csv").string(), all, target);
   eval::write_json((fs::path(a.out_dir) / "results.json").string(), all, skipped, runtime->info().device_name, target);
   if (a.auto_args.enabled) {
-    const std::string path = (fs::path(a.out_dir) / "auto.txt").string();
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw InputError("cannot write '" + path + "'");
-    for (const auto& l : auto_lines) std::fputs(l.c_str(), f);
-    std::fclose(f);
+    std::string text;
+    for (const auto& l : auto_lines) text += l;
+    io::write_text((fs::path(a.out_dir) / "auto.txt").string(), "results file", text);
   }
 
   if (!a.quiet) {

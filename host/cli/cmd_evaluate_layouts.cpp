@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "io_detail.hpp"
+#include "output_file.hpp"
 #include "layout_eval.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -79,7 +79,9 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
   c->add_option("--runs", a.request.timing_runs, "Timed runs per frame and configuration (median)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
-  c->add_option("--threads", a.request.threads, "Ray-casting threads (0 = all cores)")->capture_default_str();
+  c->add_option("--threads", a.request.threads, "Ray-casting threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   c->add_option("--device", a.request.device, "OpenCL device (as for filter)");
   c->add_flag("-q,--quiet", a.quiet, "No progress lines");
   add_verbose_flag(*c, a.verbose);
@@ -121,7 +123,7 @@ int run_evaluate_layouts(EvaluateLayoutsArgs& a) {
   if (!fs::is_directory(a.out_dir)) throw InputError("cannot create output directory '" + a.out_dir + "'");
   const std::string table = eval::layout_markdown(rows);
   eval::write_layout_csv((fs::path(a.out_dir) / "results_layouts.csv").string(), rows);
-  io::detail::write_text_atomically((fs::path(a.out_dir) / "results_layouts.md").string(), table, "results file");
+  io::write_text((fs::path(a.out_dir) / "results_layouts.md").string(), "results file", table);
   std::vector<std::string> scenes;
   for (const auto& row : rows)
     if (std::find(scenes.begin(), scenes.end(), row.scene) == scenes.end()) scenes.push_back(row.scene);

@@ -39,7 +39,9 @@ CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
                 "Side of the square area light in light-space units (default: the scene's)");
   c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")->capture_default_str();
   c->add_option("--seed", a.seed, "Seed of the area-light sampling")->capture_default_str();
-  c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")->capture_default_str();
+  c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   c->add_flag("-q,--quiet", a.quiet, "No progress bars or summary");
   c->add_option("--camera-pos", a.camera_pos, "Camera position X,Y,Z (default: the scene's)")
       ->expected(3)
@@ -82,7 +84,11 @@ int run_scene(const SceneArgs& a) {
   request.light = a.light;
   request.light_dir = parse_vector(a.light_dir, "--light-dir");
   request.light_pos = parse_vector(a.light_pos, "--light-pos");
-  request.fov_degrees = a.fov;
+  if (!std::isnan(a.fov)) {
+    // 0 is the request's "fitted"; a given field of view is an angle.
+    if (!(a.fov > 0.0)) throw InputError("--fov must lie in (0, 170) degrees, got " + scene::format_number(a.fov));
+    request.fov_degrees = a.fov;
+  }
   if (!std::isnan(a.light_size)) request.light_size = a.light_size;
   request.samples = a.samples;
   request.seed = a.seed;

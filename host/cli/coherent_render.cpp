@@ -15,6 +15,7 @@
 #include "coherent_render.hpp"
 #include "coherent_stack.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 #include "envmap.hpp"
 #include "image_io.hpp"
 #include "ray_tracer.hpp"
@@ -80,6 +81,7 @@ int run_render(const RenderArgs& a) {
     if (l.size() != 10 && l.size() != 12)
       throw InputError("--area-light takes corner, edge a, edge b (3 numbers each) and a radiance (1 or 3)");
   const std::string preview = a.preview ? io::preview_path(a.output) : std::string();
+  io::check_outputs({a.output, preview}, {a.file, a.envmap, a.mesh});
 
   const io::CoherentFile file = io::read_coherent(a.file);
   const coherent::StackLayout& layout = file.stack.layout;

@@ -8,6 +8,7 @@
 
 #include <memory>
 
+#include "depth_inputs.hpp"
 #include "image_io.hpp"
 #include "layout_eval.hpp"
 #include "shadowfilter/host_image.hpp"
@@ -16,11 +17,15 @@
 
 namespace sf::cli {
 
-struct DevicesArgs {};
+struct DevicesArgs {
+  bool json = false;  // --json: the list as a JSON array
+};
 CLI::App* add_devices_command(CLI::App& app, DevicesArgs& args);
 int run_devices(const DevicesArgs& args);
 
-struct MethodsArgs {};
+struct MethodsArgs {
+  bool json = false;  // --json: the methods as a JSON array
+};
 CLI::App* add_methods_command(CLI::App& app, MethodsArgs& args);
 int run_methods(const MethodsArgs& args);
 
@@ -45,10 +50,9 @@ struct FilterArgs {
   std::string receivers, receiver_depth, output, device;
   std::string frames, output_dir;  // batch: --frames LIST, or --shadow-map A B ... --output-dir DIR
   bool keep_going = false;         // batch: report a failed frame and carry on
-  bool preview = false;            // --preview: OUTPUT.png beside each output
-  std::string encoding = "linear", nonfinite = "error";
-  double near_plane = 0.1, far_plane = 100.0;
-  bool quiet = false, verbose = false;
+  std::string preview = "none";    // --preview [plain|shaded]: pictures beside each output (preview_images.hpp)
+  DepthInputArgs inputs;           // encodings, --light, receivers from a camera (depth_inputs.hpp)
+  bool quiet = false, verbose = false, json = false;
   std::string flags_out;  // --flags-out: ESM classification mask (1 = flagged)
   // Layered maps (filter_layered.cpp): --cascades DIR|LIST, --view FILE, --cascade-blend B
   // (NaN: the files' own band).
@@ -68,17 +72,22 @@ int run_filter(const FilterArgs& args);
 int run_filter_batch(const FilterArgs& args);
 // filter --cascades: the layered maps of a cascade set onto a camera view (filter_layered.cpp).
 int run_filter_layered(const FilterArgs& args);
-// InputError when `out` is one of `inputs` (an existing file that is the same file).
-void check_output_is_not_an_input(const std::string& out, const std::vector<std::string>& inputs);
-// --encoding, --near, --far and --nonfinite as the loaders take them (InputError when invalid).
-io::DepthLoadOptions depth_load_options(const FilterArgs& args);
+// `receivers` (cmd_receivers.cpp): receivers from a camera's depth buffer and a light.
+struct ReceiversArgs {
+  DepthInputArgs inputs;  // --camera, --camera-depth, --camera-depth-kind, --normals, --light
+  std::string output, shadow_map, map_size;
+  int threads = 0;
+  bool quiet = false, json = false;
+};
+CLI::App* add_receivers_command(CLI::App& app, ReceiversArgs& args);
+int run_receivers(const ReceiversArgs& args);
 
 struct SceneArgs {
   std::string scene, out_dir, receivers = "1920x1080", light = "ortho";
   int map_size = 2048, samples = 64, threads = 0;
   unsigned seed = 1;
   std::vector<double> light_dir, light_pos;
-  double fov = 0.0;
+  double fov = std::numeric_limits<double>::quiet_NaN();         // NaN: fitted
   double light_size = std::numeric_limits<double>::quiet_NaN();  // NaN: the scene's default
   bool quiet = false;
   // Camera and path (NaN / empty: the scene's default; CLI numbers are finite, finite_numbers.hpp).

@@ -13,7 +13,10 @@
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "frame_list.hpp"
+#include "depth_inputs.hpp"
 #include "image_io.hpp"
+#include "json_summary.hpp"
+#include "preview_images.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/frame_filter.hpp"
@@ -24,27 +27,37 @@ namespace {
 
 struct LoadedFrame {
   HostImage depth;
-  std::shared_ptr<const Receivers> receivers;
+  std::shared_ptr<const LoadedReceivers> receivers;
+  std::vector<std::string> warnings;  // printed once the frame is written
 };
 
 struct FilteredFrame {
   HostImage visibility;
+  std::shared_ptr<const LoadedReceivers> receivers;  // for the shaded preview
+  std::vector<std::string> warnings;
 };
 
-// The receivers of the frame before, reused while frames name the same file (and, for planar
-// receivers, the same map size): a sequence over one camera decodes them once. Frames decode on
-// several threads (batch_runner.hpp): the lock makes the second of two frames that need one
-// file wait for the first one's copy.
+FrameFiles files_of(const FrameSpec& f, const DepthInputArgs& inputs) {
+  return {f.shadow_map, f.receivers,    f.receiver_depth,
+          f.camera,     f.camera_depth, f.light.empty() ? inputs.light : f.light};
+}
+
+// The receivers of the frame before, reused while frames name the same files (and, for planar
+// receivers and cameras, the same map size): a sequence over one camera decodes them once. Frames
+// decode on several threads (batch_runner.hpp): the lock makes the second of two frames that need
+// one file wait for the first one's copy.
 class ReceiverCache {
  public:
-  std::shared_ptr<const Receivers> get(const FrameSpec& f, const HostImage& depth, const io::DepthLoadOptions& load) {
-    const std::string key = f.receivers.empty() ? "depth=" + f.receiver_depth + " " + std::to_string(depth.width) +
-                                                      "x" + std::to_string(depth.height)
-                                                : f.receivers;
+  std::shared_ptr<const LoadedReceivers> get(const FrameFiles& f, const DepthInputArgs& inputs, const HostImage& depth,
+                                             const io::DepthLoadOptions& map) {
+    const std::string size = std::to_string(depth.width) + "x" + std::to_string(depth.height);
+    const std::string key = !f.camera.empty() ? "camera=" + f.camera + " " + f.camera_depth + " " + f.light + " " + size
+                            : f.receivers.empty() ? "depth=" + f.receiver_depth + " " + size
+                                                  : f.receivers;
     std::lock_guard<std::mutex> lock(mutex_);
     if (key != key_ || !receivers_) {
       receivers_.reset();
-      receivers_ = std::make_shared<const Receivers>(io::load_receivers(f.receivers, f.receiver_depth, depth, load));
+      receivers_ = std::make_shared<const LoadedReceivers>(load_receivers_of(f, inputs, depth, map));
       key_ = key;
     }
     return receivers_;
@@ -53,7 +66,7 @@ class ReceiverCache {
  private:
   std::mutex mutex_;
   std::string key_;
-  std::shared_ptr<const Receivers> receivers_;
+  std::shared_ptr<const LoadedReceivers> receivers_;
 };
 
 void add_times(StageTimes& total, const StageTimes& t) {
@@ -74,28 +87,31 @@ int run_filter_batch(const FilterArgs& a) {
   if (a.auto_args.enabled)
     throw InputError("--auto measures one input; run it on one frame and give the batch the options it chose");
   if (!a.flags_out.empty()) throw InputError("--flags-out writes one frame's mask; it does not take a batch");
+  validate_depth_args(a.inputs);
   std::vector<FrameSpec> frames;
   if (!a.frames.empty()) {
+    if (!a.inputs.camera.empty() || !a.inputs.camera_depth.empty())
+      throw InputError("--frames names each frame's camera on its line (camera= camera-depth=), not --camera");
     frames = read_frame_list(a.frames);
   } else {
     if (a.shadow_maps.empty()) throw InputError("--output-dir needs --shadow-map A [B ...]");
-    if (a.receivers.empty() == a.receiver_depth.empty())
-      throw InputError("give exactly one of --receivers or --receiver-depth");
     frames = frames_of_maps(a.shadow_maps, a.receivers, a.receiver_depth, a.output_dir, ".exr");
+    for (FrameSpec& f : frames) f.camera = a.inputs.camera, f.camera_depth = a.inputs.camera_depth;
+    require_one_receiver_source(files_of(frames.front(), a.inputs));
     std::error_code ec;
     std::filesystem::create_directories(a.output_dir, ec);
     if (ec) throw InputError("--output-dir '" + a.output_dir + "': cannot create it (" + ec.message() + ")");
   }
+  const PreviewKind preview = parse_preview(a.preview);
   std::vector<std::vector<std::string>> previews(frames.size());
-  if (a.preview)
-    for (size_t i = 0; i < frames.size(); ++i) try {
-        previews[i] = {io::preview_path(frames[i].output)};
-      } catch (const InputError& e) {
-        throw InputError(frames[i].where + ": " + e.what());
-      }
-  check_batch_outputs(frames, previews);
+  for (size_t i = 0; i < frames.size(); ++i) try {
+      require_one_receiver_source(files_of(frames[i], a.inputs));
+      previews[i] = preview_paths(frames[i].output, preview);
+    } catch (const InputError& e) {
+      throw InputError(frames[i].where + ": " + e.what());
+    }
+  check_batch_outputs(frames, previews, a.frames);
 
-  const io::DepthLoadOptions load = depth_load_options(a);
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
   FrameFilter filter(runtime, a.options);
@@ -109,25 +125,47 @@ int run_filter_batch(const FilterArgs& a) {
   const BatchReport report = run_batch<LoadedFrame, FilteredFrame>(
       frames, settings,
       [&](const FrameSpec& f) {
+        const FrameFiles files = files_of(f, a.inputs);
+        const io::DepthLoadOptions map = frame_map_decoding(files, a.inputs);
         LoadedFrame loaded;
-        loaded.depth = io::load_depth_map(f.shadow_map, load);
-        loaded.receivers = receivers.get(f, loaded.depth, load);
+        loaded.depth = io::load_depth_map(f.shadow_map, map);
+        loaded.receivers = receivers.get(files, a.inputs, loaded.depth, map);
+        loaded.warnings = loaded.receivers->warnings;
+        const std::vector<std::string> fit =
+            fit_warnings(loaded.depth, loaded.receivers->receivers, loaded.receivers->header, map);
+        loaded.warnings.insert(loaded.warnings.end(), fit.begin(), fit.end());
         return loaded;
       },
       [&](const FrameSpec&, LoadedFrame& loaded) {
-        FilterResult r = filter.run(loaded.depth, *loaded.receivers);
+        const Receivers& rx = loaded.receivers->receivers;
+        FilterResult r = filter.run(loaded.depth, rx);
         add_times(device, r.times);
         texels += loaded.depth.texels();
-        receivers_done += loaded.receivers->count();
-        return FilteredFrame{std::move(r.visibility)};
+        receivers_done += rx.count();
+        return FilteredFrame{std::move(r.visibility), loaded.receivers, std::move(loaded.warnings)};
       },
       [&](const FrameSpec& f, const FilteredFrame& done) {
-        std::vector<io::ImageToWrite> outputs{{f.output, &done.visibility}};
-        if (a.preview) outputs.push_back({io::preview_path(f.output), &done.visibility});
-        io::write_images(outputs);
+        HostImage shaded;
+        const Receivers& rx = done.receivers->receivers;
+        io::write_images(output_with_previews(f.output, done.visibility, preview, rx.d, rx.ndl, &shaded));
+        print_warnings(done.warnings, f.where);
       });
 
-  if (!a.quiet) {
+  if (!a.quiet && a.json) {
+    const size_t ran = std::max<size_t>(report.frames - report.failed, 1);
+    nlohmann::json j;
+    j["command"] = "filter";
+    j["filter"] = filter_options_json(a.options);
+    j["batch"] = {{"frames", report.frames}, {"written", report.written}, {"failed", report.failed}};
+    j["device"] = runtime->info().device_name;
+    j["zero_copy"] = filter.zero_copy();
+    j["allocations"] = filter.allocations();
+    j["device_ms_per_frame"] = stage_ms_json(device, 1.0 / double(ran));
+    j["stage_s"] = {{"decode", report.decode}, {"run", report.process}, {"encode", report.encode}};
+    j["wall_s"] = report.wall;
+    j["frames_per_s"] = report.written / std::max(report.wall, 1e-9);
+    print_json(j);
+  } else if (!a.quiet) {
     const double ms = 1e3;
     const size_t ran = std::max<size_t>(report.frames - report.failed, 1);
     std::printf(

@@ -10,6 +10,8 @@
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "image_io.hpp"
+#include "output_file.hpp"
+#include "preview_images.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
@@ -37,7 +39,10 @@ void refuse_single_map_options(const FilterArgs& a) {
   refuse(a.keep_going, "--keep-going");
   refuse(a.auto_args.enabled, "--auto");
   refuse(!a.flags_out.empty(), "--flags-out");
-  refuse(a.encoding != "linear", "--encoding (layer files hold linear depth)");
+  refuse(!a.inputs.encoding.empty() || !a.inputs.receiver_encoding.empty() || !std::isnan(a.inputs.near_plane) ||
+             !std::isnan(a.inputs.far_plane),
+         "--encoding, --receiver-encoding, --near or --far (layer files hold linear depth)");
+  refuse(!a.inputs.light.empty() || !a.inputs.camera.empty(), "--light or --camera (the layers hold their matrices)");
   if (a.view.empty()) throw InputError("--cascades needs --view VIEW (the camera view's receivers)");
   if (a.output.empty()) throw InputError("give -o/--output");
   if (!std::isnan(a.cascade_blend) && !(a.cascade_blend >= 0.0 && a.cascade_blend < 1.0))
@@ -52,9 +57,10 @@ int run_filter_layered(const FilterArgs& a) {
   const std::vector<std::string> files = io::cascade_files(a.cascades);
   std::vector<std::string> inputs = files;
   inputs.push_back(a.view);
-  const std::string preview = a.preview ? io::preview_path(a.output) : "";
-  check_output_is_not_an_input(a.output, inputs);
-  if (!preview.empty()) check_output_is_not_an_input(preview, inputs);
+  const PreviewKind preview = parse_preview(a.preview);
+  std::vector<std::string> outputs = preview_paths(a.output, preview);
+  outputs.insert(outputs.begin(), a.output);
+  io::check_outputs(outputs, inputs);
 
   io::LayeredMaps layered = io::load_cascade_set(files);
   if (!std::isnan(a.cascade_blend)) layered.set.blend = a.cascade_blend;
@@ -69,10 +75,9 @@ int run_filter_layered(const FilterArgs& a) {
   const double run_ms = ms_since(t_run);
 
   const auto t_write = Clock::now();
-  // The visibility and its preview appear together or not at all.
-  std::vector<io::ImageToWrite> outputs{{a.output, &r.visibility}};
-  if (!preview.empty()) outputs.push_back({preview, &r.visibility});
-  io::write_images(outputs);
+  // The visibility and its previews appear together or not at all.
+  HostImage shaded;
+  io::write_images(output_with_previews(a.output, r.visibility, preview, view.x, view.ndl, &shaded));
   const double write_ms = ms_since(t_write);
 
   if (!a.quiet) {

@@ -1,7 +1,5 @@
 #include "frame_list.hpp"
 
-#include <sys/stat.h>
-
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -10,6 +8,7 @@
 #include "input_file.hpp"
 #include "list_lines.hpp"
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::cli {
 namespace {
@@ -46,18 +45,50 @@ std::string relative_to(const fs::path& dir, const std::string& path) {
   return p.is_absolute() ? p.string() : (dir / p).lexically_normal().string();
 }
 
-// One key per file whatever the spelling of its path: device and inode where the file exists
-// (links included), else its normalised absolute path (an output not written yet).
-std::string file_key(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
-  return fs::absolute(path).lexically_normal().string();
+// One key per file whatever the spelling of its path (io::file_identity).
+std::string file_key(const std::string& path) { return io::file_identity(path); }
+
+// The value of a "key=value" field, or false when the field has another key.
+bool keyed(const std::string& field, const std::string& key, const std::string& where, std::string* value) {
+  if (field.compare(0, key.size() + 1, key + "=") != 0) return false;
+  if (field.size() == key.size() + 1) throw InputError(where + ": '" + key + "=' names no file");
+  *value = field.substr(key.size() + 1);
+  return true;
+}
+
+// The fields of one frame: SHADOWMAP, the receivers' fields, [light=LIGHT], OUTPUT.
+bool read_frame_fields(std::vector<std::string> f, const fs::path& dir, FrameSpec* frame) {
+  if (f.size() < 3) return false;
+  std::string value;
+  if (keyed(f[f.size() - 2], "light", frame->where, &value)) {
+    frame->light = relative_to(dir, value);
+    f.erase(f.end() - 2);
+  }
+  frame->shadow_map = relative_to(dir, f.front());
+  frame->output = relative_to(dir, f.back());
+  if (f.size() == 4) {
+    std::string camera, depth;
+    if (!keyed(f[1], "camera", frame->where, &camera) || !keyed(f[2], "camera-depth", frame->where, &depth))
+      return false;
+    frame->camera = relative_to(dir, camera);
+    frame->camera_depth = relative_to(dir, depth);
+    return true;
+  }
+  if (f.size() != 3) return false;
+  if (keyed(f[1], "depth", frame->where, &value))
+    frame->receiver_depth = relative_to(dir, value);
+  else if (f[1].compare(0, 7, "camera=") == 0)  // a camera needs its depth buffer too
+    return false;
+  else
+    frame->receivers = relative_to(dir, f[1]);
+  return true;
 }
 
 }  // namespace
 
 std::vector<FrameSpec> read_frame_list(const std::string& list) {
   io::require_regular_file(list, "frame list");
+  io::record_input(list);
   std::ifstream in(list, std::ios::binary);
   if (!in) throw InputError("frame list '" + list + "': cannot open it");
   return io::with_out_of_memory_named(list, "frame list", [&] { return parse_frame_list(in, list); });
@@ -72,24 +103,17 @@ std::vector<FrameSpec> parse_frame_list(std::istream& in, const std::string& lis
     const std::string where = lines.where();
     const std::vector<std::string> f = split_fields(line, where);
     if (f.empty()) continue;
-    if (f.size() != 3)
-      throw InputError(where +
-                       ": expected 'SHADOWMAP RECEIVERS OUTPUT' or 'SHADOWMAP depth=RECEIVER_DEPTH OUTPUT', got " +
-                       std::to_string(f.size()) + " fields");
     if (frames.size() == kMaxFrames)
       throw InputError(where + ": more than " + std::to_string(kMaxFrames) + " frames; a list holds at most " +
                        std::to_string(kMaxFrames));
     FrameSpec frame;
     frame.where = where;
-    frame.shadow_map = relative_to(dir, f[0]);
-    const std::string depth_prefix = "depth=";
-    if (f[1].compare(0, depth_prefix.size(), depth_prefix) == 0) {
-      if (f[1].size() == depth_prefix.size()) throw InputError(where + ": 'depth=' names no file");
-      frame.receiver_depth = relative_to(dir, f[1].substr(depth_prefix.size()));
-    } else {
-      frame.receivers = relative_to(dir, f[1]);
-    }
-    frame.output = relative_to(dir, f[2]);
+    if (!read_frame_fields(f, dir, &frame))
+      throw InputError(where +
+                       ": expected 'SHADOWMAP RECEIVERS OUTPUT', 'SHADOWMAP depth=RECEIVER_DEPTH OUTPUT' or "
+                       "'SHADOWMAP camera=CAMERA.json camera-depth=DEPTH OUTPUT' (each with an optional "
+                       "light=LIGHT.json before OUTPUT), got " +
+                       std::to_string(f.size()) + " fields");
     frames.push_back(std::move(frame));
   }
   if (frames.empty()) throw InputError("frame list '" + list + "' holds no frames");
@@ -113,10 +137,11 @@ std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, cons
 }
 
 void check_batch_outputs(const std::vector<FrameSpec>& frames,
-                         const std::vector<std::vector<std::string>>& extra_outputs) {
+                         const std::vector<std::vector<std::string>>& extra_outputs, const std::string& list) {
   std::map<std::string, std::string> inputs;  // file -> the first frame reading it
+  if (!list.empty()) inputs.emplace(file_key(list), "the frame list");
   for (const FrameSpec& f : frames)
-    for (const std::string* in : {&f.shadow_map, &f.receivers, &f.receiver_depth})
+    for (const std::string* in : {&f.shadow_map, &f.receivers, &f.receiver_depth, &f.camera, &f.camera_depth, &f.light})
       if (!in->empty()) inputs.emplace(file_key(*in), f.where);
   std::map<std::string, std::string> outputs;  // file -> the frame writing it
   for (size_t i = 0; i < frames.size(); ++i) {

@@ -10,6 +10,7 @@
 
 #include "input_file.hpp"
 #include "list_lines.hpp"
+#include "output_file.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::cli {
@@ -31,6 +32,7 @@ double list_value(const std::string& text) {
 
 std::vector<LightListEntry> read_light_list(const std::string& list) {
   io::require_regular_file(list, "light list");
+  io::record_input(list);
   std::ifstream in(list, std::ios::binary);
   if (!in) throw InputError("light list '" + list + "': cannot open it");
   return io::with_out_of_memory_named(list, "light list", [&] { return parse_light_list(in, list); });

@@ -50,6 +50,11 @@ const std::vector<std::pair<std::string, std::string>>& field_flags() {
         {"SoftOptions::cssm_z_offset", "--cssm-z-offset"},
         {"SoftOptions::cssm_width_scale", "--cssm-width-scale"},
         {"SoftOptions::ssmm_n", "--ssmm-n"},
+        {"DepthDecoding::near_plane", "--near"},
+        {"DepthDecoding::far_plane", "--far"},
+        {"DepthDecoding::beyond_far_is_empty", "--beyond-far far"},
+        {"CameraDepth::kind", "--camera-depth-kind"},
+        {"CameraReceiverOptions::map_width and map_height", "--map-size"},
     };
     // Longest first, so that no field is rewritten through a shorter one it starts with.
     std::stable_sort(t.begin(), t.end(), [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });

@@ -14,11 +14,13 @@ void add_auto_choice_options(CLI::App& c, AutoArgs& a) {
   c.add_option("--auto-rounds", a.rounds,
                "--auto: interleaved rounds in which the candidates under the bound run again; each keeps its "
                "fastest run")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
   c.add_option("--auto-tolerance", a.tolerance,
                "--auto: least tie band: fastest runs within this fraction (or the measured noise, when larger) "
                "of the fastest are a tie, which goes to the lower estimated cost")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 void add_auto_options(CLI::App& c, AutoArgs& a) {
@@ -26,12 +28,16 @@ void add_auto_options(CLI::App& c, AutoArgs& a) {
              "Pick the fastest method configuration whose error against s_ref (the exact filtered "
              "test with the requested --blur-radius / --lookup weights) stays under --max-error on "
              "this input; prints what it chose and skipped");
-  c.add_option("--max-error", a.max_error, "--auto: error bound (default 0.05)")->capture_default_str();
+  c.add_option("--max-error", a.max_error, "--auto: error bound in [0, 1] (default 0.05)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   c.add_option("--metric", a.metric,
                "--auto: error metric against s_ref: p99 | rmse | max | frac_1_255 | frac_005 | leak | darken")
       ->capture_default_str();
   c.add_option("--auto-methods", a.methods, "--auto: candidate methods, 'all' or a comma list")->capture_default_str();
-  c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")->capture_default_str();
+  c.add_option("--auto-runs", a.runs, "--auto: timed runs per candidate and per final round")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
   add_auto_choice_options(c, a);
   c.add_option("--sref-bias", a.sref_bias,
                "--auto: depth bias b of s_ref, H(z - d_t + b) against each receiver's plane (default 2^-15)")

@@ -10,7 +10,8 @@ void add_receiver_plane_options(CLI::App& c, ReceiverPlaneOptions& o, const std:
   c.add_option_function<std::string>(
       "--receiver-plane",
       [&o](const std::string& s) {
-        if (s != "on" && s != "off") throw InputError("--receiver-plane must be on or off, got '" + s + "'");
+        if (s != "on" && s != "off")
+          throw CLI::ValidationError("--receiver-plane", "must be on or off, got '" + s + "'");
         o.enabled = s == "on";
       },
       methods + ": test each texel against the receiver's plane (on, default) or its depth d (off)");
@@ -25,7 +26,14 @@ void add_receiver_plane_options(CLI::App& c, ReceiverPlaneOptions& o, const std:
 void add_method_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--method", o.method, "Filtering method (see `shadowfilter methods`)")->capture_default_str();
   c.add_option_function<std::string>(
-      "--storage", [&o](const std::string& s) { o.storage = parse_storage(s); },
+      "--storage",
+      [&o](const std::string& s) {
+        try {
+          o.storage = parse_storage(s);
+        } catch (const InputError& e) {  // while parsing: a parse error, as every other option's
+          throw CLI::ValidationError("--storage", e.what());
+        }
+      },
       "Basis image storage: f32, f16, unorm16, unorm8 (default f32)");
   c.add_option_function<float>(
       "--bias", [&o](float b) { o.depth_test.bias = b; },

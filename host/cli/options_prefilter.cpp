@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "filter_options.hpp"
+#include "help_format.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -34,7 +35,8 @@ void add_prefilter_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--lookup", o.lookup.kind,
                "Lookup at the receivers: bilinear | mips (trilinear at LOD log2 f) | sat (box of "
                "side f); f = the receivers' footprint channel, 1 when missing")
-      ->transform(CLI::CheckedTransformer(lookups, CLI::ignore_case))
+      ->transform(named_values(lookups))
+      ->type_name(value_names(lookups))
       ->default_str("bilinear");
   const std::map<std::string, EsmClassify> modes{{"auto", EsmClassify::Auto},
                                                  {"none", EsmClassify::None},
@@ -43,7 +45,8 @@ void add_prefilter_options(CLI::App& c, FilterOptions& o) {
   c.add_option("--esm-classify", o.esm_classify.mode,
                "ESM failure classification: auto (zmax for esm, none otherwise) | none | zmax | threshold; "
                "flagged receivers fall back to a 2x2 PCF of the ESM test")
-      ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case))
+      ->transform(named_values(modes))
+      ->type_name(value_names(modes))
       ->default_str("auto");
   c.add_option("--esm-zmax-offset", o.esm_classify.zmax_offset,
                "zmax: flag when a texel in the lookup's support has z > d + offset")

@@ -8,13 +8,19 @@
 #include <cstdio>
 #include <sstream>
 
+#include "camera_io.hpp"
+#include "commands.hpp"
 #include "filter_options.hpp"
+#include "help_format.hpp"
 #include "image_io.hpp"
 #include "image_bounds.hpp"
 #include "io_detail.hpp"
+#include "json_summary.hpp"
 #include "light_list.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/view_projection.hpp"
+#include "output_file.hpp"
 
 namespace sf::cli {
 namespace {
@@ -77,6 +83,31 @@ double header_extent(const OIIO::ImageSpec& spec, double given, const std::strin
 
 }  // namespace
 
+// The light of a light file: orthographic (the map's width in light units from the projection's
+// x scale) or perspective (its full field of view across the map's width), its planes, and the
+// area light's size from --light-size.
+SoftLight light_from_view(const io::ViewFile& file, const std::string& path, const SoftArgs& a) {
+  if (!a.light_type.empty() || std::isfinite(a.light_near) || std::isfinite(a.light_far) ||
+      std::isfinite(a.light_fov) || std::isfinite(a.light_extent))
+    throw InputError("--light '" + path +
+                     "' gives the light's type, planes and extent (its projection); drop --light-type, --light-near, "
+                     "--light-far, --light-fov and --light-extent");
+  if (!std::isfinite(a.light_size))
+    throw InputError("--light '" + path + "' has no area light size: give --light-size L (world units)");
+  const ProjectionDepth pd = light_projection_depth(file.view_projection);
+  const double x_scale = std::fabs(file.view_projection.projection[0]);
+  SoftLight L;
+  L.perspective = pd.perspective;
+  L.size = a.light_size;
+  L.near_plane = pd.near_plane;
+  L.far_plane = pd.far_plane;
+  if (pd.perspective)
+    L.fov_degrees = 2.0 * std::atan(1.0 / x_scale) * 180.0 / M_PI;
+  else
+    L.extent = 2.0 / x_scale;
+  return L;
+}
+
 SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   SoftLight L;
   const auto in = io::detail::open_checked_image(path, "shadow map");
@@ -113,7 +144,8 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   CLI::App* c = app.add_subcommand(
       "soft", "Soft shadows from square area lights: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)");
   c->add_option("--method", a.method, "pcss | cssm | ssmm | ssmm-improved")->capture_default_str();
-  c->add_option("--shadow-map", a.shadow_map, "Depth map of one light (linear depth; the light from its header)");
+  c->add_option("--shadow-map", a.shadow_map,
+                "Depth map of one light (decoded as --encoding says; the light from its header or --light)");
   auto* rx = c->add_option("--receivers", a.receivers, "Receiver image u v d [f [ndl]] of that light");
   auto* rd = c->add_option("--receiver-depth", a.receiver_depth, "Planar receivers of the map's size");
   rx->excludes(rd);
@@ -162,20 +194,36 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "cssm: 1 = receivers without a stage-1 blocker still run stage 2 at their footprint")
       ->capture_default_str();
   c->add_option("--ssmm-n", a.options.ssmm_n, "ssmm: n x n texels per layer")->capture_default_str();
+  add_depth_options(*c, a.inputs);
+  add_camera_options(*c, a.inputs);
   c->add_option("--device", a.device, "OpenCL device");
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
+  c->add_flag("--json", a.json, "Print the summary as one JSON object instead of a line of text");
   add_verbose_flag(*c, a.verbose);
+  c->footer(std::string(kReceiverFormatHelp) + "\n\n" +
+            "Examples:\n"
+            "  shadowfilter soft --method pcss --shadow-map data/spheres/shadowmap.exr --receivers "
+            "data/spheres/receivers.exr -o soft.exr\n"
+            "  shadowfilter soft --method cssm --shadow-map spot_depth.exr --light spot.json --light-size 0.3 "
+            "--camera camera.json --camera-depth camera_depth.exr -o soft.exr\n"
+            "docs/soft.md (methods), docs/inputs.md (your own depth buffers)");
   return c;
+}
+
+SoftLightInput load_soft_frame(const FrameFiles& files, const SoftArgs& a, std::vector<std::string>* warnings) {
+  SoftLightInput li;
+  li.light = files.light.empty() ? light_from_header(files.shadow_map, a)
+                                 : light_from_view(io::load_view_file(files.light, "light"), files.light, a);
+  FrameInputs in = load_frame(files, a.inputs);
+  if (warnings) warnings->insert(warnings->end(), in.warnings.begin(), in.warnings.end());
+  li.depth = std::move(in.depth);
+  li.receivers = std::move(in.receivers);
+  return li;
 }
 
 SoftLightInput load_soft_light(const std::string& shadow_map, const std::string& receivers,
                                const std::string& receiver_depth, const SoftArgs& overrides) {
-  const io::DepthLoadOptions load;
-  SoftLightInput li;
-  li.light = light_from_header(shadow_map, overrides);
-  li.depth = io::load_depth_map(shadow_map, load);
-  li.receivers = io::load_receivers(receivers, receiver_depth, li.depth, load);
-  return li;
+  return load_soft_frame({shadow_map, receivers, receiver_depth, "", "", ""}, overrides);
 }
 
 SoftOptions soft_options(const SoftArgs& a) {
@@ -201,10 +249,14 @@ int run_soft(const SoftArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   SoftOptions opt = soft_options(a);
   if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");
+  io::check_outputs({a.output}, {a.shadow_map, a.receivers, a.receiver_depth, a.lights});
   std::vector<SoftLightInput> lights;
+  std::vector<std::string> warnings;  // printed once the output is written
   if (!a.lights.empty()) {
     if (!a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
       throw InputError("--lights replaces --shadow-map and --receivers");
+    if (!a.inputs.light.empty() || !a.inputs.camera.empty())
+      throw InputError("--lights names each light's map and receivers; --light and --camera are for one light");
     for (const LightListEntry& entry : read_light_list(a.lights)) {
       SoftArgs over = a;
       if (std::isfinite(entry.size)) over.light_size = entry.size;
@@ -214,9 +266,14 @@ int run_soft(const SoftArgs& a) {
     }
   } else {
     if (a.shadow_map.empty()) throw InputError("give --shadow-map (or --lights)");
-    if (a.receivers.empty() == a.receiver_depth.empty())
-      throw InputError("give exactly one of --receivers or --receiver-depth");
-    lights.push_back(load_soft_light(a.shadow_map, a.receivers, a.receiver_depth, a));
+    const FrameFiles files{a.shadow_map,    a.receivers,           a.receiver_depth,
+                           a.inputs.camera, a.inputs.camera_depth, a.inputs.light};
+    require_one_receiver_source(files);
+    validate_depth_args(a.inputs);
+    const std::vector<std::string> inputs{a.shadow_map,          a.receivers,    a.receiver_depth, a.inputs.camera,
+                                          a.inputs.camera_depth, a.inputs.light, a.inputs.normals};
+    io::check_outputs({a.output}, inputs);
+    lights.push_back(load_soft_frame(files, a, &warnings));
   }
   opt.light = lights.front().light;
   validate(opt);
@@ -231,7 +288,26 @@ int run_soft(const SoftArgs& a) {
   const SoftResult r = soft_filter_lights(rt, opt, lights);
   const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   io::write_image(a.output, r.visibility);
-  if (!a.quiet)
+  print_warnings(warnings);
+  if (!a.quiet && a.json) {
+    nlohmann::json j;
+    j["command"] = "soft";
+    j["method"] = soft_method_name(opt.method);
+    j["lights"] = lights.size();
+    j["light"] = {{"size", opt.light.size}, {"type", opt.light.perspective ? "perspective" : "ortho"}};
+    j["receivers"] = {{"width", r.visibility.width}, {"height", r.visibility.height}, {"background", r.background}};
+    j["device"] = rt->info().device_name;
+    j["device_ms"] = {{"transform", r.times.transform * 1e3},
+                      {"mips", r.times.pyramid * 1e3},
+                      {"sat", r.times.sat * 1e3},
+                      {"reconstruct", r.times.reconstruct * 1e3}};
+    j["wall_ms"] = {
+        {"run", run_ms},
+        {"total", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()}};
+    j["outputs"] = {a.output};
+    j["warnings"] = warnings;
+    print_json(j);
+  } else if (!a.quiet)
     std::printf(
         "shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
         "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "depth_inputs.hpp"
 #include "shadowfilter/soft.hpp"
 
 namespace sf::cli {
@@ -18,7 +19,8 @@ struct SoftArgs {
          light_extent = std::numeric_limits<double>::quiet_NaN();
   std::string lookup = "sat";
   std::vector<float> sharpen;
-  bool quiet = false, verbose = false;
+  bool quiet = false, verbose = false, json = false;
+  DepthInputArgs inputs;    // encodings, --light, receivers from a camera (depth_inputs.hpp)
   std::string frames;       // --frames LIST: a batch (soft_batch.cpp)
   bool keep_going = false;  // batch: report a failed frame and carry on
   SoftOptions options;
@@ -29,6 +31,13 @@ int run_soft(const SoftArgs& args);
 // and its receivers (the image, or when `receivers` is empty the planar `receiver_depth`).
 SoftLightInput load_soft_light(const std::string& shadow_map, const std::string& receivers,
                                const std::string& receiver_depth, const SoftArgs& overrides);
+// One frame's light and inputs: the map and receivers as load_frame reads them (decoded as
+// stated, receivers from a camera where the frame names one), the light from files.light's
+// projection when given, else from the map's header. The warnings about the inputs
+// (fit_warnings) are added to `warnings` when given, else dropped.
+SoftLightInput load_soft_frame(const FrameFiles& files, const SoftArgs& args,
+                               std::vector<std::string>* warnings = nullptr);
+
 // The options of --method, --lookup, --cssm-sharpen and the rest (the light comes per map).
 SoftOptions soft_options(const SoftArgs& args);
 // `soft --frames LIST`: one frame a line as `filter --frames` reads it, each map's light from its

@@ -10,6 +10,7 @@
 #include "batch_runner.hpp"
 #include "frame_list.hpp"
 #include "image_io.hpp"
+#include "depth_inputs.hpp"
 #include "options_soft.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
@@ -19,9 +20,12 @@ namespace sf::cli {
 int run_soft_batch(const SoftArgs& a) {
   if (!a.lights.empty() || !a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
     throw InputError("--frames replaces --shadow-map, --receivers, --receiver-depth and --lights");
+  if (!a.inputs.camera.empty() || !a.inputs.camera_depth.empty())
+    throw InputError("--frames names each frame's camera on its line (camera= camera-depth=), not --camera");
+  validate_depth_args(a.inputs);
   const SoftOptions opt = soft_options(a);
   const std::vector<FrameSpec> frames = read_frame_list(a.frames);
-  check_batch_outputs(frames, {});
+  check_batch_outputs(frames, {}, a.frames);
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
   SoftTimes device;
@@ -30,12 +34,25 @@ int run_soft_batch(const SoftArgs& a) {
   BatchSettings settings;
   settings.keep_going = a.keep_going;
   settings.progress = !a.quiet && ::isatty(STDERR_FILENO);
-  const BatchReport report = run_batch<std::vector<SoftLightInput>, HostImage>(
+  struct Loaded {
+    std::vector<SoftLightInput> light;
+    std::vector<std::string> warnings;  // printed once the frame is written
+  };
+  struct Done {
+    HostImage visibility;
+    std::vector<std::string> warnings;
+  };
+  const BatchReport report = run_batch<Loaded, Done>(
       frames, settings,
       [&](const FrameSpec& f) {
-        return std::vector<SoftLightInput>{load_soft_light(f.shadow_map, f.receivers, f.receiver_depth, a)};
+        const FrameFiles files{f.shadow_map, f.receivers,    f.receiver_depth,
+                               f.camera,     f.camera_depth, f.light.empty() ? a.inputs.light : f.light};
+        Loaded loaded;
+        loaded.light.push_back(load_soft_frame(files, a, &loaded.warnings));
+        return loaded;
       },
-      [&](const FrameSpec&, std::vector<SoftLightInput>& light) {
+      [&](const FrameSpec&, Loaded& loaded) {
+        std::vector<SoftLightInput>& light = loaded.light;
         // One light through what a single run calls: the same bytes.
         SoftOptions o = opt;
         o.light = light.front().light;
@@ -46,9 +63,12 @@ int run_soft_batch(const SoftArgs& a) {
         device.sat += r.times.sat;
         device.reconstruct += r.times.reconstruct;
         receivers_done += light.front().receivers.count();
-        return std::move(r.visibility);
+        return Done{std::move(r.visibility), std::move(loaded.warnings)};
       },
-      [&](const FrameSpec& f, const HostImage& visibility) { io::write_image(f.output, visibility); });
+      [&](const FrameSpec& f, const Done& done) {
+        io::write_image(f.output, done.visibility);
+        print_warnings(done.warnings, f.where);
+      });
 
   if (!a.quiet) {
     const double per_frame = 1e3 / double(std::max<size_t>(report.frames - report.failed, 1));

@@ -2,11 +2,11 @@
 #include "drawing.hpp"
 
 #include <OpenImageIO/imagebufalgo.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <filesystem>
 
+#include "io_detail.hpp"
+#include "output_file.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -39,26 +39,17 @@ std::vector<float> method_colour(const std::string& m) {
 }
 
 void write_png8(const std::string& path, const OIIO::ImageBuf& img, const std::string& description) {
-  static std::atomic<unsigned> counter{0};
-  const fs::path target(path);
-  // ".<stem>.tmp.<pid>.<n>.png" beside the output: the same file system (the rename is atomic)
-  // and the extension last (OIIO picks the format from it).
-  const fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp." + std::to_string(::getpid()) +
-                                               "." + std::to_string(counter++) + ".png");
   OIIO::ImageBuf out(OIIO::ImageSpec(img.spec().width, img.spec().height, 3, OIIO::TypeDesc::UINT8));
   OIIO::ImageBufAlgo::clamp(out, img, 0.0f, 1.0f);
-  out.specmod().attribute("ImageDescription", description);
-  std::error_code ec;
-  if (!out.write(tmp.string(), OIIO::TypeDesc::UINT8)) {
-    fs::remove(tmp, ec);
+  std::vector<unsigned char> pixels(size_t(out.spec().width) * out.spec().height * 3);
+  if (!out.get_pixels(out.roi(), OIIO::TypeDesc::UINT8, pixels.data()))
     throw InputError("cannot write '" + path + "': " + out.geterror());
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw InputError("cannot write '" + path + "': " + ec.message());
-  }
+  OIIO::ImageSpec spec = out.spec();
+  spec.attribute("ImageDescription", description);
+  spec.attribute("DateTime", "");
+  const std::vector<unsigned char> bytes =
+      io::detail::encode_with_oiio(path, "plot", spec, OIIO::TypeDesc::UINT8, pixels.data());
+  io::write_file(path, "plot", bytes.data(), bytes.size());
 }
 
 }  // namespace sf::eval::draw

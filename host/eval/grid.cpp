@@ -18,7 +18,7 @@ Grid parse_grid(const std::string& name) {
 
 std::vector<std::string> parse_methods(const std::string& list) {
   std::vector<std::string> out;
-  if (list == "all" || list.empty()) {
+  if (list == "all") {
     for (const auto& m : methods()) out.push_back(m.name);
     return out;
   }
@@ -29,6 +29,7 @@ std::vector<std::string> parse_methods(const std::string& list) {
     find_method(item);  // throws naming the known methods
     if (std::find(out.begin(), out.end(), item) == out.end()) out.push_back(item);
   }
+  if (out.empty()) throw InputError("the method list '" + list + "' names no method ('all' or a comma-separated list)");
   if (out.empty()) throw InputError("--methods lists no method");
   return out;
 }

@@ -14,7 +14,7 @@
 
 #include "drawing.hpp"
 #include "eval_util.hpp"
-#include "io_detail.hpp"
+#include "output_file.hpp"
 #include "layer_render.hpp"
 #include "scene_library.hpp"
 #include "scene_render.hpp"
@@ -360,7 +360,7 @@ void write_layout_csv(const std::string& path, const std::vector<LayoutRow>& row
         << ',' << w.mismatch << ',' << w.mismatch_near << ',' << w.counted_near << ',' << w.texels_p10 << ','
         << w.texels_p50 << ',' << w.texels_p90 << ',' << w.texels_near_p50 << ',' << w.flicker << ',' << w.time_ms
         << ',' << w.prefilter_ms << ',' << w.reconstruct_ms << '\n';
-  io::detail::write_text_atomically(path, out.str(), "results file");
+  io::write_text(path, "results file", out.str());
 }
 
 std::string layout_markdown(const std::vector<LayoutRow>& rows) {

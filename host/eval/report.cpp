@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -13,6 +12,7 @@
 #include "eval_util.hpp"
 #include "evaluate.hpp"
 #include "image_io.hpp"
+#include "output_file.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -21,9 +21,9 @@ namespace {
 
 using detail::lookup_name;
 
-std::ofstream open_out(const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw InputError("cannot write '" + path + "'");
+// A results file is composed in memory and written whole by the one writer (output_file.hpp).
+std::ostringstream text_out() {
+  std::ostringstream f;
   f.precision(6);
   return f;
 }
@@ -73,7 +73,7 @@ std::string parameter_text(const FilterOptions& o) {
 // column called it "sref"), hard and soft (ray-traced), then after every older column the target
 // (s_ref of the run's target filter, named in target_filter).
 void write_csv(const std::string& path, const std::vector<Row>& rows, const TargetFilter& target) {
-  auto f = open_out(path);
+  std::ostringstream f = text_out();
   f << "scene,method,config,blur_radius,lookup,storage,parameters,time_ms,min_ms,runs,"
        "transform_ms,blur_ms,mips_ms,sat_ms,zmax_ms,reconstruct_ms,classify_ms,device_bytes";
   static const char* metrics[] = {"rmse", "p99", "max", "frac_1_255", "frac_005", "leak", "darken"};
@@ -109,12 +109,12 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, const Targ
     stats(r.target);
     f << "\n";
   }
-  if (!f) throw InputError("cannot write '" + path + "'");
+  io::write_text(path, "results file", f.str());
 }
 
 void write_json(const std::string& path, const std::vector<Row>& rows, const std::vector<Skipped>& skipped,
                 const std::string& device, const TargetFilter& target) {
-  auto f = open_out(path);
+  std::ostringstream f = text_out();
   f << "{\n  \"device\": \"" << json_escape(device) << "\",\n"
     << "  \"time\": \"median wall ms of prefilter + reconstruct + finish with the inputs on the device, "
        "after warm-up; stage times are device profiling medians\",\n"
@@ -160,7 +160,7 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     f << "    {\"scene\": \"" << json_escape(skipped[i].scene) << "\", \"config\": \"" << json_escape(skipped[i].label)
       << "\", \"reason\": \"" << json_escape(skipped[i].reason) << "\"}" << (i + 1 < skipped.size() ? "," : "") << "\n";
   f << "  ]\n}\n";
-  if (!f) throw InputError("cannot write '" + path + "'");
+  io::write_text(path, "results file", f.str());
 }
 
 void write_pareto_png(const std::string& path, const std::vector<Row>& rows, Reference ref, const std::string& metric,

@@ -4,12 +4,14 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
 
 #include "input_file.hpp"
 #include "io_detail.hpp"
+#include "output_file.hpp"
 
 namespace sf::io {
 namespace {
@@ -136,15 +138,7 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
   for (uint32_t v : c.segments) w.u32(v);
   w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
 
-  detail::TemporaryFile temporary(detail::temporary_path_for(path));
-  {
-    std::ofstream out(temporary.path(), std::ios::binary | std::ios::trunc);
-    if (!out) fail(kOutputRole, path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
-    out.write(reinterpret_cast<const char*>(w.bytes.data()), std::streamsize(w.bytes.size()));
-    out.close();
-    if (!out) fail(kOutputRole, path, "write failed (" + std::string(std::strerror(errno)) + ")");
-  }
-  detail::move_into_place(temporary, path, kOutputRole);
+  write_file(path, kOutputRole, w.bytes.data(), w.bytes.size());
 }
 
 namespace {
@@ -213,6 +207,7 @@ CoherentFile read_coherent_bytes(const std::string& path) {
 // Only a regular file; its bytes are read whole (a regular file's size is what it holds).
 CoherentFile read_coherent(const std::string& path) {
   require_regular_file(path, kInputRole);
+  record_input(path);
   return with_out_of_memory_named(path, kInputRole, [&] { return read_coherent_bytes(path); });
 }
 

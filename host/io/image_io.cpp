@@ -5,13 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
+#include "depth_decode.hpp"
 #include "exr_header.hpp"
 #include "image_bounds.hpp"
 #include "input_file.hpp"
 #include "io_detail.hpp"
+#include "output_file.hpp"
 
 namespace sf::io {
 namespace {
@@ -51,46 +56,6 @@ void require_plain_2d(const OIIO::ImageSpec& spec, const std::string& path, cons
              " channels)");
   if (spec.deep) fail(role, path, "deep images are not supported");
   if (spec.depth > 1) fail(role, path, "volume images (depth > 1) are not supported");
-}
-
-bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
-
-// The single depth channel of a 1-channel image, or of a 3/4-channel image whose first three
-// channels agree everywhere (RGB-only formats such as Radiance HDR; a 4th channel is ignored).
-std::vector<float> single_depth_channel(const RawImage& img, const std::string& path, const std::string& role) {
-  if (img.channels == 1) return img.pixels;
-  if (img.channels != 3 && img.channels != 4)
-    fail(role, path,
-         "expected 1 channel (or 3-4 channels with identical first three), found " + std::to_string(img.channels) +
-             " channels");
-  std::vector<float> depth(img.texels());
-  for (size_t t = 0; t < img.texels(); ++t) {
-    const float first = img.at(t, 0);
-    if (!same_value(first, img.at(t, 1)) || !same_value(first, img.at(t, 2)))
-      fail(role, path,
-           "expected 1 channel, or 3-4 channels with identical first three; found " + std::to_string(img.channels) +
-               " channels that differ at " + texel_text(img, t));
-    depth[t] = first;
-  }
-  return depth;
-}
-
-void require_valid_planes(const DepthLoadOptions& opt, const std::string& path, const std::string& role) {
-  if (opt.encoding == DepthEncoding::Linear) return;
-  if (!(opt.near_plane > 0.0) || !(opt.far_plane > opt.near_plane) || !std::isfinite(opt.far_plane)) {
-    std::ostringstream problem;
-    problem << "perspective/reversed depth needs 0 < --near < --far (got near=" << opt.near_plane
-            << ", far=" << opt.far_plane << ")";
-    fail(role, path, problem.str());
-  }
-}
-
-double clamp01(double value) { return std::min(1.0, std::max(0.0, value)); }
-
-// Linear depth of every texel; non-finite texels stay NaN.
-std::vector<float> linearize_all(std::vector<float> stored, const DepthLoadOptions& opt) {
-  for (float& value : stored) value = std::isfinite(value) ? static_cast<float>(linearize_depth(value, opt)) : kNaN;
-  return stored;
 }
 
 // Shadow maps have no background: non-finite texels are an error or the far plane.
@@ -140,12 +105,29 @@ void require_float_receivers(const RawImage& img, const std::string& path) {
            "such as PNG cannot hold receiver coordinates");
 }
 
+// The header of a receiver image written by `shadowfilter receivers` (receiver_header_attributes).
+ReceiverHeader read_receiver_header(const RawImage& img) {
+  ReceiverHeader h;
+  auto find = [&](const char* key) {
+    const auto it = img.attributes.find(key);
+    return it == img.attributes.end() ? std::string() : it->second;
+  };
+  h.normalized = find("shadowfilter:d") == "normalized";
+  const std::string size = find("shadowfilter:map_size");
+  if (std::sscanf(size.c_str(), "%dx%d", &h.map_width, &h.map_height) != 2) h.map_width = h.map_height = 0;
+  const std::string near_text = find("shadowfilter:light_near"), far_text = find("shadowfilter:light_far");
+  if (!near_text.empty()) h.light_near = std::strtod(near_text.c_str(), nullptr);
+  if (!far_text.empty()) h.light_far = std::strtod(far_text.c_str(), nullptr);
+  return h;
+}
+
 }  // namespace
 
 namespace detail {
 
 std::unique_ptr<OIIO::ImageInput> open_checked_image(const std::string& path, const std::string& role) {
   const uint64_t file_bytes = require_regular_file(path, role);
+  record_input(path);
   return with_out_of_memory_named(path, role, [&] {
     if (is_exr_file(path)) check_exr_header(path, file_bytes, role);
     OIIO::ImageSpec config;
@@ -190,54 +172,56 @@ RawImage read_raw(const std::string& path, const std::string& role) {
 
 }  // namespace detail
 
-DepthEncoding parse_depth_encoding(const std::string& name) {
-  if (name == "linear") return DepthEncoding::Linear;
-  if (name == "perspective") return DepthEncoding::Perspective;
-  if (name == "reversed") return DepthEncoding::Reversed;
-  throw InputError("unknown depth encoding '" + detail::one_line(name) + "'; valid: linear, perspective, reversed");
+DepthDecoding DepthLoadOptions::decoding() const {
+  DepthDecoding d;
+  d.encoding = encoding;
+  d.near_plane = near_plane;
+  d.far_plane = far_plane;
+  d.beyond_far_is_empty = beyond_far_is_empty;
+  return d;
 }
 
-// Assumes valid planes (0 < near < far; the loaders check them). Stored values are clamped to
-// [0,1] before decoding: both decodings are monotonic on [0,1], and outside it the formulas
-// would run past the far plane's pole and produce depths of the wrong sign.
-//
-//   perspective (conventional [0,1] depth, near -> 0, far -> 1):
-//     z = F (z_view - N) / (z_view (F - N))   =>   z_view = N F / (F - z (F - N))
-//   reversed (standard reversed-Z, near -> 1, far -> 0):
-//     z_rev = N (F - z_view) / (z_view (F - N))   =>   z_view = N F / (N + z_rev (F - N))
-//     (for a finite far plane this equals 1 - z of the conventional mapping)
-//   linear depth = (z_view - N) / (F - N), clamped to [0,1].
-double linearize_depth(double stored, const DepthLoadOptions& opt) {
-  if (!std::isfinite(stored)) return std::numeric_limits<double>::quiet_NaN();
-  const double z = clamp01(stored);
-  const double n = opt.near_plane;
-  const double f = opt.far_plane;
-  switch (opt.encoding) {
-    case DepthEncoding::Linear:
-      return z;
-    case DepthEncoding::Perspective:
-      return clamp01((n * f / (f - z * (f - n)) - n) / (f - n));
-    case DepthEncoding::Reversed:
-      return clamp01((n * f / (n + z * (f - n)) - n) / (f - n));
-  }
-  return z;
+DepthEncoding parse_depth_encoding(const std::string& name) {
+  DepthEncoding encoding;
+  if (!sf::parse_depth_encoding(name, &encoding))
+    throw InputError("unknown depth encoding '" + detail::one_line(name) + "'; valid: " + depth_encoding_names());
+  return encoding;
 }
+
+double linearize_depth(double stored, const DepthLoadOptions& opt) { return decode_depth(stored, opt.decoding()); }
 
 HostImage load_depth_map(const std::string& path, const DepthLoadOptions& opt) {
-  require_valid_planes(opt, path, kShadowMapRole);
   const RawImage raw = read_raw(path, kShadowMapRole);
+  detail::require_16_bit_depth(raw, kShadowMapRole, path);
   HostImage depth_map;
   depth_map.width = raw.width;
   depth_map.height = raw.height;
   depth_map.channels = 1;
-  depth_map.data = linearize_all(single_depth_channel(raw, path, kShadowMapRole), opt);
+  depth_map.data = detail::single_depth_channel(raw, path, kShadowMapRole);
+  detail::decode_depths(depth_map.data, opt, kShadowMapRole, path, 1.0f, false);
   resolve_nonfinite_depth(depth_map.data, raw, opt, path);
   return depth_map;
 }
 
+std::map<std::string, std::string> receiver_header_attributes(int map_width, int map_height, double light_near,
+                                                              double light_far) {
+  std::ostringstream near_text, far_text;
+  near_text.precision(17);
+  far_text.precision(17);
+  near_text << light_near;
+  far_text << light_far;
+  return {{"shadowfilter:d", "normalized"},
+          {"shadowfilter:map_size", size_text(map_width, map_height)},
+          {"shadowfilter:light_near", near_text.str()},
+          {"shadowfilter:light_far", far_text.str()}};
+}
+
 // Non-finite u, v or f also make a texel background: such a receiver has no defined lookup.
-Receivers load_receiver_image(const std::string& path) {
+Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& decoding,
+                              const std::optional<DepthLoadOptions>& stated, ReceiverHeader* header) {
   const RawImage raw = read_raw(path, kReceiverImageRole);
+  const ReceiverHeader facts = read_receiver_header(raw);
+  if (header) *header = facts;
   if (raw.channels < 3 || raw.channels > 5)
     fail(kReceiverImageRole, path,
          "expected 3, 4 or 5 channels (u v d [f [ndl]], or R G B [A [5th]]), found " + std::to_string(raw.channels) +
@@ -257,23 +241,32 @@ Receivers load_receiver_image(const std::string& path) {
   rec.d.resize(n);
   rec.f.assign(n, 1.0f);
   if (rec.has_ndl) rec.ndl.resize(n);
+  std::vector<float> stored_d(n);
+  for (size_t t = 0; t < n; ++t) stored_d[t] = raw.at(t, order[2]);
+  // d as the user states it, else as the file's header says (d itself), else as the map's.
+  DepthLoadOptions d_decoding = stated ? *stated : decoding;
+  if (!stated && facts.normalized) {
+    d_decoding = DepthLoadOptions{};
+    d_decoding.flag = "d in [0, 1] (its header says shadowfilter:d normalized)";
+  }
+  detail::decode_depths(stored_d, d_decoding, kReceiverImageRole, path, kNaN, true);
   for (size_t t = 0; t < n; ++t) {
     // ndl is carried as stored: a non-finite one means "unknown" and leaves the receiver defined.
     if (rec.has_ndl) rec.ndl[t] = raw.at(t, order[4]);
     rec.u[t] = raw.at(t, order[0]);
     rec.v[t] = raw.at(t, order[1]);
     if (rec.has_footprint) rec.f[t] = raw.at(t, order[3]);
-    const float d = raw.at(t, order[2]);
+    const float d = stored_d[t];
     const bool defined =
         std::isfinite(rec.u[t]) && std::isfinite(rec.v[t]) && std::isfinite(rec.f[t]) && std::isfinite(d);
-    rec.d[t] = defined ? static_cast<float>(clamp01(d)) : kNaN;
+    rec.d[t] = defined ? d : kNaN;
   }
   return rec;
 }
 
 Receivers load_receiver_depth(const std::string& path, int expected_w, int expected_h, const DepthLoadOptions& opt) {
-  require_valid_planes(opt, path, kReceiverDepthRole);
   const RawImage raw = read_raw(path, kReceiverDepthRole);
+  detail::require_16_bit_depth(raw, kReceiverDepthRole, path);
   if (raw.width != expected_w || raw.height != expected_h)
     fail(kReceiverDepthRole, path,
          "size " + size_text(raw.width, raw.height) + " differs from the shadow map's " +
@@ -283,14 +276,17 @@ Receivers load_receiver_depth(const std::string& path, int expected_w, int expec
   rec.height = raw.height;
   rec.grid = true;
   rec.has_footprint = false;
-  rec.d = linearize_all(single_depth_channel(raw, path, kReceiverDepthRole), opt);
+  rec.d = detail::single_depth_channel(raw, path, kReceiverDepthRole);
+  detail::decode_depths(rec.d, opt, kReceiverDepthRole, path, kNaN, true);
   return rec;
 }
 
 Receivers load_receivers(const std::string& receivers, const std::string& receiver_depth, const HostImage& depth,
-                         const DepthLoadOptions& opt) {
-  return receivers.empty() ? load_receiver_depth(receiver_depth, depth.width, depth.height, opt)
-                           : load_receiver_image(receivers);
+                         const DepthLoadOptions& opt, const std::optional<DepthLoadOptions>& stated,
+                         ReceiverHeader* header) {
+  if (header) *header = ReceiverHeader{};
+  return receivers.empty() ? load_receiver_depth(receiver_depth, depth.width, depth.height, stated ? *stated : opt)
+                           : load_receiver_image(receivers, opt, stated, header);
 }
 
 }  // namespace sf::io

@@ -1,14 +1,13 @@
-// Atomic image writing: a temporary file in the output's directory, renamed over the output only
-// once it is complete, so a failed write never leaves a partial file or clobbers an old one.
+// Image writing: each image is encoded in memory and written through the one checked, atomic
+// writer (output_file.hpp), so a failed write never leaves a partial file or clobbers an old one.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -17,14 +16,13 @@
 
 #include "image_io.hpp"
 #include "io_detail.hpp"
+#include "output_file.hpp"
 
 namespace sf::io {
 namespace {
 
 using detail::details_suffix;
 using detail::fail;
-using detail::temporary_path_for;
-using detail::TemporaryFile;
 namespace fs = std::filesystem;
 
 const char* const kOutputRole = "output image";
@@ -95,7 +93,7 @@ OIIO::ImageSpec output_spec(const HostImage& img, OutputFormat format, const std
     case OutputFormat::Tiff:
       spec.attribute("compression", "zip");
       break;
-    case OutputFormat::Pfm:  // written by write_pfm
+    case OutputFormat::Pfm:  // encoded by encode_pfm
       break;
     case OutputFormat::Png:
       if (img.channels > 4)
@@ -124,70 +122,67 @@ bool little_endian_host() {
   return first_byte == 1;
 }
 
-// OIIO 2.4 reads PFM but has no PFM writer, so it is written directly: header "Pf" (1 channel)
-// or "PF" (3 channels), size, scale (negative = little-endian), then float32 rows from the
-// bottom row of the image up.
-void write_pfm(const fs::path& file, const HostImage& img, const std::string& path) {
+// OIIO 2.4 reads PFM but has no PFM writer, so it is encoded here: header "Pf" (1 channel) or
+// "PF" (3 channels), size, scale (negative = little-endian), then float32 rows from the bottom
+// row of the image up.
+std::vector<unsigned char> encode_pfm(const HostImage& img, const std::string& path) {
   if (img.channels != 1 && img.channels != 3)
     fail(kOutputRole, path, "PFM holds 1 or 3 channels, the image has " + std::to_string(img.channels));
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) fail(kOutputRole, path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
-  out << (img.channels == 1 ? "Pf" : "PF") << '\n'
-      << img.width << ' ' << img.height << '\n'
-      << (little_endian_host() ? "-1.0" : "1.0") << '\n';
-  const size_t row_values = static_cast<size_t>(img.width) * img.channels;
-  for (int y = img.height - 1; y >= 0; --y)
-    out.write(reinterpret_cast<const char*>(img.data.data() + y * row_values),
-              static_cast<std::streamsize>(row_values * sizeof(float)));
-  out.close();
-  if (!out) fail(kOutputRole, path, "write failed (" + std::string(std::strerror(errno)) + ")");
+  const std::string header = std::string(img.channels == 1 ? "Pf" : "PF") + "\n" + std::to_string(img.width) + " " +
+                             std::to_string(img.height) + "\n" + (little_endian_host() ? "-1.0" : "1.0") + "\n";
+  const size_t row_bytes = static_cast<size_t>(img.width) * img.channels * sizeof(float);
+  std::vector<unsigned char> bytes(header.begin(), header.end());
+  bytes.resize(header.size() + row_bytes * img.height);
+  unsigned char* at = bytes.data() + header.size();
+  for (int y = img.height - 1; y >= 0; --y, at += row_bytes)
+    std::memcpy(at, img.data.data() + static_cast<size_t>(y) * img.width * img.channels, row_bytes);
+  return bytes;
 }
 
-// OIIO's messages name the temporary file; the user only knows the output path.
-std::string with_output_path(std::string message, const fs::path& file, const std::string& path) {
-  const std::string temporary = file.string();
-  for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
-    message.replace(at, temporary.size(), path);
-  return message;
-}
-
-void write_with_oiio(const fs::path& file, const HostImage& img, OutputFormat format, const std::string& path) {
-  const OIIO::ImageSpec spec = output_spec(img, format, path);
-  const std::vector<float> clamped = format == OutputFormat::Png ? png_values(img.data) : std::vector<float>{};
-  const float* pixels = clamped.empty() ? img.data.data() : clamped.data();
-
-  auto output = OIIO::ImageOutput::create(file.string());
-  if (!output) fail(kOutputRole, path, "cannot create an image writer" + details_suffix(OIIO::geterror()));
-  if (!output->open(file.string(), spec))
-    fail(kOutputRole, path,
-         "cannot open for writing" + details_suffix(with_output_path(output->geterror(), file, path)));
-  const bool write_ok = output->write_image(OIIO::TypeDesc::FLOAT, pixels);
-  const std::string write_error = output->geterror();
-  const bool close_ok = output->close();
-  const std::string close_error = output->geterror();
-  if (!write_ok || !close_ok)
-    fail(
-        kOutputRole, path,
-        "write failed" + details_suffix(with_output_path(write_error.empty() ? close_error : write_error, file, path)));
-}
-
-// The finished file at its temporary path, not yet in place.
-std::unique_ptr<TemporaryFile> write_temporary(const std::string& path, const HostImage& img) {
+std::vector<unsigned char> encode(const std::string& path, const HostImage& img) {
   const OutputFormat format = format_from_extension(path);
   require_consistent_image(img, path);
-  auto temporary = std::make_unique<TemporaryFile>(temporary_path_for(path));
-  if (format == OutputFormat::Pfm)
-    write_pfm(temporary->path(), img, path);
-  else
-    write_with_oiio(temporary->path(), img, format, path);
-  return temporary;
+  if (format == OutputFormat::Pfm) return encode_pfm(img, path);
+  const OIIO::ImageSpec spec = output_spec(img, format, path);
+  const std::vector<float> clamped = format == OutputFormat::Png ? png_values(img.data) : std::vector<float>{};
+  return detail::encode_with_oiio(path, kOutputRole, spec, OIIO::TypeDesc::FLOAT,
+                                  clamped.empty() ? img.data.data() : clamped.data());
 }
 
 }  // namespace
 
+namespace detail {
+
+// OIIO writes into memory (an IOVecOutput proxy, which the EXR, TIFF, PNG and HDR writers take),
+// so that the file itself goes through the one checked writer (output_file.hpp): OIIO's own file
+// writes did not report a full disk for every format.
+std::vector<unsigned char> encode_with_oiio(const std::string& path, const std::string& role,
+                                            const OIIO::ImageSpec& spec_in, OIIO::TypeDesc pixel_type,
+                                            const void* pixels) {
+  auto output = OIIO::ImageOutput::create(path);
+  if (!output) fail(role, path, "cannot create an image writer" + details_suffix(OIIO::geterror()));
+  if (!output->supports("ioproxy"))
+    fail(role, path, std::string("the ") + output->format_name() + " writer cannot write to memory");
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  OIIO::ImageSpec spec = spec_in;
+  void* proxy = &memory;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  if (!output->open(path, spec)) fail(role, path, "cannot encode" + details_suffix(output->geterror()));
+  const bool write_ok = output->write_image(pixel_type, pixels);
+  const std::string write_error = output->geterror();
+  const bool close_ok = output->close();
+  const std::string close_error = output->geterror();
+  if (!write_ok || !close_ok || bytes.empty())
+    fail(role, path, "cannot encode" + details_suffix(write_error.empty() ? close_error : write_error));
+  return bytes;
+}
+
+}  // namespace detail
+
 void write_image(const std::string& path, const HostImage& img) {
-  auto temporary = write_temporary(path, img);
-  detail::move_into_place(*temporary, path, kOutputRole);
+  const std::vector<unsigned char> bytes = encode(path, img);
+  write_file(path, kOutputRole, bytes.data(), bytes.size());
 }
 
 std::string preview_path(const std::string& output) {
@@ -197,9 +192,12 @@ std::string preview_path(const std::string& output) {
 }
 
 void write_images(const std::vector<ImageToWrite>& images) {
-  std::vector<std::unique_ptr<TemporaryFile>> written;
-  for (const ImageToWrite& out : images) written.push_back(write_temporary(out.path, *out.image));
-  for (size_t i = 0; i < images.size(); ++i) detail::move_into_place(*written[i], images[i].path, kOutputRole);
+  OutputSet set;
+  for (const ImageToWrite& out : images) {
+    const std::vector<unsigned char> bytes = encode(out.path, *out.image);
+    set.add(out.path, kOutputRole, bytes.data(), bytes.size());
+  }
+  set.commit();
 }
 
 }  // namespace sf::io

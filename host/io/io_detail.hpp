@@ -2,7 +2,6 @@
 // Internal helpers shared by the image reader and writer (not part of the public interface).
 #include <OpenImageIO/imageio.h>
 
-#include <filesystem>
 #include <map>
 #include <vector>
 #include <string>
@@ -41,30 +40,9 @@ std::string one_line(const std::string& text);
 // " (<details>)" when details is non-empty, else "": appends a library message to a problem.
 std::string details_suffix(const std::string& details);
 
-// Atomic writes: a temporary file in the output's directory, renamed over the output only once it
-// is complete, so a failed write never leaves a partial file or clobbers an old one.
-// ".<stem>.tmp.<pid>.<n><ext>" next to `path`: same file system (rename stays atomic), the real
-// extension last (OIIO picks the format from it), unique per process and per call.
-std::filesystem::path temporary_path_for(const std::string& path);
-
-// Removes the temporary file when the write is abandoned (error or exception).
-class TemporaryFile {
- public:
-  explicit TemporaryFile(std::filesystem::path path) : path_(std::move(path)) {}
-  TemporaryFile(const TemporaryFile&) = delete;
-  TemporaryFile& operator=(const TemporaryFile&) = delete;
-  ~TemporaryFile();
-  const std::filesystem::path& path() const { return path_; }
-  void release() { path_.clear(); }
-
- private:
-  std::filesystem::path path_;
-};
-
-// Renames the finished temporary file over `path` (InputError naming `role` when it cannot).
-void move_into_place(TemporaryFile& temporary, const std::string& path, const std::string& role);
-
-// Writes a text file atomically (a temporary file, then rename); InputError naming `role`.
-void write_text_atomically(const std::string& path, const std::string& text, const std::string& role);
+// The image in `spec`'s format (OIIO picks the writer from `path`'s extension), encoded in
+// memory; InputError naming `role` and `path` when it cannot be.
+std::vector<unsigned char> encode_with_oiio(const std::string& path, const std::string& role,
+                                            const OIIO::ImageSpec& spec, OIIO::TypeDesc pixel_type, const void* pixels);
 
 }  // namespace sf::io::detail

@@ -167,6 +167,8 @@ HostImage synthetic_sky(const SkyOptions& o) {
                      std::to_string(o.height));
   for (double v : {o.sun_elevation, o.sun_azimuth, o.sun_radius, o.sun_radiance})
     if (!std::isfinite(v)) throw InputError("sky: sun parameters must be finite");
+  if (!(o.sun_elevation >= -90.0 && o.sun_elevation <= 90.0))
+    throw InputError("sky: --sun-elevation must lie in [-90, 90] degrees");
   if (o.sun_radius <= 0.0 || o.sun_radius > 45.0 || o.sun_radiance < 0.0 || o.sun_radiance > 60000.0)
     throw InputError("sky: sun radius must be in (0, 45] degrees and its radiance in [0, 60000] (half floats)");
   const double deg = kPi / 180.0;

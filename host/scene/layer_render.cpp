@@ -169,14 +169,21 @@ std::vector<PerspectiveCamera> camera_path(const PerspectiveCamera& start, const
   return cameras;
 }
 
+// Positions within +-1e7 units and a field of view of at least 0.01 degrees: past them the ray
+// tracer's single-precision rays lose their direction (Embree stops on an assertion).
 void validate_camera(const PerspectiveCamera& camera, double near_depth, double far_depth) {
-  if (!finite(camera.position)) throw InputError("--camera-pos must be three finite numbers");
-  if (!finite(camera.target)) throw InputError("--camera-look must be three finite numbers");
+  constexpr double kMaxCoordinate = 1e7;
+  const auto within = [](const Vec3& p) {
+    return finite(p) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate &&
+           std::abs(p.z) <= kMaxCoordinate;
+  };
+  if (!within(camera.position)) throw InputError("--camera-pos must be three numbers within +-1e7");
+  if (!within(camera.target)) throw InputError("--camera-look must be three numbers within +-1e7");
   if (!(length(camera.target - camera.position) > 0.0)) throw InputError("--camera-look must differ from --camera-pos");
   if (!(length(cross(normalize(camera.target - camera.position), normalize(camera.up_hint))) > 1e-6))
     throw InputError("--camera-look must not lie straight above or below --camera-pos (no image up direction)");
-  if (!(camera.vertical_fov_degrees > 0.0 && camera.vertical_fov_degrees < 170.0))
-    throw InputError("--camera-fov must lie in (0, 170) degrees");
+  if (!(camera.vertical_fov_degrees >= 0.01 && camera.vertical_fov_degrees < 170.0))
+    throw InputError("--camera-fov must lie in [0.01, 170) degrees");
   if (!std::isfinite(near_depth) || !std::isfinite(far_depth) || !(near_depth > 0.0) || !(far_depth > near_depth))
     throw InputError("--camera-near and --camera-far must be finite with 0 < near < far (got " +
                      std::to_string(near_depth) + ", " + std::to_string(far_depth) + ")");

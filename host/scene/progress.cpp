@@ -1,5 +1,6 @@
 #include "progress.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace sf::scene {
@@ -9,8 +10,12 @@ using Clock = std::chrono::steady_clock;
 Progress::Progress(std::string label, size_t total, bool enabled)
     : label_(std::move(label)), total_(total), enabled_(enabled), start_(Clock::now()), last_draw_(start_) {}
 
+// A destructor never throws: a bar that cannot be drawn is left as it is.
 Progress::~Progress() {
-  if (shown_) draw(done_.load(), true);
+  try {
+    if (shown_) draw(done_.load(), true);
+  } catch (...) {
+  }
 }
 
 void Progress::add(size_t done) {
@@ -27,12 +32,14 @@ void Progress::add(size_t done) {
 // The bar, the count, the rate and the time left at that rate.
 void Progress::draw(size_t done, bool final) {
   constexpr int kWidth = 40;
-  const double fraction = total_ ? double(done) / double(total_) : 1.0;
+  // More done than announced (a search that went on longer) draws a full bar, not a negative gap.
+  const double fraction = total_ ? std::min(1.0, double(done) / double(total_)) : 1.0;
   const int filled = int(fraction * kWidth + 0.5);
   const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
   const double rate = seconds > 0 ? double(done) / seconds : 0.0;
   char eta[32] = "";
-  if (!final && rate > 0) std::snprintf(eta, sizeof eta, ", %.0f s left", double(total_ - done) / rate);
+  if (!final && rate > 0 && done < total_)
+    std::snprintf(eta, sizeof eta, ", %.0f s left", double(total_ - done) / rate);
   std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %zu/%zu  %.3g/s  %.1f s%s   ", label_.c_str(),
                std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), int(fraction * 100 + 0.5),
                done, total_, rate, seconds, eta);

@@ -3,13 +3,13 @@
 #include <unistd.h>
 
 #include <charconv>
-#include <fstream>
 #include <sstream>
 #include <system_error>
 
 #include <cmath>
 
 #include "cascade_io.hpp"
+#include "output_file.hpp"
 #include "scene_render.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -250,10 +250,7 @@ void write_scene_json(const fs::path& path, const SceneSetup& setup, const Scene
   write_files(out, record.files);
   out << "}\n";
 
-  std::ofstream file(path, std::ios::binary);
-  file << out.str();
-  file.close();
-  if (!file) throw InputError("cannot write " + path.string());
+  io::write_text(path.string(), "scene description", out.str());
 }
 
 StagingDirectory::StagingDirectory(const fs::path& destination)
@@ -268,7 +265,9 @@ StagingDirectory::StagingDirectory(const fs::path& destination)
   staging_ =
       parent / ("." + destination_.filename().string() + ".partial-" + std::to_string(static_cast<long>(::getpid())));
   fs::remove_all(staging_, error);
+  io::mark_unfinished_directory(staging_.string());
   if (!fs::create_directory(staging_, error) || error) {
+    io::unmark_unfinished_directory(staging_.string());
     throw InputError("cannot create " + staging_.string() + ": " + error.message());
   }
 }
@@ -285,6 +284,7 @@ StagingDirectory::~StagingDirectory() {
   if (committed_) return;
   std::error_code ignored;
   fs::remove_all(staging_, ignored);
+  io::unmark_unfinished_directory(staging_.string());
 }
 
 void StagingDirectory::commit(const std::vector<OutputFile>& files) {
@@ -292,6 +292,7 @@ void StagingDirectory::commit(const std::vector<OutputFile>& files) {
   if (!fs::exists(destination_)) {
     fs::rename(staging_, destination_, error);
     if (error) throw InputError("cannot create " + destination_.string() + ": " + error.message());
+    io::unmark_unfinished_directory(staging_.string());
     committed_ = true;
     return;
   }
@@ -305,6 +306,7 @@ void StagingDirectory::commit(const std::vector<OutputFile>& files) {
     }
   }
   fs::remove_all(staging_, error);  // with the emptied frame directories
+  io::unmark_unfinished_directory(staging_.string());
   committed_ = true;
 }
 

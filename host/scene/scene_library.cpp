@@ -9,6 +9,7 @@
 #include "mesh_file.hpp"
 #include "scene_files.hpp"
 #include "shadowfilter/errors.hpp"
+#include "output_file.hpp"
 
 namespace sf::scene {
 namespace {
@@ -395,6 +396,7 @@ SceneDefaults make_builtin_scene(const std::string& name) {
 }
 
 SceneDefaults load_mesh_scene(const std::string& path) {
+  io::record_input(path);
   namespace fs = std::filesystem;
   TriMesh mesh = read_mesh_file(path);
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};

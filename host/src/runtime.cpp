@@ -4,12 +4,11 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "cl_errors.hpp"
 #include "embedded_kernels.hpp"
+#include "program_cache.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf {
@@ -118,32 +117,6 @@ std::string hex64(uint64_t v) {
   return o.str();
 }
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) return {};
-  std::ostringstream o;
-  o << in.rdbuf();
-  return o.str();
-}
-
-void write_file_atomic(const std::filesystem::path& p, const std::string& bytes) {
-  std::error_code ec;
-  std::filesystem::create_directories(p.parent_path(), ec);
-  auto tmp = p;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) return;  // the cache is an optimisation: never fail a run over it
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) {
-      std::filesystem::remove(tmp, ec);
-      return;
-    }
-  }
-  std::filesystem::rename(tmp, p, ec);
-  if (ec) std::filesystem::remove(tmp, ec);
-}
-
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
   return s;
@@ -200,6 +173,11 @@ void Runtime::set_build_log_sink(BuildLogSink sink) {
   build_log_sink_ = std::move(sink);
 }
 
+void Runtime::set_notice_sink(NoticeSink sink) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  notice_sink_ = std::move(sink);
+}
+
 bool Runtime::compiler_warnings_from_env() {
   const char* v = std::getenv("SHADOWFILTER_CL_WARNINGS");
   return v && std::string(v) == "1";
@@ -242,23 +220,32 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
     source += "\n";
   }
   // The binary cache outlives the process: its key is the source itself and the device.
-  const std::string key = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' + info_.device_name +
-                                      '\0' + info_.driver_version));
+  const std::string hash = hex64(fnv1a(source + '\0' + options + '\0' + info_.platform_name + '\0' + info_.device_name +
+                                       '\0' + info_.driver_version));
+  // The key an entry must carry: the hash with what it stands for, so that a file of another
+  // build (a swapped or renamed entry) is told apart even before its checksum.
+  const std::string key =
+      hash + " " + info_.platform_name + " | " + info_.device_name + " | " + info_.driver_version + " | " + options;
   const std::string dir = cache_dir();
-  const std::filesystem::path cached =
-      dir.empty() ? std::filesystem::path() : std::filesystem::path(dir) / (key + ".bin");
+  const std::string cached = dir.empty() ? std::string() : (std::filesystem::path(dir) / (hash + ".bin")).string();
   if (!dir.empty()) {
-    std::string bin = read_file(cached);
-    if (!bin.empty()) {
+    std::vector<unsigned char> binary;
+    std::string problem;
+    if (detail::read_cache_entry(cached, key, &binary, &problem)) {
       try {
-        cl::Program::Binaries bins{std::vector<unsigned char>(bin.begin(), bin.end())};
-        cl::Program p(context_, {device_}, bins);
+        cl::Program p(context_, {device_}, cl::Program::Binaries{binary});
         p.build({device_}, options.c_str());
         programs_[program_key] = p;
         return p;
-      } catch (const cl::Error&) {
-        // stale or foreign binary: fall through to a source build, which rewrites it
+      } catch (const cl::Error& e) {
+        problem = std::string("the driver refused it (") + e.what() + ")";
       }
+    }
+    if (!problem.empty()) {
+      // Discarded and rebuilt from source below, which writes a good entry in its place.
+      std::error_code ec;
+      std::filesystem::remove(cached, ec);
+      if (notice_sink_) notice_sink_("program cache: discarded " + cached + ": " + problem + "; rebuilt from source");
     }
   }
 
@@ -277,7 +264,12 @@ cl::Program Runtime::program(const std::vector<std::string>& files, const std::s
   }
   if (!dir.empty()) {
     auto bins = p.getInfo<CL_PROGRAM_BINARIES>();
-    if (!bins.empty() && !bins[0].empty()) write_file_atomic(cached, std::string(bins[0].begin(), bins[0].end()));
+    if (!bins.empty() && !bins[0].empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(dir, ec);
+      const std::string problem = detail::write_cache_entry(cached, key, bins[0]);
+      if (!problem.empty() && notice_sink_) notice_sink_("program cache: cannot write " + cached + ": " + problem);
+    }
   }
   programs_[program_key] = p;
   return p;

@@ -10,7 +10,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   sf::fuzz::refusals_allowed([&] {
     const std::vector<sf::cli::FrameSpec> frames = sf::cli::parse_frame_list(in, "fuzz/frames.txt");
-    sf::cli::check_batch_outputs(frames, {});
+    sf::cli::check_batch_outputs(frames, {}, "fuzz/frames.txt");
   });
   return 0;
 }

@@ -61,6 +61,11 @@ class Runtime {
   // Unset, the log stays with the driver. Programs loaded from the binary cache have no log.
   using BuildLogSink = std::function<void(const std::string& files, const std::string& log)>;
   void set_build_log_sink(BuildLogSink sink);
+  // One-line notes about the runtime's housekeeping: a program cache entry that did not verify
+  // (truncated, zeroed, of another build) and was discarded and rebuilt, or one that could not be
+  // written. The command's -v prints them; unset, they are dropped (the run goes on either way).
+  using NoticeSink = std::function<void(const std::string& note)>;
+  void set_notice_sink(NoticeSink sink);
 
   // Builds (or fetches from the in-memory and disk caches) a program made of the named embedded
   // kernel files concatenated in order (e.g. {"common.clh", "methods/esm.clh", "transform.cl"}),
@@ -81,6 +86,7 @@ class Runtime {
   static bool compiler_warnings_from_env();
   bool compiler_warnings_ = compiler_warnings_from_env();
   BuildLogSink build_log_sink_;
+  NoticeSink notice_sink_;
   std::mutex mutex_;
   std::map<std::string, cl::Program> programs_;  // key: file names and build options
 };

@@ -10,7 +10,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 build=$1 seconds=$2 parallel=$3
 work="$build/fuzz-work"
-harnesses=(image cascade csm frame_list light_list mesh)
+harnesses=(image cascade csm frame_list light_list mesh view_file)
 rm -rf "$work" && mkdir -p "$work"
 
 run_one() {

@@ -10,7 +10,7 @@ cli="$(cd ../.. && pwd)/${1:-build}/shadowfilter"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 c=corpus
-rm -rf "$c" && mkdir -p "$c"/{image,cascade,csm,frame_list,light_list,mesh}
+rm -rf "$c" && mkdir -p "$c"/{image,cascade,csm,frame_list,light_list,mesh,view_file}
 
 # Images: every format and layout the readers take, 8x8 (a few smaller).
 ramp="--pattern fill:top=0.2:bottom=0.9"
@@ -52,10 +52,19 @@ cp "$work/single/view.exr" "$c/cascade/view.exr"
 printf 'map0.exr rx.exr out/f0.exr\nmap1.exr depth=rd.exr out/f1.exr  # planar\n' > "$c/frame_list/two_frames.txt"
 printf '# quoted paths\n"my map.exr" "my rx.exr" "out dir/f.exr"\r\n\n/abs/m.exr ../rx.exr o.exr\n' > "$c/frame_list/quoted.txt"
 printf 'a.exr rx.exr a.exr\n' > "$c/frame_list/output_is_input.txt"
+printf 'map.exr camera=cam.json camera-depth=cam_depth.exr light=sun.json out/f0.exr\nmap.exr rx.exr light=sun.json out/f1.exr\n' \
+  > "$c/frame_list/camera_and_light.txt"
 
 # Light lists.
 printf '# two lights\n\na.exr rx.exr\n  b.exr rx.exr weight=3   # the second\n' > "$c/light_list/two_lights.txt"
 printf 'a.exr rx.exr size=0.6 weight=0.25\n' > "$c/light_list/sized.txt"
+
+# Camera and light files (docs/inputs.md): rows of 4 or 16 numbers, each clip convention, a
+# reversed infinite projection with its far distance.
+printf '{"view": [[1,0,0,0],[0,1,0,0],[0,0,1,-5],[0,0,0,1]],\n "projection": [[1.5,0,0,0],[0,2,0,0],[0,0,-1.2,-2.2],[0,0,-1,0]],\n "clip": "opengl", "width": 640, "height": 480}\n' > "$c/view_file/camera_opengl_rows.json"
+printf '{"view": [1,0,0,0, 0,0,1,0, 0,-1,0,8, 0,0,0,1], "projection": [0.1,0,0,0, 0,0.1,0,0, 0,0,-0.1,-1, 0,0,0,1]}\n' > "$c/view_file/light_ortho_flat.json"
+printf '{"view": [1,0,0,0, 0,1,0,0, 0,0,1,-3, 0,0,0,1], "projection": [1,0,0,0, 0,1,0,0, 0,0,0,0.5, 0,0,-1,0], "clip": "d3d", "reversed_z": true, "far": 16, "width": 128, "height": 128}\n' > "$c/view_file/light_d3d_reversed_infinite.json"
+printf '{"view": [1,0,0,0, 0,1,0,0, 0,0,1,-3, 0,0,0,1], "projection": [1,0,0,0, 0,1,0,0, 0,0,-1.0101010101,-1.0101010101, 0,0,-1,0], "clip": "vulkan", "reversed_z": false}\n' > "$c/view_file/camera_vulkan.json"
 
 # Meshes: a tetrahedron in each format assimp reads for `scene` and `coherent build`.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n' > "$c/mesh/tetra.obj"

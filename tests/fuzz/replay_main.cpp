@@ -19,6 +19,7 @@ extern "C" int sf_fuzz_csm(const uint8_t*, size_t);
 extern "C" int sf_fuzz_frame_list(const uint8_t*, size_t);
 extern "C" int sf_fuzz_light_list(const uint8_t*, size_t);
 extern "C" int sf_fuzz_mesh(const uint8_t*, size_t);
+extern "C" int sf_fuzz_view_file(const uint8_t*, size_t);
 
 namespace {
 
@@ -29,7 +30,8 @@ struct Harness {
 
 const Harness kHarnesses[] = {
     {"image", sf_fuzz_image},           {"cascade", sf_fuzz_cascade},       {"csm", sf_fuzz_csm},
-    {"frame_list", sf_fuzz_frame_list}, {"light_list", sf_fuzz_light_list}, {"mesh", sf_fuzz_mesh}};
+    {"frame_list", sf_fuzz_frame_list}, {"light_list", sf_fuzz_light_list}, {"mesh", sf_fuzz_mesh},
+    {"view_file", sf_fuzz_view_file}};
 
 }  // namespace
 
@@ -38,7 +40,7 @@ int main(int argc, char** argv) {
   for (const Harness& h : kHarnesses)
     if (argc > 1 && std::strcmp(argv[1], h.name) == 0) harness = &h;
   if (!harness) {
-    std::fprintf(stderr, "usage: sf_fuzz_replay image|cascade|csm|frame_list|light_list|mesh DIR...\n");
+    std::fprintf(stderr, "usage: sf_fuzz_replay image|cascade|csm|frame_list|light_list|mesh|view_file DIR...\n");
     return 2;
   }
   std::vector<std::filesystem::path> files;

@@ -7,7 +7,7 @@ OUT ?= out
 WERROR ?= $(if $(CI),ON,OFF)
 
 .PHONY: deps deps-bench deps-dev configure build run test bench bench-smoke data meshes mesh-scenes coherent-table clean
-.PHONY: fresh-check oclgrind sanitize tidy format format-check
+.PHONY: fresh-check oclgrind sanitize fuzz tidy format format-check
 
 deps:
 	@scripts/install-deps.sh core
@@ -67,6 +67,23 @@ sanitize: deps
 	  for f in $(SANITIZE_LOGS)/*; do [ -f "$$f" ] && { echo "== $$f"; head -n 60 "$$f"; }; done; \
 	  echo "sanitize: ctest exit $$rc, $$n sanitizer report(s) in $(SANITIZE_LOGS)"; \
 	  [ $$rc = 0 ] && [ $$n = 0 ]
+
+# libFuzzer harnesses of every parser (tests/fuzz; docs/development.md, "Fuzzing"): clang 14 builds
+# them with ASan and UBSan in $(FUZZ_BUILD), with only the parsers they reach; each then runs for
+# FUZZ_SECONDS from a scratch copy of its committed corpus and regressions, FUZZ_PARALLEL at a
+# time (7 harnesses, 2 at a time: 4 rounds of 50 s on 2 cores). It prints each harness's executions per
+# second and in all, and fails on any crash, sanitizer report, leak, timeout or out-of-memory,
+# the input that did it left in $(FUZZ_BUILD)/fuzz-work/<harness>/.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 50
+FUZZ_PARALLEL ?= $(JOBS)
+fuzz:
+	@scripts/install-deps.sh fuzz
+	@cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DSF_FUZZ=ON \
+	    -DSF_BUILD_TESTS=OFF -DSF_INSTALL=OFF -DSF_WARNINGS_AS_ERRORS=$(WERROR) \
+	    > $(FUZZ_BUILD).configure.log 2>&1 || (cat $(FUZZ_BUILD).configure.log; exit 1)
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target sf_fuzzers
+	@scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_PARALLEL)
 
 # clang-tidy (.clang-tidy) over the core library's sources, with their headers, through the
 # compile_commands.json of $(BUILD) (configured, not built). Any finding fails.
@@ -152,7 +169,8 @@ format-check: deps-dev
 	@$(CLANG_FORMAT) --dry-run --Werror $(FORMAT_SRC) && echo "format: $(words $(FORMAT_SRC)) files as .clang-format lays them out"
 
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log $(SANITIZE_BUILD) $(SANITIZE_BUILD).configure.log
+	rm -rf $(BUILD) $(BUILD).configure.log $(SANITIZE_BUILD) $(SANITIZE_BUILD).configure.log \
+	    $(FUZZ_BUILD) $(FUZZ_BUILD).configure.log
 
 # The README's commands on a new machine (as root): a clean Debian bookworm root with only make,
 # g++, cmake, git and ca-certificates, a clone of HEAD, then make deps, build, test and run in it.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages shadowfilter needs, only those that are missing.
 # Usage: scripts/install-deps.sh [core|bench|all]   (default: core)
+#        fuzz: core + clang 14 and its libFuzzer/sanitizer runtimes (`make fuzz`, docs/development.md)
 #        meshes: core + libcgal-demo (scanned meshes for `make mesh-scenes`)
 #        dev: core + clang-tidy and clang-format (`make tidy`, docs/development.md)
 set -euo pipefail
@@ -17,13 +18,16 @@ bench=(libbenchmark-dev libopencv-dev)
 meshes=(libcgal-demo)
 # Developer tools: clang-tidy 14 for `make tidy` (.clang-tidy), clang-format for the layout.
 dev=(clang-tidy clang-format)
+# The fuzz harnesses (tests/fuzz): clang 14 with libFuzzer and the ASan/UBSan runtimes.
+fuzz=(clang-14 libclang-rt-14-dev)
 case "$set_name" in
   core) want=("${core[@]}") ;;
   bench) want=("${core[@]}" "${bench[@]}") ;;
   meshes) want=("${core[@]}" "${meshes[@]}") ;;
   dev) want=("${core[@]}" "${dev[@]}") ;;
-  all) want=("${core[@]}" "${bench[@]}" "${meshes[@]}" "${dev[@]}") ;;
-  *) echo "install-deps: unknown set '$set_name' (core|bench|meshes|dev|all)" >&2; exit 2 ;;
+  fuzz) want=("${core[@]}" "${fuzz[@]}") ;;
+  all) want=("${core[@]}" "${bench[@]}" "${meshes[@]}" "${dev[@]}" "${fuzz[@]}") ;;
+  *) echo "install-deps: unknown set '$set_name' (core|bench|meshes|dev|fuzz|all)" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${want[@]}"; do

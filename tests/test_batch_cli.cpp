@@ -173,7 +173,7 @@ TEST_F(BatchCli, BadListsAreRefusedBeforeAnyFrame) {
   refused("map0.exr rx.exr out/f0.exr\n", "--esm-c nan", "--esm-c: must be a finite number");
   const RunResult r = run_cli("filter --frames " + path("nosuch.txt"), dir_);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("cannot open"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("frame list '" + path("nosuch.txt") + "': file not found"), std::string::npos) << r.err;
   const RunResult two = run_cli("filter --shadow-map " + path("map0.exr") + " " + path("map1.exr") + " --receivers " +
                                     path("rx.exr") + " -o " + path("out/x.exr"),
                                 dir_);

@@ -124,8 +124,8 @@ TEST_P(SceneCliErrors, ClearErrorAndNoDirectory) {
 
 INSTANTIATE_TEST_SUITE_P(BadArguments, SceneCliErrors,
                          ::testing::Values(std::make_pair("nosuchscene", "unknown scene 'nosuchscene'"),
-                                           std::make_pair("@/missing.ply", "no such file"),
-                                           std::make_pair("@/garbage.obj", "cannot read mesh"),
+                                           std::make_pair("@/missing.ply", "file not found"),
+                                           std::make_pair("@/garbage.obj", "holds no triangles"),
                                            std::make_pair("spheres --size 0", "--size must be between 1"),
                                            std::make_pair("spheres --receivers 0x10", "--receivers width"),
                                            std::make_pair("spheres --samples 10", "square number"),

@@ -96,14 +96,15 @@ TEST_F(SoftCli, MalformedListsAreOneLineInputErrors) {
   write("unknown_key.txt", "a.exr rx.exr colour=red\n");
   expect_input_error("--lights " + path("unknown_key.txt"), "unknown_key.txt:1: unknown 'colour=red'");
   write("bad_weight.txt", "a.exr rx.exr weight=heavy\n");
-  expect_input_error("--lights " + path("bad_weight.txt"), "bad_weight.txt:1: unknown 'weight=heavy'");
+  expect_input_error("--lights " + path("bad_weight.txt"), "bad_weight.txt:1: weight=heavy is not a number");
   write("negative.txt", "a.exr rx.exr weight=-1\n");
-  expect_input_error("--lights " + path("negative.txt"), "light weights must be >= 0");
+  expect_input_error("--lights " + path("negative.txt"), "negative.txt:1: weight=-1 is not a number >= 0");
   write("zero.txt", "a.exr rx.exr weight=0\nb.exr rx.exr weight=0\n");
   expect_input_error("--lights " + path("zero.txt"), "the light weights sum to 0");
   write("empty.txt", "# nothing\n\n");
   expect_input_error("--lights " + path("empty.txt"), "holds no light");
-  expect_input_error("--lights " + path("no_such_list.txt"), "cannot read the light list");
+  expect_input_error("--lights " + path("no_such_list.txt"),
+                     "light list '" + path("no_such_list.txt") + "': file not found");
   write("missing_map.txt", "no_such_map.exr rx.exr\n");
   expect_input_error("--lights " + path("missing_map.txt"), "no_such_map.exr");
   write("lights.txt", "a.exr rx.exr\n");

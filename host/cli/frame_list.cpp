@@ -5,6 +5,8 @@
 #include <map>
 #include <set>
 
+#include "input_file.hpp"
+#include "list_lines.hpp"
 #include "shadowfilter/errors.hpp"
 #include "output_file.hpp"
 
@@ -85,16 +87,25 @@ bool read_frame_fields(std::vector<std::string> f, const fs::path& dir, FrameSpe
 }  // namespace
 
 std::vector<FrameSpec> read_frame_list(const std::string& list) {
+  io::require_regular_file(list, "frame list");
   io::record_input(list);
-  std::ifstream in(list);
+  std::ifstream in(list, std::ios::binary);
   if (!in) throw InputError("frame list '" + list + "': cannot open it");
+  return io::with_out_of_memory_named(list, "frame list", [&] { return parse_frame_list(in, list); });
+}
+
+std::vector<FrameSpec> parse_frame_list(std::istream& in, const std::string& list) {
   const fs::path dir = fs::path(list).parent_path();
   std::vector<FrameSpec> frames;
+  ListLines lines(in, list);
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const std::string where = list + ":" + std::to_string(number);
+  while (lines.next(line)) {
+    const std::string where = lines.where();
     const std::vector<std::string> f = split_fields(line, where);
     if (f.empty()) continue;
+    if (frames.size() == kMaxFrames)
+      throw InputError(where + ": more than " + std::to_string(kMaxFrames) + " frames; a list holds at most " +
+                       std::to_string(kMaxFrames));
     FrameSpec frame;
     frame.where = where;
     if (!read_frame_fields(f, dir, &frame))
@@ -105,7 +116,6 @@ std::vector<FrameSpec> read_frame_list(const std::string& list) {
                        std::to_string(f.size()) + " fields");
     frames.push_back(std::move(frame));
   }
-  if (in.bad()) throw InputError("frame list '" + list + "': read failed");
   if (frames.empty()) throw InputError("frame list '" + list + "' holds no frames");
   return frames;
 }

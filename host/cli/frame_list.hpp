@@ -1,6 +1,8 @@
 #pragma once
 // The frames of a batch (`filter --frames LIST`, `--shadow-map A B ... --output-dir DIR`):
 // what each reads and writes, and where a message about it points.
+#include <cstddef>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -13,14 +15,21 @@ struct FrameSpec {
   std::string light;                                          // the frame's light (light=), else the command's --light
 };
 
+// The most frames a list may hold (an hour at 24 frames a second is 86,400).
+inline constexpr size_t kMaxFrames = 100000;
+
 // A frame list: one frame a line,
 //   SHADOWMAP RECEIVERS OUTPUT
 //   SHADOWMAP depth=RECEIVER_DEPTH OUTPUT
 //   SHADOWMAP camera=CAMERA.json camera-depth=CAMERA_DEPTH OUTPUT
 // each optionally with light=LIGHT.json before OUTPUT; fields separated by blanks (a field with
 // blanks in double quotes), paths relative to the list's directory; blank lines and text after
-// '#' are ignored. InputError naming the line for any other line, and for a list without frames.
+// '#' are ignored. Lines are at most kMaxListLineBytes (list_lines.hpp), frames at most
+// kMaxFrames. InputError naming the line for any other line, and for a list without frames; the
+// list must be a regular file (io::require_regular_file).
 std::vector<FrameSpec> read_frame_list(const std::string& list);
+// The same from text already open; `list` names it in messages and gives the paths' directory.
+std::vector<FrameSpec> parse_frame_list(std::istream& in, const std::string& list);
 
 // One frame per map, sharing one receiver file: the output is DIR/<map's stem><extension>.
 std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, const std::string& receivers,

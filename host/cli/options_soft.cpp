@@ -6,8 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "camera_io.hpp"
@@ -15,7 +13,10 @@
 #include "filter_options.hpp"
 #include "help_format.hpp"
 #include "image_io.hpp"
+#include "image_bounds.hpp"
+#include "io_detail.hpp"
 #include "json_summary.hpp"
+#include "light_list.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/view_projection.hpp"
@@ -24,25 +25,60 @@
 namespace sf::cli {
 namespace {
 
-bool header_number(const OIIO::ImageSpec& spec, const char* name, double* out) {
+// A number of the map's header as stored: absent, or its text and its value (NaN when the text
+// is not a whole finite number).
+struct HeaderNumber {
+  bool present = false;
+  std::string text;
+  double value = NAN;
+};
+
+HeaderNumber header_number(const OIIO::ImageSpec& spec, const char* name) {
+  HeaderNumber h;
   const OIIO::ParamValue* p = spec.find_attribute(name);
-  if (!p) return false;
-  const std::string s = p->get_string();
+  if (!p) return h;
+  h.present = true;
+  h.text = p->get_string();
+  const size_t last = h.text.find_last_not_of(' ');
+  const std::string number = last == std::string::npos ? "" : h.text.substr(0, last + 1);
   char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str()) return false;
-  *out = v;
-  return true;
+  const double v = std::strtod(number.c_str(), &end);
+  if (!number.empty() && *end == '\0' && std::isfinite(v)) h.value = v;
+  return h;
 }
 
-std::vector<double> parse_list(const std::string& s) {
-  std::vector<double> v;
-  std::string t;
-  for (char c : s) t += (c == '[' || c == ']' || c == ',') ? ' ' : c;
-  std::istringstream in(t);
-  double x;
-  while (in >> x) v.push_back(x);
-  return v;
+// The light's value: the command line's when given, else the header's; InputError naming the
+// header's text when that is there but is not a finite number (nan is not "no attribute").
+double light_value(double given, const HeaderNumber& header, const char* name, const char* option,
+                   const std::string& path) {
+  if (std::isfinite(given)) return given;
+  if (header.present && !std::isfinite(header.value))
+    throw InputError("shadow map '" + path + "': header " + name + "='" + io::detail::one_line(header.text) +
+                     "' is not a finite number; give " + option);
+  return header.value;
+}
+
+// The map's width in light units from "ortho_extents" ([x0, x1, y0, y1]): NaN when absent,
+// InputError when present but not four finite numbers.
+double header_extent(const OIIO::ImageSpec& spec, double given, const std::string& path) {
+  if (std::isfinite(given)) return given;
+  const OIIO::ParamValue* p = spec.find_attribute("ortho_extents");
+  if (!p) return NAN;
+  const std::string text = p->get_string();
+  std::string spaced;
+  for (char c : text) spaced += (c == '[' || c == ']' || c == ',') ? ' ' : c;
+  std::istringstream in(spaced);
+  std::vector<double> e;
+  std::string item;
+  while (in >> item) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    e.push_back(*end == '\0' && std::isfinite(v) ? v : NAN);
+  }
+  if (e.size() != 4 || !std::isfinite(e[0]) || !std::isfinite(e[1]) || !std::isfinite(e[2]) || !std::isfinite(e[3]))
+    throw InputError("shadow map '" + path + "': header ortho_extents='" + io::detail::one_line(text) +
+                     "' is not four finite numbers; give --light-extent");
+  return e[1] - e[0];
 }
 
 }  // namespace
@@ -74,35 +110,21 @@ SoftLight light_from_view(const io::ViewFile& file, const std::string& path, con
 
 SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   SoftLight L;
-  L.near_plane = NAN;
-  L.far_plane = NAN;
-  L.extent = NAN;
-  L.fov_degrees = NAN;
-  L.size = NAN;
-  std::string type;
-  auto in = OIIO::ImageInput::open(path);
-  if (in) {
-    const OIIO::ImageSpec& spec = in->spec();
-    type = spec.get_string_attribute("light_type");
-    header_number(spec, "near", &L.near_plane);
-    header_number(spec, "far", &L.far_plane);
-    header_number(spec, "fov_degrees", &L.fov_degrees);
-    header_number(spec, "light_size", &L.size);
-    const std::vector<double> e = parse_list(spec.get_string_attribute("ortho_extents"));
-    if (e.size() == 4) L.extent = e[1] - e[0];
-    in->close();
-  }
+  const auto in = io::detail::open_checked_image(path, "shadow map");
+  const OIIO::ImageSpec& spec = in->spec();
+  std::string type = spec.get_string_attribute("light_type");
+  L.near_plane = light_value(a.light_near, header_number(spec, "near"), "near", "--light-near", path);
+  L.far_plane = light_value(a.light_far, header_number(spec, "far"), "far", "--light-far", path);
+  L.fov_degrees = light_value(a.light_fov, header_number(spec, "fov_degrees"), "fov_degrees", "--light-fov", path);
+  L.size = light_value(a.light_size, header_number(spec, "light_size"), "light_size", "--light-size", path);
+  L.extent = header_extent(spec, a.light_extent, path);
+  in->close();
   if (!a.light_type.empty()) type = a.light_type;
   if (type == "orthographic") type = "ortho";
   if (type.empty()) type = "ortho";
   if (type != "ortho" && type != "perspective")
     throw InputError("--light-type must be ortho or perspective, got '" + type + "'");
   L.perspective = type == "perspective";
-  if (std::isfinite(a.light_size)) L.size = a.light_size;
-  if (std::isfinite(a.light_near)) L.near_plane = a.light_near;
-  if (std::isfinite(a.light_far)) L.far_plane = a.light_far;
-  if (std::isfinite(a.light_fov)) L.fov_degrees = a.light_fov;
-  if (std::isfinite(a.light_extent)) L.extent = a.light_extent;
   if (!std::isfinite(L.size)) throw InputError("'" + path + "' has no light_size attribute: give --light-size");
   if (L.perspective) {
     if (!std::isfinite(L.near_plane) || !std::isfinite(L.far_plane) || !std::isfinite(L.fov_degrees))
@@ -233,46 +255,15 @@ int run_soft(const SoftArgs& a) {
   if (!a.lights.empty()) {
     if (!a.shadow_map.empty() || !a.receivers.empty() || !a.receiver_depth.empty())
       throw InputError("--lights replaces --shadow-map and --receivers");
-    io::record_input(a.lights);
     if (!a.inputs.light.empty() || !a.inputs.camera.empty())
       throw InputError("--lights names each light's map and receivers; --light and --camera are for one light");
-    std::ifstream in(a.lights);
-    if (!in) throw InputError("cannot read the light list '" + a.lights + "'");
-    const auto dir = std::filesystem::path(a.lights).parent_path();
-    std::string line;
-    int no = 0;
-    while (std::getline(in, line)) {
-      ++no;
-      if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
-      std::istringstream ls(line);
-      std::string map, rxf, kv;
-      if (!(ls >> map)) continue;
-      if (!(ls >> rxf)) throw InputError(a.lights + ":" + std::to_string(no) + ": expected SHADOWMAP RECEIVERS");
+    for (const LightListEntry& entry : read_light_list(a.lights)) {
       SoftArgs over = a;
-      double weight = 1.0;
-      while (ls >> kv) {
-        const auto eq = kv.find('=');
-        const std::string k = kv.substr(0, eq);
-        double v = NAN;
-        if (eq != std::string::npos) {  // the whole value must be a number ("weight=heavy" is an error)
-          const char* s = kv.c_str() + eq + 1;
-          char* end = nullptr;
-          v = std::strtod(s, &end);
-          if (end == s || *end != '\0') v = NAN;
-        }
-        if (k == "weight" && std::isfinite(v))
-          weight = v;
-        else if (k == "size" && std::isfinite(v))
-          over.light_size = v;
-        else
-          throw InputError(a.lights + ":" + std::to_string(no) + ": unknown '" + kv + "' (weight=W, size=L)");
-      }
-      const std::string mp = (dir / map).string(), rp = (dir / rxf).string();
-      SoftLightInput li = load_soft_light(mp, rp, "", over);
-      li.light.weight = weight;
+      if (std::isfinite(entry.size)) over.light_size = entry.size;
+      SoftLightInput li = load_soft_light(entry.shadow_map, entry.receivers, "", over);
+      li.light.weight = entry.weight;
       lights.push_back(std::move(li));
     }
-    if (lights.empty()) throw InputError("the light list '" + a.lights + "' holds no light");
   } else {
     if (a.shadow_map.empty()) throw InputError("give --shadow-map (or --lights)");
     const FrameFiles files{a.shadow_map,    a.receivers,           a.receiver_depth,

@@ -1,12 +1,11 @@
 // Scenes for evaluate: the generator's directories (docs/scenes.md) or images in memory, with
 // the receivers that the map can shadow.
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <filesystem>
 
 #include "evaluate.hpp"
 #include "image_io.hpp"
+#include "io_detail.hpp"
 #include "shadowfilter/errors.hpp"
 
 namespace sf::eval {
@@ -14,18 +13,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// First channel of a camera-view reference image (half EXR), or an empty image.
+// First channel of a camera-view reference image (half EXR), or an empty image when there is
+// none; read as every input image is (a regular file within the memory budget, io_detail.hpp).
 HostImage load_reference(const std::string& path) {
   HostImage img;
-  if (!fs::exists(path)) return img;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw InputError("cannot open reference '" + path + "': " + OIIO::geterror());
-  const auto& spec = in->spec();
-  std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-    throw InputError("cannot read reference '" + path + "': " + in->geterror());
-  img = HostImage(spec.width, spec.height, 1);
-  for (size_t i = 0; i < img.texels(); ++i) img.data[i] = all[i * spec.nchannels];
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return img;
+  const io::detail::RawImage raw = io::detail::read_raw(path, "reference image");
+  img = HostImage(raw.width, raw.height, 1);
+  for (size_t i = 0; i < img.texels(); ++i) img.data[i] = raw.at(i, 0);
   return img;
 }
 

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "depth_decode.hpp"
+#include "input_file.hpp"
 #include "io_detail.hpp"
 #include "shadowfilter/errors.hpp"
 #include "output_file.hpp"
@@ -152,15 +153,9 @@ ViewFile parse_view_file(const std::string& text, const std::string& source) {
 }
 
 ViewFile load_view_file(const std::string& path, const std::string& role) {
-  namespace fs = std::filesystem;
   const std::string source = role + " '" + detail::one_line(path) + "'";
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) refuse(source, "file not found");
-  if (!fs::is_regular_file(status)) refuse(source, "not a regular file");
+  const uint64_t size = require_regular_file(path, role);
   record_input(path);
-  const auto size = fs::file_size(path, ec);
-  if (ec) refuse(source, "cannot read its size (" + ec.message() + ")");
   if (size > kMaxViewFileBytes)
     refuse(source, std::to_string(size) + " bytes; a camera or light file is a few hundred (at most 1 MiB read)");
   std::ifstream in(path, std::ios::binary);

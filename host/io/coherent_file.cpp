@@ -9,6 +9,7 @@
 #include <iterator>
 #include <vector>
 
+#include "input_file.hpp"
 #include "io_detail.hpp"
 #include "output_file.hpp"
 
@@ -16,7 +17,6 @@ namespace sf::io {
 namespace {
 
 using detail::fail;
-namespace fs = std::filesystem;
 
 const char* const kInputRole = "coherent shadow map";
 const char* const kOutputRole = "output coherent shadow map";
@@ -141,10 +141,9 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
   write_file(path, kOutputRole, w.bytes.data(), w.bytes.size());
 }
 
-CoherentFile read_coherent(const std::string& path) {
-  record_input(path);
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) fail(kInputRole, path, "no such file");
+namespace {
+
+CoherentFile read_coherent_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(kInputRole, path, "cannot open (" + std::string(std::strerror(errno)) + ")");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -180,10 +179,16 @@ CoherentFile read_coherent(const std::string& path) {
   } catch (const InputError& e) {
     fail(kInputRole, path, std::string("corrupted header: ") + e.what());
   }
-  const uint64_t expected = r.at() + 4 * (uint64_t(l.texels()) + 1) + 4 * segments + 4;
-  if (bytes.size() < expected)
+  // The data after the header: the offsets, the segments (a count the file states, any number up
+  // to 2^64 - 1, so it is checked against the bytes there are before any product is formed) and
+  // the CRC.
+  const uint64_t offsets_bytes = 4 * (uint64_t(l.texels()) + 1);  // texels <= 4096^2 (validate)
+  const uint64_t after_header = bytes.size() - r.at();
+  if (after_header < offsets_bytes + 4 || segments > (after_header - offsets_bytes - 4) / 4)
     fail(kInputRole, path,
-         "truncated: " + std::to_string(bytes.size()) + " bytes, the header announces " + std::to_string(expected));
+         "truncated: " + std::to_string(bytes.size()) + " bytes, the header announces " + std::to_string(segments) +
+             " segments for " + std::to_string(l.texels()) + " texels");
+  const uint64_t expected = r.at() + offsets_bytes + 4 * segments + 4;
   if (bytes.size() > expected)
     fail(kInputRole, path, "corrupted: " + std::to_string(bytes.size() - expected) + " bytes past the end of the data");
   if (crc32_of(bytes.data(), bytes.size() - 4) != stored_crc) fail(kInputRole, path, "corrupted (CRC-32 mismatch)");
@@ -195,6 +200,15 @@ CoherentFile read_coherent(const std::string& path) {
     fail(kInputRole, path, "corrupted: the offsets do not end at the segment count");
   check_segments(file.stack, path);
   return file;
+}
+
+}  // namespace
+
+// Only a regular file; its bytes are read whole (a regular file's size is what it holds).
+CoherentFile read_coherent(const std::string& path) {
+  require_regular_file(path, kInputRole);
+  record_input(path);
+  return with_out_of_memory_named(path, kInputRole, [&] { return read_coherent_bytes(path); });
 }
 
 }  // namespace sf::io

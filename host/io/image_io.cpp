@@ -10,20 +10,24 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
-#include <system_error>
 
 #include "depth_decode.hpp"
+#include "exr_header.hpp"
+#include "image_bounds.hpp"
+#include "input_file.hpp"
 #include "io_detail.hpp"
 #include "output_file.hpp"
 
 namespace sf::io {
 namespace {
 
+using detail::check_declared_image_size;
+using detail::check_exr_header;
 using detail::details_suffix;
 using detail::fail;
+using detail::is_exr_file;
 using detail::RawImage;
 using detail::read_raw;
-namespace fs = std::filesystem;
 
 const char* const kShadowMapRole = "shadow map";
 const char* const kReceiverImageRole = "receiver image";
@@ -35,13 +39,6 @@ std::string size_text(int width, int height) { return std::to_string(width) + "x
 
 std::string texel_text(const RawImage& img, size_t texel) {
   return "(x=" + std::to_string(texel % img.width) + ", y=" + std::to_string(texel / img.width) + ")";
-}
-
-void require_existing_file(const std::string& path, const std::string& role) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) fail(role, path, "file not found");
-  if (fs::is_directory(status)) fail(role, path, "is a directory, not an image file");
 }
 
 // The file's channel type; with per-channel formats, the first one that isn't floating point
@@ -128,38 +125,49 @@ ReceiverHeader read_receiver_header(const RawImage& img) {
 
 namespace detail {
 
-// Reads subimage 0, miplevel 0 as float. OIIO readers report a truncated or corrupt file
-// either by read_image() returning false or only by a pending error message, so both are
-// checked (and the message is always consumed so that it can't leak into a later call).
-RawImage read_raw(const std::string& path, const std::string& role) {
-  require_existing_file(path, role);
+std::unique_ptr<OIIO::ImageInput> open_checked_image(const std::string& path, const std::string& role) {
+  const uint64_t file_bytes = require_regular_file(path, role);
   record_input(path);
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
-  auto input = OIIO::ImageInput::open(path, &config);
-  if (!input) fail(role, path, "not a readable image" + details_suffix(OIIO::geterror()));
+  return with_out_of_memory_named(path, role, [&] {
+    if (is_exr_file(path)) check_exr_header(path, file_bytes, role);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
+    auto input = OIIO::ImageInput::open(path, &config);
+    if (!input) fail(role, path, "not a readable image" + details_suffix(OIIO::geterror()));
+    require_plain_2d(input->spec(), path, role);
+    check_declared_image_size(input->spec(), input->format_name(), file_bytes, path, role);
+    return input;
+  });
+}
 
-  const OIIO::ImageSpec& spec = input->spec();
-  require_plain_2d(spec, path, role);
-  RawImage img;
-  img.width = spec.width;
-  img.height = spec.height;
-  img.channels = spec.nchannels;
-  img.channel_names = spec.channelnames;
-  img.stored_format = stored_channel_format(spec);
-  for (const OIIO::ParamValue& p : spec.extra_attribs)
-    if (p.type() == OIIO::TypeString) img.attributes[p.name().string()] = p.get_string();
-  img.pixels.resize(img.texels() * img.channels);
+// Reads subimage 0, miplevel 0 as float, once open_checked_image has checked everything that
+// needs no pixels. OIIO readers report a truncated or corrupt file either by read_image()
+// returning false or only by a pending error message, so both are checked (and the message is
+// always consumed so that it can't leak into a later call).
+RawImage read_raw(const std::string& path, const std::string& role) {
+  auto input = open_checked_image(path, role);
+  return with_out_of_memory_named(path, role, [&] {
+    const OIIO::ImageSpec& spec = input->spec();
+    RawImage img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    img.channel_names = spec.channelnames;
+    img.stored_format = stored_channel_format(spec);
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+      if (p.type() == OIIO::TypeString) img.attributes[p.name().string()] = p.get_string();
+    img.pixels.resize(img.texels() * img.channels);
 
-  const bool read_ok = input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
-  const std::string read_error = input->geterror();
-  const bool close_ok = input->close();
-  const std::string close_error = input->geterror();
-  if (!read_ok || !read_error.empty() || !close_ok || !close_error.empty())
-    fail(role, path,
-         "cannot read pixels, file truncated or corrupt" +
-             details_suffix(read_error.empty() ? close_error : read_error));
-  return img;
+    const bool read_ok = input->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+    const std::string read_error = input->geterror();
+    const bool close_ok = input->close();
+    const std::string close_error = input->geterror();
+    if (!read_ok || !read_error.empty() || !close_ok || !close_error.empty())
+      fail(role, path,
+           "cannot read pixels, file truncated or corrupt" +
+               details_suffix(read_error.empty() ? close_error : read_error));
+    return img;
+  });
 }
 
 }  // namespace detail

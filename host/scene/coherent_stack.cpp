@@ -32,8 +32,10 @@ SceneGeometry load_coherent_object(const std::string& source) {
     add_box(object, "box", {-1.0, -0.5, -0.75}, {1.0, 0.5, 0.75});
     return object;
   }
+  // A path that names anything (a directory, a FIFO, a symlink loop too) is read as a mesh file,
+  // which says what is wrong with it; a name that is neither a file nor a built-in is unknown.
   std::error_code ec;
-  if (is_builtin_scene(source) || std::filesystem::is_regular_file(source, ec)) {
+  if (is_builtin_scene(source) || std::filesystem::exists(std::filesystem::symlink_status(source, ec))) {
     const SceneDefaults scene = is_builtin_scene(source) ? make_builtin_scene(source) : load_mesh_scene(source);
     object.name = scene.geometry.name;
     for (const TriMesh& m : scene.geometry.meshes)

@@ -1,14 +1,12 @@
 #include "envmap.hpp"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <string>
 
+#include "input_file.hpp"
+#include "io_detail.hpp"
 #include "shadowfilter/errors.hpp"
-#include "output_file.hpp"
 
 namespace sf::scene {
 
@@ -112,31 +110,19 @@ EnvMap envmap_from_image(const HostImage& image, const std::string& what) {
   return make_envmap(image.width, image.height, image.data, what);
 }
 
+// The pixels come from the image reader (io_detail.hpp): only a regular file, its declared size
+// within the memory budget and the file's size, every read checked. Channels: 1 (grey), 3 (RGB)
+// or 4 (RGB and an alpha that is ignored); other counts have no agreed meaning as radiance.
 EnvMap load_envmap(const std::string& path) {
-  io::record_input(path);
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) fail(path, "file not found");
-  if (fs::is_directory(status)) fail(path, "is a directory, not an image file");
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) fail(path, "not a readable image (" + OIIO::geterror() + ")");
-  const OIIO::ImageSpec spec = input->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.deep || spec.depth > 1)
-    fail(path, "not a plain 2D image");
-  if (spec.nchannels == 2) fail(path, "has 2 channels; needs 1 (grey) or 3 and more (RGB)");
-  std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
-  // OIIO reports a truncated file either through read_image's result or only through a pending
-  // error, so both are checked (and the error is always consumed).
-  const bool read_ok = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data());
-  const std::string read_error = input->geterror();
-  const bool close_ok = input->close();
-  if (!read_ok || !read_error.empty() || !close_ok)
-    fail(path, "cannot read pixels, file truncated or corrupt" + (read_error.empty() ? "" : " (" + read_error + ")"));
-  std::vector<float> rgb(size_t(spec.width) * spec.height * 3);
-  for (size_t t = 0; t < size_t(spec.width) * spec.height; ++t)
-    for (int c = 0; c < 3; ++c) rgb[t * 3 + c] = pixels[t * spec.nchannels + (spec.nchannels == 1 ? 0 : c)];
-  return make_envmap(spec.width, spec.height, std::move(rgb), path);
+  const io::detail::RawImage raw = io::detail::read_raw(path, "environment map");
+  if (raw.channels != 1 && raw.channels != 3 && raw.channels != 4)
+    fail(path, "has " + std::to_string(raw.channels) + " channels; needs 1 (grey), 3 (RGB) or 4 (RGBA)");
+  return io::with_out_of_memory_named(path, "environment map", [&] {
+    std::vector<float> rgb(raw.texels() * 3);
+    for (size_t t = 0; t < raw.texels(); ++t)
+      for (int c = 0; c < 3; ++c) rgb[t * 3 + c] = raw.at(t, raw.channels == 1 ? 0 : c);
+    return make_envmap(raw.width, raw.height, std::move(rgb), path);
+  });
 }
 
 EnvSample sample_envmap(const EnvMap& env, float u0, float u1) {

@@ -49,9 +49,10 @@ inline float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f
 // larger than kMaxRadiance texel.
 inline constexpr float kMaxRadiance = 1e20f;  // sums of S samples stay far from float overflow
 EnvMap make_envmap(int width, int height, std::vector<float> rgb, const std::string& what);
-// Reads a lat-long map with OpenImageIO (EXR, HDR, PFM, TIFF, ...): 1 channel (grey) or 3 and
-// more (the first three are R, G, B). InputError on an unreadable or truncated file and on the
-// texels make_envmap refuses.
+// Reads a lat-long map with OpenImageIO (EXR, HDR, PFM, TIFF, ...): 1 channel (grey), 3 (RGB) or
+// 4 (RGB, alpha ignored). InputError on anything but a regular file, a declared size over the
+// memory budget (io::image_memory_budget), an unreadable or truncated file, another channel
+// count and the texels make_envmap refuses.
 EnvMap load_envmap(const std::string& path);
 // A constant map (the white furnace): every texel `value`.
 EnvMap uniform_envmap(int width, int height, float value);

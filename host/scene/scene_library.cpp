@@ -1,15 +1,12 @@
 #include "scene_library.hpp"
 
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 #include <limits>
 
+#include "mesh_file.hpp"
 #include "scene_files.hpp"
 #include "shadowfilter/errors.hpp"
 #include "output_file.hpp"
@@ -401,34 +398,14 @@ SceneDefaults make_builtin_scene(const std::string& name) {
 SceneDefaults load_mesh_scene(const std::string& path) {
   io::record_input(path);
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError("cannot read mesh '" + path + "': no such file");
-  Assimp::Importer importer;
-  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                  aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!ai) throw InputError("cannot read mesh '" + path + "': " + importer.GetErrorString());
-  TriMesh mesh;
-  mesh.name = fs::path(path).stem().string();
-  for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
-    const aiMesh* src = ai->mMeshes[m];
-    const uint32_t base = uint32_t(mesh.vertices.size());
-    for (unsigned v = 0; v < src->mNumVertices; ++v)
-      mesh.vertices.push_back({src->mVertices[v].x, src->mVertices[v].y, src->mVertices[v].z});
-    for (unsigned f = 0; f < src->mNumFaces; ++f) {
-      const aiFace& face = src->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      mesh.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
-    }
-  }
-  if (mesh.triangles.empty()) throw InputError("cannot read mesh '" + path + "': it holds no triangles");
+  TriMesh mesh = read_mesh_file(path);
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (const Vec3& v : mesh.vertices) {
     lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
     hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
   }
   const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  if (!(extent > 0.0) || !std::isfinite(extent))
-    throw InputError("cannot use mesh '" + path + "': degenerate bounding box");
+  if (!(extent > 0.0) || !std::isfinite(extent)) throw InputError("mesh '" + path + "': degenerate bounding box");
   const double scale = kFloorHalfSize / extent;
   const Vec3 shift{-0.5 * (lo.x + hi.x), -lo.y, -0.5 * (lo.z + hi.z)};
   for (Vec3& v : mesh.vertices) v = scale * (v + shift);

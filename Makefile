@@ -110,14 +110,15 @@ bench: build deps-bench
 	    print(f"bench: {n} results, {len(e)} with errors {e}")' $(OUT)/bench.json.part
 	@mv $(OUT)/bench.json.part $(OUT)/bench.json && echo "bench: wrote $(OUT)/bench.json"
 
-# Every benchmark once, at the least time (1 repetition, one timed run after the warm-up): what
-# CI runs so that a benchmark that breaks (an error, a failed agreement check such as
-# esm_vs_opencv's) fails the build instead of waiting for the next `make bench`. Its figures mean
-# nothing; the JSON is kept in $(BUILD)/bench-smoke.json.
+# Every benchmark family and variant once, at the least time (1 repetition, one timed run after
+# the warm-up) and at a small size (SF_BENCH_SMOKE=1: maps of at most 512, 320x180 receivers;
+# bench/bench_common.hpp): what CI runs so that a benchmark that breaks (an error, a failed
+# agreement check such as esm_vs_opencv's) fails the build instead of waiting for the next
+# `make bench`. Its figures mean nothing; the JSON is kept in $(BUILD)/bench-smoke.json.
 bench-smoke: build deps-bench
 	@cmake -S . -B $(BUILD) -DSF_BUILD_BENCH=ON > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target sf_bench
-	@SF_BENCH_REPETITIONS=1 SF_BENCH_MIN_TIME=0.0001 $(BUILD)/sf_bench \
+	@SF_BENCH_SMOKE=1 SF_BENCH_REPETITIONS=1 SF_BENCH_MIN_TIME=0.0001 $(BUILD)/sf_bench \
 	    --benchmark_out=$(BUILD)/bench-smoke.json --benchmark_out_format=json > $(BUILD)/bench-smoke.log 2>&1 \
 	  || { tail -n 20 $(BUILD)/bench-smoke.log; echo "bench-smoke: sf_bench failed"; exit 1; }
 	@python3 -c 'import json, sys; b = json.load(open(sys.argv[1]))["benchmarks"]; \

@@ -13,7 +13,8 @@
 // build/meshes/bunny00.off, rendered with Embree as `coherent build` does; needs the scene
 // library), else a synthetic one: 8 spheres and 2 thin discs ray cast in double. Its segments
 // per texel are a counter of coherent/compress; the stack's name goes to stderr. Query points
-// are given in units of the bounding sphere and placed in it.
+// are given in units of the bounding sphere and placed in it. Smoke mode: 8x8 views at M = 32,
+// 2^16 queries (the coherent grid 290 x 290), the same benchmarks.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -40,7 +41,13 @@ using Vec3 = std::array<double, 3>;
 Vec3 add(const Vec3& a, const Vec3& b, double s = 1.0) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-constexpr size_t kQueries = size_t(1) << 20;
+// 32x32 views at M = 128 and 2^20 queries (smoke mode: a quarter of each side, 2^16 queries).
+int views_side() { return smoke_scaled(32, 4); }
+int resolution() { return smoke_scaled(128, 4); }
+size_t query_count() { return size_t(smoke_scaled(1 << 20, 16)); }
+std::string stack_name() {
+  return std::to_string(views_side()) + "x" + std::to_string(views_side()) + "_M" + std::to_string(resolution());
+}
 
 // Random spheres (radii 0.17 .. 0.33 R, centres within 0.5 R) and two thin discs: first and
 // second hit per texel of every view, far plane the bounding sphere's exit, misses 65535.
@@ -121,11 +128,13 @@ DualDepthStack bench_stack() {
   const char* mesh = std::getenv("SF_BENCH_COHERENT_MESH");
   if (!mesh || !*mesh) {
     std::fprintf(stderr, "coherent stack: synthetic (8 spheres, 2 discs)\n");
-    return synthetic_stack(32, 128);
+    return synthetic_stack(views_side(), resolution());
   }
 #ifdef SF_BENCH_HAVE_SCENE
   const scene::SceneGeometry object = scene::load_coherent_object(mesh);
-  StackLayout l;  // 32x32 Hilbert, M = 128, depth pair 12, sphere far plane: the defaults
+  StackLayout l;  // Hilbert, depth pair 12, sphere far plane: the defaults
+  l.views_theta = l.views_phi = views_side();
+  l.resolution = resolution();
   scene::fit_bounding_sphere(object, l);
   std::fprintf(stderr, "coherent stack: %s\n", mesh);
   return scene::render_stack(object, l, 0);
@@ -142,15 +151,16 @@ struct Fixture {
   std::vector<uint32_t> positions = sequence_positions(stack.layout);
   std::vector<float> points, dirs;      // random
   std::vector<float> points_c, dirs_c;  // coherent
-  cl::Buffer d_points, d_dirs, d_points_c, d_dirs_c, d_out = device_buffer(kQueries * sizeof(float));
+  const size_t queries = query_count();
+  cl::Buffer d_points, d_dirs, d_points_c, d_dirs_c, d_out = device_buffer(queries * sizeof(float));
   Fixture() {
     const StackLayout& l = stack.layout;
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::normal_distribution<double> n(0.0, 1.0);
-    points.resize(4 * kQueries);
-    dirs.resize(4 * kQueries);
-    for (size_t i = 0; i < kQueries; ++i) {
+    points.resize(4 * queries);
+    dirs.resize(4 * queries);
+    for (size_t i = 0; i < queries; ++i) {
       Vec3 p, d;
       do p = {u(rng), u(rng), u(rng)};
       while (dot(p, p) > 0.81);  // within 0.9 R: mostly around the objects
@@ -163,20 +173,22 @@ struct Fixture {
     d_points = to_device(points);
     d_dirs = to_device(dirs);
     // Coherent: points of a 1160 x 1160 grid on the slice y = 0 through the objects, in scan
-    // order, those within 0.9 R (2^20 of them); one direction per 4096 consecutive queries, as
-    // a renderer that takes one light sample per pass over its pixels.
-    points_c.reserve(4 * kQueries);
-    dirs_c.resize(4 * kQueries);
-    for (int r = 0; r < 1160 && points_c.size() < 4 * kQueries; ++r)
-      for (int c = 0; c < 1160 && points_c.size() < 4 * kQueries; ++c) {
-        const double x = (c + 0.5) / 1160 * 1.8 - 0.9, z = (r + 0.5) / 1160 * 1.8 - 0.9;
+    // order, those within 0.9 R (2^20 of them; the grid holds 1,056,880; smoke mode: 290 x 290
+    // holds 66,076 for 2^16); one direction per 4096 consecutive queries, as a renderer that
+    // takes one light sample per pass over its pixels.
+    points_c.reserve(4 * queries);
+    dirs_c.resize(4 * queries);
+    const int side = smoke_scaled(1160, 4);
+    for (int r = 0; r < side && points_c.size() < 4 * queries; ++r)
+      for (int c = 0; c < side && points_c.size() < 4 * queries; ++c) {
+        const double x = (c + 0.5) / side * 1.8 - 0.9, z = (r + 0.5) / side * 1.8 - 0.9;
         if (x * x + z * z > 0.81) continue;
         points_c.insert(points_c.end(), {float(l.center[0] + l.radius * x), float(l.center[1]),
                                          float(l.center[2] + l.radius * z), 0.0f});
       }
-    for (size_t i = 0; i < kQueries; i += 4096)
+    for (size_t i = 0; i < queries; i += 4096)
       std::copy(dirs.begin() + 4 * i, dirs.begin() + 4 * i + 4, dirs_c.begin() + 4 * i);
-    for (size_t i = 0; i < kQueries; ++i)
+    for (size_t i = 0; i < queries; ++i)
       std::copy(dirs_c.begin() + 4 * (i / 4096 * 4096), dirs_c.begin() + 4 * (i / 4096 * 4096) + 4,
                 dirs_c.begin() + 4 * i);
     d_points_c = to_device(points_c);
@@ -212,10 +224,10 @@ double bytes_per_query(bool filtered, bool coherent) {
   const std::vector<float>& dirs = coherent ? f.dirs_c : f.dirs;
   const StackLayout& l = f.stack.layout;
   constexpr double kPi = 3.14159265358979323846;
-  constexpr size_t kSample = 1 << 16;
+  const size_t queries = f.queries, sample = std::min<size_t>(queries, 1 << 16);
   double total = 0.0;
-  for (size_t i = 0; i < kSample; ++i) {
-    const size_t at = i * (kQueries / kSample);  // spread over all of them
+  for (size_t i = 0; i < sample; ++i) {
+    const size_t at = i * (queries / sample);  // spread over all of them
     const Vec3 p{points[4 * at], points[4 * at + 1], points[4 * at + 2]};
     const Vec3 d{dirs[4 * at], dirs[4 * at + 1], dirs[4 * at + 2]};
     total += 36.0;  // point, direction, out
@@ -242,7 +254,7 @@ double bytes_per_query(bool filtered, bool coherent) {
           for (int dx = 0; dx < 2; ++dx) total += texel_bytes(f.host, x0 + dx, y0 + dy);
       }
   }
-  return total / kSample;
+  return total / sample;
 }
 
 void BM_Query(benchmark::State& state) {
@@ -252,13 +264,13 @@ void BM_Query(benchmark::State& state) {
   const double bytes = bytes_per_query(filter == CsmFilter::Pcf, coherent);
   const double s = time_runs(state, [&] {
     cl::Event e = enqueue_visibility(runtime(), f.compressed, coherent ? f.d_points_c : f.d_points,
-                                     coherent ? f.d_dirs_c : f.d_dirs, f.d_out, kQueries, filter);
+                                     coherent ? f.d_dirs_c : f.d_dirs, f.d_out, f.queries, filter);
     e.wait();
     return event_seconds(e);
   });
   state.counters["bytes_per_query"] = bytes;
-  state.counters["ns_per_query"] = s * 1e9 / kQueries;
-  set_throughput(state, bytes * kQueries, kQueries, s);
+  state.counters["ns_per_query"] = s * 1e9 / f.queries;
+  set_throughput(state, bytes * f.queries, f.queries, s);
 }
 
 // The query's geometry alone (csm_query.clh: the view of the direction, the point's map
@@ -286,12 +298,12 @@ void BM_QueryGeometry(benchmark::State& state) {
   k.setArg(3, f.d_out);
   const double s = time_runs(state, [&] {
     cl::Event e;
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kQueries), cl::NullRange, nullptr, &e);
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(f.queries), cl::NullRange, nullptr, &e);
     e.wait();
     return event_seconds(e);
   });
-  state.counters["ns_per_query"] = s * 1e9 / kQueries;
-  set_throughput(state, 36.0 * kQueries, kQueries, s);
+  state.counters["ns_per_query"] = s * 1e9 / f.queries;
+  set_throughput(state, 36.0 * f.queries, f.queries, s);
 }
 
 // The compression: count + scan + write on the resident stack, with the segments buffer
@@ -361,15 +373,19 @@ void BM_CompressReference(benchmark::State& state) {
 }
 
 const bool registered = [] {
-  configure(benchmark::RegisterBenchmark("coherent/query_32x32_M128", BM_Query))
+  const std::string stack = stack_name();
+  configure(benchmark::RegisterBenchmark(("coherent/query_" + stack).c_str(), BM_Query))
       ->ArgNames({"filter", "rx"})
       ->ArgsProduct({{0, 1}, {0, 1}});
   configure(benchmark::RegisterBenchmark("coherent/query_geometry_bound", BM_QueryGeometry))
       ->ArgName("rx")
       ->Arg(0)
       ->Arg(1);
-  configure(benchmark::RegisterBenchmark("coherent/compress_32x32_M128", BM_Compress))->ArgName("scan")->Arg(0)->Arg(1);
-  configure(benchmark::RegisterBenchmark("coherent/compress_reference_32x32_M128", BM_CompressReference))
+  configure(benchmark::RegisterBenchmark(("coherent/compress_" + stack).c_str(), BM_Compress))
+      ->ArgName("scan")
+      ->Arg(0)
+      ->Arg(1);
+  configure(benchmark::RegisterBenchmark(("coherent/compress_reference_" + stack).c_str(), BM_CompressReference))
       ->Repetitions(std::min(2, repetitions()));
   return true;
 }();

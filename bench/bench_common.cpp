@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <random>
+#include <string>
 
 namespace sf::bench {
 namespace {
@@ -106,6 +107,25 @@ void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, uns
   });
   set_throughput(state, 4.0 * double(values + chain_values), double(values), s);
 }
+
+bool smoke() {
+  static const bool on = [] {
+    const char* v = std::getenv("SF_BENCH_SMOKE");
+    return v && std::string(v) == "1";
+  }();
+  return on;
+}
+
+int smoke_size(int n) { return smoke() ? std::min(n, kSmokeMap) : n; }
+
+std::vector<int64_t> sizes(const std::vector<int64_t>& list) {
+  if (!smoke()) return list;
+  return {smoke_size(int(*std::min_element(list.begin(), list.end())))};
+}
+
+int smoke_scaled(int n, int by) { return smoke() ? n / by : n; }
+
+Screen screen() { return {smoke_scaled(1920, 6), smoke_scaled(1080, 6)}; }
 
 int repetitions() { return int(env_number("SF_BENCH_REPETITIONS", 5, 1)); }
 

@@ -36,8 +36,8 @@ double wall_seconds(const std::function<void()>& work);
 // in `seconds` per run (what time_runs returned).
 void set_throughput(benchmark::State& state, double bytes, double texels, double seconds);
 
-// 1920x1080 receivers of a camera-like view of a map x map shadow map, in screen order
-// (bench_pipeline.cpp): u, v, d and footprints f in level-0 texels.
+// Receivers of a camera-like view (screen(): 1920x1080) of a map x map shadow map, in screen
+// order (bench_pipeline.cpp): u, v, d and footprints f in level-0 texels.
 void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, std::vector<float>& d,
                         std::vector<float>& f);
 // Deterministic uniform random floats in [lo, hi].
@@ -53,6 +53,31 @@ LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageSha
 // random float32 values, timed from its first to its last launch; bytes: level 0 read + every
 // level written (bench_pyramid.cpp: mean, z-max; bench_coverage.cpp: z-min).
 void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, unsigned seed);
+
+// Smoke mode (SF_BENCH_SMOKE=1, what `make bench-smoke` runs in CI): every benchmark family and
+// variant (method, storage, lookup, vector width, radius, baseline) is registered as usual, but
+// at a small problem size, so that one that breaks (an error, a failed agreement check) shows in
+// about a minute. Its figures mean nothing. The sizes go through the helpers below, never through
+// a second copy of a registration.
+bool smoke();
+// The largest map side in smoke mode: 512, the smallest map of the size lists.
+constexpr int kSmokeMap = 512;
+// A map side: n, or at most kSmokeMap in smoke mode.
+int smoke_size(int n);
+// A size list to register: the list, or in smoke mode its smallest entry alone (at most
+// kSmokeMap). A family whose sizes are split over several registrations registers its larger
+// ones only when !smoke() (their smallest size runs in the first).
+std::vector<int64_t> sizes(const std::vector<int64_t>& list);
+// Another fixed dimension (a view count, a query count): n, or n / by in smoke mode.
+int smoke_scaled(int n, int by);
+
+// The receivers' screen of the camera-like benchmarks: 1920x1080, or 320x180 in smoke mode.
+struct Screen {
+  int width, height;
+  size_t count() const { return size_t(width) * height; }
+  std::string name() const { return std::to_string(width) + "x" + std::to_string(height); }
+};
+Screen screen();
 
 // Repetitions per benchmark: 5, or SF_BENCH_REPETITIONS.
 int repetitions();

@@ -1,7 +1,7 @@
 // 8. What issue 6 asks beyond the per-kernel suites: every reconstruction (each method x each
 // lookup: bilinear, trilinear mips, SAT box), the z-min pyramid and the ESM failure
-// classification (zmax, threshold) at 512, 2048 and 4096 maps, and the scalar double reference
-// of the transform, the mip chain, the SAT and s_ref in the same binary.
+// classification (zmax, threshold) at 512, 2048 and 4096 maps (smoke mode: 512), and the scalar
+// double reference of the transform, the mip chain, the SAT and s_ref in the same binary.
 // Receivers: 512x512 random points with footprints 1..64 texels (log-uniform), so every LOD is
 // read; tables built once outside the timing. csm at order 4 (8 channels: a 4096 SAT of order 8
 // would need 2 GiB). Bytes per receiver: u, v, d, f read + v written, plus the taps the lookup
@@ -182,20 +182,18 @@ void register_coverage() {
         configure(benchmark::RegisterBenchmark(("reconstruct_lookup/" + m.name).c_str(), BM_ReconstructLookup, m.name))
             ->Repetitions(reps())
             ->ArgNames({"size", "lookup"});  // lookup: 0 bilinear, 1 mips, 2 sat
-    for (int size : {512, 2048, 4096})
-      for (int lookup : {0, 1, 2})
+    for (int64_t size : sizes({512, 2048, 4096}))
+      for (int64_t lookup : {0, 1, 2})
         if (!m.raw_depth || lookup == 0) b->Args({size, lookup});
   }
   configure(benchmark::RegisterBenchmark("mips/zmin_chain", BM_ZMinChain))
       ->Repetitions(reps())
       ->ArgName("size")
-      ->Arg(512)
-      ->Arg(2048)
-      ->Arg(4096);
+      ->ArgsProduct({sizes({512, 2048, 4096})});
   configure(benchmark::RegisterBenchmark("esm_classify/points_512x512", BM_EsmClassify))
       ->Repetitions(reps())
       ->ArgNames({"size", "mode"})  // mode: 1 zmax, 2 threshold
-      ->ArgsProduct({{512, 2048, 4096}, {1, 2}});
+      ->ArgsProduct({sizes({512, 2048, 4096}), {1, 2}});
   for (const auto& m : methods())
     if (!m.raw_depth)
       configure(benchmark::RegisterBenchmark(("reference/transform/" + m.name).c_str(), BM_RefTransform, m.name))

@@ -1,7 +1,8 @@
 // Layered filtering (layered.hpp) against one map of the same texel count: one S x S map (the
 // `single` layout) against four layers of (S/2)^2 (a PSSM of the same camera), each a whole
 // frame through LayeredPipeline: transform, blur, mips, the projection, every layer's
-// reconstruction and the blend, at 1920x1080 receivers of a camera looking over a ground plane.
+// reconstruction and the blend, at 1920x1080 receivers of a camera looking over a ground plane
+// (smoke mode: sizes() and screen()).
 // ESM, R = 3, trilinear mips (the README's main configuration). The two frames run one after
 // the other in every iteration, so their ratio compares runs under the same load. Manual time:
 // the four-layer frame; counters: both frames' device ms and four / single.
@@ -13,8 +14,6 @@
 namespace sf::bench {
 namespace {
 
-constexpr int kViewW = 1920, kViewH = 1080;
-
 CameraFrustum bench_camera() {
   CameraFrustum cam;
   cam.position = {0, 4, 9};
@@ -22,7 +21,7 @@ CameraFrustum bench_camera() {
   cam.forward = {0, -4 / n, -9 / n};
   cam.up = {0, 9 / n, -4 / n};
   cam.vertical_fov_degrees = 50;
-  cam.aspect = double(kViewW) / kViewH;
+  cam.aspect = double(screen().width) / screen().height;
   cam.near_depth = 1;
   cam.far_depth = 60;
   return cam;
@@ -31,15 +30,16 @@ CameraFrustum bench_camera() {
 // The ground plane y = 0 seen by the camera: positions, view depths and the pixel's offsets;
 // background (NaN) above the horizon or past the far plane.
 ViewReceivers ground_view(const CameraFrustum& cam) {
+  const int w = screen().width, h = screen().height;
   ViewReceivers v;
-  v.width = kViewW;
-  v.height = kViewH;
+  v.width = w;
+  v.height = h;
   std::vector<float>* all[] = {&v.x, &v.y, &v.z, &v.depth, &v.dxx, &v.dxy, &v.dxz, &v.dyx, &v.dyy, &v.dyz};
   for (auto* a : all) a->assign(v.count(), NAN);
   const Point3 right{1, 0, 0};  // forward x up for this camera
   const double tan_half = std::tan(0.5 * cam.vertical_fov_degrees * M_PI / 180.0);
   const auto hit = [&](double sx, double sy, Point3& p) {
-    const double nx = (2.0 * sx / kViewW - 1.0) * tan_half * cam.aspect, ny = (1.0 - 2.0 * sy / kViewH) * tan_half;
+    const double nx = (2.0 * sx / w - 1.0) * tan_half * cam.aspect, ny = (1.0 - 2.0 * sy / h) * tan_half;
     const Point3 d{cam.forward[0] + nx * right[0] + ny * cam.up[0], cam.forward[1] + nx * right[1] + ny * cam.up[1],
                    cam.forward[2] + nx * right[2] + ny * cam.up[2]};
     if (!(d[1] < 0)) return -1.0;
@@ -47,13 +47,13 @@ ViewReceivers ground_view(const CameraFrustum& cam) {
     for (int a = 0; a < 3; ++a) p[a] = cam.position[a] + t * d[a];
     return t;  // the view depth: forward . d = 1
   };
-  for (int y = 0; y < kViewH; ++y)
-    for (int x = 0; x < kViewW; ++x) {
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
       Point3 p{}, x0{}, x1{}, y0{}, y1{};
       const double t = hit(x + 0.5, y + 0.5, p);
       if (!(t > 0 && t <= cam.far_depth)) continue;
       hit(x, y + 0.5, x0), hit(x + 1, y + 0.5, x1), hit(x + 0.5, y, y0), hit(x + 0.5, y + 1, y1);
-      const size_t i = size_t(y) * kViewW + x;
+      const size_t i = size_t(y) * w + x;
       v.x[i] = float(p[0]), v.y[i] = float(p[1]), v.z[i] = float(p[2]), v.depth[i] = float(t);
       v.dxx[i] = float(x1[0] - x0[0]), v.dxy[i] = float(x1[1] - x0[1]), v.dxz[i] = float(x1[2] - x0[2]);
       v.dyx[i] = float(y1[0] - y0[0]), v.dyy[i] = float(y1[1] - y0[1]), v.dyz[i] = float(y1[2] - y0[2]);
@@ -123,10 +123,9 @@ void BM_LayeredFrame(benchmark::State& state) {
 }  // namespace
 
 void register_layered() {
-  configure(benchmark::RegisterBenchmark("layered/four_vs_single_1920x1080", BM_LayeredFrame))
+  configure(benchmark::RegisterBenchmark(("layered/four_vs_single_" + screen().name()).c_str(), BM_LayeredFrame))
       ->ArgNames({"size"})
-      ->Arg(2048)
-      ->Arg(4096);
+      ->ArgsProduct({sizes({2048, 4096})});
 }
 
 }  // namespace sf::bench

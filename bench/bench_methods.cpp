@@ -7,6 +7,9 @@
 // beside our mean pyramid (bench_pyramid.cpp) as a baseline. Device time from profiling events;
 // bytes are what the kernel must move at least (transform: 4 bytes read + the basis bytes written
 // per texel), so bw_fraction is the transform's throughput as a fraction of the copy bandwidth.
+// Smoke mode: every transform vector width at smoke_size(2048) = 512 (the 512 and 4096 rows of
+// width 16 left out: the first is the same run), the reconstructions at 512 with screen()'s
+// receivers (the 4096 family left out).
 // Registered statically (no edit to bench_main.cpp): configure() and the copy bandwidth are
 // read when the benchmarks run, after main has measured it.
 #include <algorithm>
@@ -48,7 +51,7 @@ void BM_Transform(benchmark::State& state, FilterOptions opt) {
 // Arg: map size.
 void BM_Reconstruct(benchmark::State& state, std::string method) {
   const int n = static_cast<int>(state.range(0));
-  const size_t texels = size_t(n) * n, count = size_t(1920) * 1080;
+  const size_t texels = size_t(n) * n, count = screen().count();
   const FilterOptions opt = MethodCase{method, Storage::F32, 8}.options();
   const MethodDesc& m = find_method(method);
   cl::Buffer depth = to_device(random_floats(texels, 3));
@@ -94,27 +97,27 @@ const bool registered = [] {
                              (mc.method == "csm" ? "/M" + std::to_string(mc.csm_order) : "");
     auto* b = configure(benchmark::RegisterBenchmark(name.c_str(), BM_Transform, mc.options()))
                   ->ArgNames({"size", "vec"})
-                  ->ArgsProduct({{2048}, {1, 4, 8, 16}})
-                  ->Args({512, 16});
+                  ->ArgsProduct({{smoke_size(2048)}, {1, 4, 8, 16}});
+    if (smoke()) continue;
+    b->Args({512, 16});
     if (mc.method != "csm" || mc.csm_order == 4) b->Args({4096, 16});
   }
   // 4096: at most 2 repetitions (csm takes about a second a run on the loaded 2-core machine).
   for (const auto& m : methods())
     for (bool large : {false, true}) {
-      auto* b = configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_1920x1080").c_str(),
+      if (large && smoke()) continue;
+      auto* b = configure(benchmark::RegisterBenchmark(("reconstruct/" + m.name + "/points_" + screen().name()).c_str(),
                                                        BM_Reconstruct, m.name))
                     ->ArgName("size");
       if (large)
         b->Repetitions(std::min(2, repetitions()))->Arg(4096);
       else
-        b->Arg(512)->Arg(2048);
+        b->ArgsProduct({sizes({512, 2048})});
     }
 #ifdef SF_HAVE_OPENCV
   configure(benchmark::RegisterBenchmark("mips/opencv_buildPyramid", BM_OpenCvPyrDownChain))
       ->ArgName("size")
-      ->Arg(512)
-      ->Arg(2048)
-      ->Arg(4096);
+      ->ArgsProduct({sizes({512, 2048, 4096})});
 #endif
   return true;
 }();

@@ -44,9 +44,7 @@ void BM_OpenCvPyrDown(benchmark::State& state) {
 void register_opencv_pyrdown() {
   configure(benchmark::RegisterBenchmark("mips/opencv_pyrDown_one_level", BM_OpenCvPyrDown))
       ->ArgName("size")
-      ->Arg(512)
-      ->Arg(2048)
-      ->Arg(4096);
+      ->ArgsProduct({sizes({512, 2048, 4096})});
 }
 
 void register_opencv_blur(int size, int radius) {

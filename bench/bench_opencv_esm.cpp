@@ -5,7 +5,8 @@
 // Data: bench_pipeline.cpp's. A size x size depth map of white noise (random_floats seed 9) and
 // 1920x1080 receivers: rx 1 the coherent camera sweep (coherent_receivers: footprints from the
 // map's screen derivatives), rx 0 random u, v, d with footprints uniform in [1, 8] (seeds 10-13).
-// c = 80 (EsmOptions), blur radius R with sigma (2R+1)/6 (default_blur_sigma).
+// c = 80 (EsmOptions), blur radius R with sigma (2R+1)/6 (default_blur_sigma). Smoke mode: 512
+// and screen()'s 320x180 receivers, the same check (docs/bench_opencv.md).
 //
 // The OpenCV pipeline, all CV_32F, cv::setNumThreads(2), stages timed separately (host wall):
 //   transform   B = exp(c (z - 1/2)): depth.convertTo(c, -c/2) then cv::exp (esm.clh's centring).
@@ -50,8 +51,6 @@
 namespace sf::bench {
 namespace {
 
-constexpr int kScreenW = 1920, kScreenH = 1080;
-constexpr size_t kReceivers = size_t(kScreenW) * kScreenH;
 constexpr double kTolerance = 1e-3;
 
 // bench_pipeline.cpp's inputs, made once per (size, rx) and shared by both benchmarks.
@@ -69,10 +68,11 @@ const EsmInputs& inputs(int n, bool coherent) {
     if (coherent) {
       coherent_receivers(n, in.u, in.v, in.d, in.f);
     } else {
-      in.u = random_floats(kReceivers, 10);
-      in.v = random_floats(kReceivers, 11);
-      in.d = random_floats(kReceivers, 12);
-      in.f = random_floats(kReceivers, 13, 1.0f, 8.0f);
+      const size_t count = screen().count();
+      in.u = random_floats(count, 10);
+      in.v = random_floats(count, 11);
+      in.d = random_floats(count, 12);
+      in.f = random_floats(count, 13, 1.0f, 8.0f);
     }
   }
   return in;
@@ -113,10 +113,10 @@ class CvEsm {
         ksize_(2 * radius + 1),
         sigma_(default_blur_sigma(radius)),
         depth_(in.n, in.n, CV_32F, const_cast<float*>(in.depth.data())),
-        u_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.u.data())),
-        v_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.v.data())),
-        d_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.d.data())),
-        f_(kScreenH, kScreenW, CV_32F, const_cast<float*>(in.f.data())) {
+        u_(screen().height, screen().width, CV_32F, const_cast<float*>(in.u.data())),
+        v_(screen().height, screen().width, CV_32F, const_cast<float*>(in.v.data())),
+        d_(screen().height, screen().width, CV_32F, const_cast<float*>(in.d.data())),
+        f_(screen().height, screen().width, CV_32F, const_cast<float*>(in.f.data())) {
     int w = in.n, h = in.n;
     levels_.emplace_back();
     while (w > 1 || h > 1) {
@@ -145,7 +145,7 @@ class CvEsm {
     double lo = 0, hi = 0;
     cv::minMaxLoc(lod_, &lo, &hi);
     const int k_first = int(std::floor(lo)), k_last = std::min(int(std::ceil(hi)), top);
-    bbar_.create(kScreenH, kScreenW, CV_32F);
+    bbar_.create(u_.rows, u_.cols, CV_32F);
     bbar_.setTo(0);
     for (int k = k_first; k <= k_last; ++k) {
       const cv::Mat& level = levels_[k];
@@ -192,8 +192,8 @@ struct Ours {
   Ours(const EsmInputs& in, int radius)
       : pipe(runtime_ptr(), esm_options(radius), in.n, in.n),
         depth(to_device(in.depth)),
-        vis(device_buffer(kReceivers * sizeof(float))) {
-    rx.count = kReceivers;
+        vis(device_buffer(screen().count() * sizeof(float))) {
+    rx.count = screen().count();
     rx.u = to_device(in.u), rx.v = to_device(in.v), rx.d = to_device(in.d), rx.f = to_device(in.f);
   }
   // End to end wall seconds; the stages from the profiling events into `stages`.
@@ -207,7 +207,7 @@ struct Ours {
     return wall;
   }
   std::vector<float> visibility() {
-    std::vector<float> out(kReceivers);
+    std::vector<float> out(rx.count);
     runtime().queue().enqueueReadBuffer(vis, CL_TRUE, 0, out.size() * sizeof(float), out.data());
     return out;
   }
@@ -242,9 +242,10 @@ struct ExactLookup {
 };
 ExactLookup exact_lookup(const EsmInputs& in, const std::vector<cv::Mat>& levels, double c) {
   ExactLookup out;
-  out.vis.resize(kReceivers), out.remap_bound.resize(kReceivers);
+  const size_t count = in.u.size();
+  out.vis.resize(count), out.remap_bound.resize(count);
   const int top = int(levels.size()) - 1;
-  for (size_t i = 0; i < kReceivers; ++i) {
+  for (size_t i = 0; i < count; ++i) {
     const double lod = std::log2(std::max(double(in.f[i]), 1.0));
     int k0 = int(std::floor(lod));
     double t = lod - k0;
@@ -289,7 +290,7 @@ void BM_OpenCvEsmMips(benchmark::State& state) {
     cv_esm.run();
     const cv::Mat& vis = cv_esm.visibility();
     const ExactLookup ex = exact_lookup(in, cv_esm.levels(), c);
-    for (size_t i = 0; i < kReceivers; ++i) {
+    for (size_t i = 0; i < in.u.size(); ++i) {
       const double a = vis.ptr<float>()[i], b = ref[i];
       const double diff = std::isfinite(a) ? std::fabs(a - b) : 1e9;
       max_diff = std::max(max_diff, diff);
@@ -299,12 +300,12 @@ void BM_OpenCvEsmMips(benchmark::State& state) {
       remap_over += diff > 1.0 / 255;
     }
   }
-  state.counters["max_abs_diff"] = max_diff;                             // cv::remap pipeline vs ours
-  state.counters["max_abs_diff_exact"] = max_exact;                      // exact bilinear on OpenCV's levels vs ours
-  state.counters["over_remap_bound"] = max_excess;                       // largest |diff| beyond the quantisation bound
-  state.counters["remap_over_1_255"] = double(remap_over) / kReceivers;  // fraction of receivers
+  state.counters["max_abs_diff"] = max_diff;         // cv::remap pipeline vs ours
+  state.counters["max_abs_diff_exact"] = max_exact;  // exact bilinear on OpenCV's levels vs ours
+  state.counters["over_remap_bound"] = max_excess;   // largest |diff| beyond the quantisation bound
+  state.counters["remap_over_1_255"] = double(remap_over) / in.u.size();  // fraction of receivers
   state.counters["tolerance"] = kTolerance;
-  state.counters["partial_fraction"] = double(partial) / kReceivers;  // receivers with 0 < v < 1
+  state.counters["partial_fraction"] = double(partial) / in.u.size();  // receivers with 0 < v < 1
   if (!(max_exact <= kTolerance) || !(max_excess <= kTolerance)) {
     state.SkipWithError(("OpenCV visibility differs from ours: exact lookup " + std::to_string(max_exact) +
                          ", beyond cv::remap's quantisation " + std::to_string(max_excess) + " > " +
@@ -332,15 +333,15 @@ void register_opencv_esm() {
   // Ours right before OpenCV at every size, so that a ratio compares runs under the same load
   // (--benchmark_enable_random_interleaving=true interleaves their repetitions).
   // rx 1: the coherent camera sweep; rx 0: random receivers.
-  for (const auto& args : std::vector<std::vector<int64_t>>{
-           {512, 3, 1}, {512, 3, 0}, {2048, 3, 1}, {2048, 3, 0}, {4096, 3, 1}, {4096, 3, 0}}) {
-    configure(benchmark::RegisterBenchmark("esm_vs_opencv/ours", BM_OursEsmMips))
-        ->ArgNames({"size", "R", "rx"})
-        ->Args(args);
-    configure(benchmark::RegisterBenchmark("esm_vs_opencv/opencv", BM_OpenCvEsmMips))
-        ->ArgNames({"size", "R", "rx"})
-        ->Args(args);
-  }
+  for (int64_t size : sizes({512, 2048, 4096}))
+    for (int64_t rx : {1, 0}) {
+      configure(benchmark::RegisterBenchmark("esm_vs_opencv/ours", BM_OursEsmMips))
+          ->ArgNames({"size", "R", "rx"})
+          ->Args({size, 3, rx});
+      configure(benchmark::RegisterBenchmark("esm_vs_opencv/opencv", BM_OpenCvEsmMips))
+          ->ArgNames({"size", "R", "rx"})
+          ->Args({size, 3, rx});
+    }
 }
 
 }  // namespace sf::bench

@@ -1,10 +1,9 @@
 // 5. The full ESM pipeline through sf::Pipeline: 2048x2048 depth, c = 80, blur R = 3, then
-// 1920x1080 receivers, bilinear (lookup 0) or trilinear mips (lookup 1). Receivers: random
-// (rx 0: u, v, d white noise, footprints uniform in [1, 8]) or coherent (rx 1: a camera-like
-// sweep of the map in screen order, as a rendered view gives them: neighbouring pixels read
-// neighbouring texels, footprints from the map's screen derivatives, 0.6 .. 5 texels).
-// Device time = every stage's profiling events; per-stage times as counters.
-// Bytes: 8 per map texel (transform) + 16 (blur) + 16 per receiver (+ 4 with footprints).
+// 1920x1080 receivers (smoke mode: smoke_size(2048) and screen()), bilinear (lookup 0) or trilinear mips (lookup 1).
+// Receivers: random (rx 0: u, v, d white noise, footprints uniform in [1, 8]) or coherent (rx 1: a camera-like sweep of
+// the map in screen order, as a rendered view gives them: neighbouring pixels read neighbouring texels, footprints from
+// the map's screen derivatives, 0.6 .. 5 texels). Device time = every stage's profiling events; per-stage times as
+// counters. Bytes: 8 per map texel (transform) + 16 (blur) + 16 per receiver (+ 4 with footprints).
 #include <algorithm>
 #include <cmath>
 
@@ -17,20 +16,20 @@ namespace sf::bench {
 // squeezed), columns spread linearly; depth varies smoothly around the map's values.
 void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, std::vector<float>& d,
                         std::vector<float>& f) {
-  constexpr int kScreenW = 1920, kScreenH = 1080;
-  const size_t count = 1920 * 1080;
+  const int w = screen().width, h = screen().height;
+  const size_t count = screen().count();
   u.resize(count), v.resize(count), d.resize(count), f.resize(count);
-  for (int y = 0; y < kScreenH; ++y) {
-    const double t = (y + 0.5) / kScreenH;
-    const double vv = 0.05 + 0.9 * t * t, dv_dy = 0.9 * 2 * t / kScreenH;
+  for (int y = 0; y < h; ++y) {
+    const double t = (y + 0.5) / h;
+    const double vv = 0.05 + 0.9 * t * t, dv_dy = 0.9 * 2 * t / h;
     const double spread = 0.3 + 0.6 * t;  // near rows (t = 1) cover more of the map's width
-    for (int x = 0; x < kScreenW; ++x) {
-      const size_t i = size_t(y) * kScreenW + x;
-      const double s = (x + 0.5) / kScreenW;
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const double s = (x + 0.5) / w;
       u[i] = float(0.5 + spread * (s - 0.5));
       v[i] = float(vv);
       d[i] = float(0.5 + 0.3 * std::sin(6.0 * s) * t);
-      f[i] = float(std::max(spread / kScreenW, dv_dy) * map);
+      f[i] = float(std::max(spread / w, dv_dy) * map);
     }
   }
 }
@@ -41,7 +40,7 @@ void BM_EsmPipeline(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const int radius = static_cast<int>(state.range(1));
   const bool mips = state.range(2) == 1, coherent = state.range(3) == 1;
-  const size_t texels = size_t(n) * n, count = 1920 * 1080;
+  const size_t texels = size_t(n) * n, count = screen().count();
   FilterOptions opt;
   opt.blur.radius = radius;
   if (mips) opt.lookup.kind = Lookup::Mips;
@@ -85,11 +84,12 @@ void BM_EsmPipeline(benchmark::State& state) {
 }  // namespace
 
 void register_pipeline() {
-  configure(benchmark::RegisterBenchmark("esm_pipeline/points_1920x1080", BM_EsmPipeline))
+  const int64_t map = smoke_size(2048);
+  configure(benchmark::RegisterBenchmark(("esm_pipeline/points_" + screen().name()).c_str(), BM_EsmPipeline))
       ->ArgNames({"size", "R", "lookup", "rx"})
-      ->Args({2048, 3, 0, 0})
-      ->Args({2048, 3, 1, 0})
-      ->Args({2048, 3, 1, 1});
+      ->Args({map, 3, 0, 0})
+      ->Args({map, 3, 1, 0})
+      ->Args({map, 3, 1, 1});
 }
 
 }  // namespace sf::bench

@@ -1,9 +1,10 @@
 // 6. Footprint lookups (issue 4): the mip chain and the summed-area table of a 2048x2048 basis
 // with 1 and 4 channels, and trilinear / box vs bilinear ESM reconstruction of 1920x1080 random
-// receivers on a 2048x2048 map.
+// receivers on a 2048x2048 map. Smoke mode: sizes() of each list, smoke_size(2048) and screen().
 // Bytes: mips = level 0 read + every level written (4 * N * (W H + chain)); sat = the image read
 // + the float-float table written (4 N W H + 8 N (W+1)(H+1)), the least any SAT build moves.
 #include <cmath>
+#include <string>
 
 #include "bench_common.hpp"
 #include "shadowfilter/kernels.hpp"
@@ -47,15 +48,16 @@ void BM_Sat(benchmark::State& state) {
 // rx 1: bench_pipeline's coherent camera sweep (footprints 0.6 .. 5 texels).
 void BM_ReconstructLookup(benchmark::State& state) {
   const Lookup kind = static_cast<Lookup>(state.range(0));
-  const size_t count = 1920 * 1080;
-  const ImageShape shape{kMap, kMap, 1, 4};
+  const int n = smoke_size(kMap);
+  const size_t count = screen().count();
+  const ImageShape shape{n, n, 1, 4};
   FilterOptions opt;
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), find_method("esm"), opt, depth, kMap, kMap, basis).wait();
+  enqueue_transform(runtime(), find_method("esm"), opt, depth, n, n, basis).wait();
   std::vector<float> hu, hv, hd, f;
   if (state.range(1) == 1) {
-    coherent_receivers(kMap, hu, hv, hd, f);
+    coherent_receivers(n, hu, hv, hd, f);
   } else {
     // Footprints 1 .. 64 texels (log-uniform): every LOD of a typical camera view.
     f = random_floats(count, 8, 0.0f, 6.0f);
@@ -66,8 +68,8 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer u = to_device(hu), v = to_device(hv), d = to_device(hd);
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, kMap, kMap, u, v, d, vis, count,
-                                             nullptr, &lk);
+    cl::Event e =
+        enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, n, n, u, v, d, vis, count, nullptr, &lk);
     e.wait();
     return event_seconds(e);
   });
@@ -77,28 +79,15 @@ void BM_ReconstructLookup(benchmark::State& state) {
 }  // namespace
 
 void register_pyramid() {
-  configure(benchmark::RegisterBenchmark("mips/chain", BM_MipChain))
-      ->ArgNames({"size", "channels"})
-      ->Args({512, 1})
-      ->Args({512, 4})
-      ->Args({kMap, 1})
-      ->Args({kMap, 4})
-      ->Args({4096, 1})
-      ->Args({4096, 4});
+  auto* chain = configure(benchmark::RegisterBenchmark("mips/chain", BM_MipChain))->ArgNames({"size", "channels"});
+  for (int64_t size : sizes({512, kMap, 4096})) chain->Args({size, 1})->Args({size, 4});
   configure(benchmark::RegisterBenchmark("mips/zmax_chain", BM_ZMaxChain))
       ->ArgName("size")
-      ->Arg(512)
-      ->Arg(kMap)
-      ->Arg(4096);
-  configure(benchmark::RegisterBenchmark("sat/table", BM_Sat))
-      ->ArgNames({"size", "channels"})
-      ->Args({512, 1})
-      ->Args({512, 4})
-      ->Args({kMap, 1})
-      ->Args({kMap, 4})
-      ->Args({4096, 1})
-      ->Args({4096, 4});
-  configure(benchmark::RegisterBenchmark("esm_reconstruct/lookup_1920x1080_on_2048", BM_ReconstructLookup))
+      ->ArgsProduct({sizes({512, kMap, 4096})});
+  auto* sat = configure(benchmark::RegisterBenchmark("sat/table", BM_Sat))->ArgNames({"size", "channels"});
+  for (int64_t size : sizes({512, kMap, 4096})) sat->Args({size, 1})->Args({size, 4});
+  const std::string name = "esm_reconstruct/lookup_" + screen().name() + "_on_" + std::to_string(smoke_size(kMap));
+  configure(benchmark::RegisterBenchmark(name.c_str(), BM_ReconstructLookup))
       ->ArgNames({"lookup", "rx"})  // lookup 0 bilinear, 1 mips (trilinear), 2 sat (box)
       ->ArgsProduct({{0, 1, 2}, {0, 1}});
 }

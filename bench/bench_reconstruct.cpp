@@ -1,4 +1,5 @@
-// 4. ESM reconstruction on a 2048x2048 filtered basis: 1920x1080 receivers in points mode
+// 4. ESM reconstruction on a 2048x2048 filtered basis (smoke mode: smoke_size(2048) and screen()
+// throughout): 1920x1080 receivers in points mode
 // (u, v, d read + visibility written = 16 bytes per receiver, plus the gathers), bilinear or
 // trilinear over its mip chain (footprints read: 20 bytes), random or coherent receivers
 // (bench_pipeline.cpp), and grid mode at 2048x2048 (d and one basis texel read + visibility
@@ -15,20 +16,21 @@
 namespace sf::bench {
 namespace {
 
-constexpr int kMapSize = 2048;
-constexpr size_t kReceivers = 1920 * 1080;
+int map_size() { return smoke_size(2048); }
+size_t receiver_count() { return screen().count(); }
 
 // The filtered basis and its mip chain, in two buffers (buf, chain) and as the pipeline keeps
 // them: one buffer (joined) with level 0 at 0 and the chain (joined_chain, a sub-buffer) after it.
 struct Basis {
-  cl::Buffer buf = device_buffer(size_t(kMapSize) * kMapSize * sizeof(float));
+  const int n = map_size();
+  cl::Buffer buf = device_buffer(size_t(n) * n * sizeof(float));
   cl::Buffer chain, joined, joined_chain;
   Basis() {
-    cl::Buffer depth = to_device(random_floats(size_t(kMapSize) * kMapSize, 4, 0.2f, 0.8f));
+    cl::Buffer depth = to_device(random_floats(size_t(n) * n, 4, 0.2f, 0.8f));
     const FilterOptions esm;  // c = 80
-    enqueue_transform(runtime(), find_method("esm"), esm, depth, kMapSize, kMapSize, buf).wait();
-    const ImageShape shape{kMapSize, kMapSize, 1, 4};
-    const size_t level0 = shape.bytes(), chain_bytes = mip_layout(kMapSize, kMapSize, 1).chain_values * sizeof(float);
+    enqueue_transform(runtime(), find_method("esm"), esm, depth, n, n, buf).wait();
+    const ImageShape shape{n, n, 1, 4};
+    const size_t level0 = shape.bytes(), chain_bytes = mip_layout(n, n, 1).chain_values * sizeof(float);
     chain = device_buffer(chain_bytes);
     enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, buf, chain, shape).last.wait();
     joined = device_buffer(level0 + chain_bytes + 4);  // one padding value (kernels.cpp)
@@ -54,14 +56,15 @@ const Rx& receivers(bool coherent) {
   static Rx r[2];
   Rx& x = r[coherent ? 1 : 0];
   if (!x.u()) {
+    const size_t count = receiver_count();
     if (coherent) {
       std::vector<float> u, v, d, f;
-      coherent_receivers(kMapSize, u, v, d, f);
+      coherent_receivers(map_size(), u, v, d, f);
       x.u = to_device(u), x.v = to_device(v), x.d = to_device(d), x.f = to_device(f);
     } else {
-      x.u = to_device(random_floats(kReceivers, 5)), x.v = to_device(random_floats(kReceivers, 6));
-      x.d = to_device(random_floats(kReceivers, 7));
-      x.f = to_device(random_floats(kReceivers, 13, 1.0f, 8.0f));
+      x.u = to_device(random_floats(count, 5)), x.v = to_device(random_floats(count, 6));
+      x.d = to_device(random_floats(count, 7));
+      x.f = to_device(random_floats(count, 13, 1.0f, 8.0f));
     }
   }
   return x;
@@ -70,7 +73,9 @@ const Rx& receivers(bool coherent) {
 void BM_ReconstructPoints(benchmark::State& state) {
   const bool mips = state.range(0) == 1;
   const Rx& rx = receivers(state.range(1) == 1);
-  cl::Buffer vis = device_buffer(kReceivers * sizeof(float));
+  const int n = map_size();
+  const size_t count = receiver_count();
+  cl::Buffer vis = device_buffer(count * sizeof(float));
   FilterOptions opt;
   opt.schedule.reconstruct_vector_width = static_cast<int>(state.range(2));
   LookupBuffers lookup;
@@ -82,21 +87,22 @@ void BM_ReconstructPoints(benchmark::State& state) {
   }
   const double s = time_runs(state, [&] {
     cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, joined ? basis().joined : basis().buf,
-                                             kMapSize, kMapSize, rx.u, rx.v, rx.d, vis, kReceivers, nullptr, &lookup);
+                                             n, n, rx.u, rx.v, rx.d, vis, count, nullptr, &lookup);
     e.wait();
     return event_seconds(e);
   });
-  state.counters["ns_per_receiver"] = s * 1e9 / kReceivers;
-  set_throughput(state, (mips ? 20.0 : 16.0) * kReceivers, kReceivers, s);
+  state.counters["ns_per_receiver"] = s * 1e9 / count;
+  set_throughput(state, (mips ? 20.0 : 16.0) * count, count, s);
 }
 
 void BM_ReconstructGrid(benchmark::State& state) {
-  const size_t count = size_t(kMapSize) * kMapSize;
+  const int n = map_size();
+  const size_t count = size_t(n) * n;
   cl::Buffer d = to_device(random_floats(count, 8));
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const FilterOptions opt;
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, kMapSize, kMapSize, d, vis);
+    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, n, n, d, vis);
     e.wait();
     return event_seconds(e);
   });
@@ -131,34 +137,36 @@ __kernel void bound_gather(__global const float* restrict l0, __global const flo
 void BM_ReconstructBound(benchmark::State& state) {
   const int taps = static_cast<int>(state.range(0));
   const Rx& rx = receivers(state.range(1) == 1);
-  cl::Buffer out = device_buffer(kReceivers * sizeof(float));
+  const size_t count = receiver_count();
+  cl::Buffer out = device_buffer(count * sizeof(float));
   cl::Program p(runtime().context(), kBoundSource);
   p.build(("-cl-std=CL1.2 -DTAPS=" + std::to_string(taps)).c_str());
   cl::Kernel k(p, taps == 0 ? "bound_stream" : "bound_gather");
   if (taps == 0) {
     k.setArg(0, rx.u), k.setArg(1, rx.v), k.setArg(2, rx.d), k.setArg(3, out);
   } else {
-    k.setArg(0, basis().buf), k.setArg(1, basis().chain), k.setArg(2, kMapSize);
+    k.setArg(0, basis().buf), k.setArg(1, basis().chain), k.setArg(2, map_size());
     k.setArg(3, rx.u), k.setArg(4, rx.v), k.setArg(5, rx.d), k.setArg(6, out);
   }
   const double s = time_runs(state, [&] {
     cl::Event e;
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kReceivers), cl::NullRange, nullptr, &e);
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), cl::NullRange, nullptr, &e);
     e.wait();
     return event_seconds(e);
   });
-  state.counters["ns_per_receiver"] = s * 1e9 / kReceivers;
-  set_throughput(state, 16.0 * kReceivers, kReceivers, s);
+  state.counters["ns_per_receiver"] = s * 1e9 / count;
+  set_throughput(state, 16.0 * count, count, s);
 }
 
 }  // namespace
 
 void register_reconstruct() {
-  configure(benchmark::RegisterBenchmark("esm_reconstruct/points_on_2048", BM_ReconstructPoints))
+  const std::string map = std::to_string(map_size());
+  configure(benchmark::RegisterBenchmark(("esm_reconstruct/points_on_" + map).c_str(), BM_ReconstructPoints))
       ->ArgNames({"lookup", "rx", "vec", "joined"})
       ->ArgsProduct({{0}, {0, 1}, {1, 4, 8, 16}, {0}})
       ->ArgsProduct({{1}, {0, 1}, {1, 4, 8, 16}, {0, 1}});
-  configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))->ArgName("size")->Arg(kMapSize);
+  configure(benchmark::RegisterBenchmark("esm_reconstruct/grid", BM_ReconstructGrid))->ArgName("size")->Arg(map_size());
   configure(benchmark::RegisterBenchmark("esm_reconstruct/bound", BM_ReconstructBound))
       ->ArgNames({"taps", "rx"})
       ->Args({0, 0})

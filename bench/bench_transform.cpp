@@ -30,7 +30,7 @@ void BM_EsmTransform(benchmark::State& state) {
 void register_transform() {
   configure(benchmark::RegisterBenchmark("esm_transform", BM_EsmTransform))
       ->ArgNames({"size", "vec"})
-      ->ArgsProduct({{512, 2048, 4096}, {1, 16}});
+      ->ArgsProduct({sizes({512, 2048, 4096}), {1, 16}});
 }
 
 }  // namespace sf::bench

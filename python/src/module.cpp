@@ -120,9 +120,7 @@ NB_MODULE(_core, m) {
   nb::class_<Device>(m, "Device")
       .def(
           "__init__",
-          [](Device* self, const std::string& selector) {
-            new (self) Device{sf::Runtime::create(selector)};
-          },
+          [](Device* self, const std::string& selector) { new (self) Device{sf::Runtime::create(selector)}; },
           "selector"_a = "")
       .def_prop_ro("name", [](const Device& d) { return d.runtime->info().device_name; });
 

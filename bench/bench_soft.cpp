@@ -68,23 +68,23 @@ SoftOptions options(int method, double size) {
       break;
     case 1:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 4;
-      o.cssm_lookup = Lookup::Mips;
+      o.cssm.order = 4;
+      o.cssm.lookup = Lookup::Mips;
       break;
     case 2:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 4;
-      o.cssm_lookup = Lookup::Sat;
+      o.cssm.order = 4;
+      o.cssm.lookup = Lookup::Sat;
       break;
     case 3:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 16;
-      o.cssm_lookup = Lookup::Mips;
+      o.cssm.order = 16;
+      o.cssm.lookup = Lookup::Mips;
       break;
     case 4:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 16;
-      o.cssm_lookup = Lookup::Sat;
+      o.cssm.order = 16;
+      o.cssm.lookup = Lookup::Sat;
       break;
     case 5:
       o.method = SoftMethod::Ssmm;

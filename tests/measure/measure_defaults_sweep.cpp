@@ -160,8 +160,8 @@ std::vector<SoftSetting> soft_sweep(SoftMethod m) {
     // out by soft_candidates(). Each cssm candidate builds its own basis and SAT, the costliest
     // step of the sweep at 2048, so the grid is kept small.
     return cross(axis<O>("offset", {d.offset, 1.5 * d.offset, 2 * d.offset, 3 * d.offset},
-                         [](O& o, double v) { o.cssm_offset = float(v); }),
-                 axis<O>("scale", {1.25, 1.5, 2, 3, 4}, [](O& o, double v) { o.cssm_scale = float(v); }));
+                         [](O& o, double v) { o.cssm.offset = float(v); }),
+                 axis<O>("scale", {1.25, 1.5, 2, 3, 4}, [](O& o, double v) { o.cssm.scale = float(v); }));
   }
   // pcss, ssmm: against the receiver's plane with a constant and the slope-scaled bias, or
   // against d with a constant bias alone.
@@ -198,9 +198,9 @@ std::string fingerprint(const SoftOptions& o) {
   const CssmParams c = cssm_params(o);
   s << soft_method_name(o.method) << " bias=" << o.bias << " plane=" << o.receiver_plane.enabled << ','
     << o.receiver_plane.max_slope << ',' << o.receiver_plane.slope_bias << " max_width=" << o.max_width
-    << " ssmm_n=" << o.ssmm_n << " cssm=" << o.cssm_order << ',' << int(o.cssm_lookup) << ',' << c.offset << ','
+    << " ssmm_n=" << o.ssmm.n << " cssm=" << o.cssm.order << ',' << int(o.cssm.lookup) << ',' << c.offset << ','
     << c.z_offset << ',' << c.scale << ',' << c.width_scale << ',' << c.sharpen_a << ',' << c.sharpen_b << ','
-    << o.cssm_normalise << ',' << o.cssm_min_den << ',' << o.cssm_contact;
+    << o.cssm.normalise << ',' << o.cssm.min_den << ',' << o.cssm.contact;
   return s.str();
 }
 

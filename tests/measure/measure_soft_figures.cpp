@@ -108,15 +108,15 @@ TEST(SoftFigures, QualityAndTime) {
       if (const char* only = std::getenv("SF_SOFT_ONLY"); only && std::string(only) != V.label) continue;
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
-      if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm_offset = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm_scale = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_ZOFFSET")) o.cssm_z_offset = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm_width_scale = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm_contact = std::atoi(e) != 0;
-      if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm_sharpen_a = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm.offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm.scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_ZOFFSET")) o.cssm.z_offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm.width_scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm.contact = std::atoi(e) != 0;
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm.sharpen_a = float(std::atof(e));
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       const double sec = time_method(F, D, 1);
       const std::vector<float> vis = from_device(D.out, D.n);
@@ -172,16 +172,16 @@ TEST(SoftFigures, CssmSweep) {
       const Scene& s = scenes[k];
       SoftOptions o;
       o.method = SoftMethod::Cssm;
-      o.cssm_order = M;
-      o.cssm_lookup = lk == 's' ? Lookup::Sat : Lookup::Mips;
-      o.cssm_offset = off;
-      o.cssm_scale = sc;
-      o.cssm_z_offset = zo;
-      o.cssm_width_scale = ws;
-      o.cssm_contact = contact != 0;
-      o.cssm_sharpen_a = A;
-      o.cssm_sharpen_b = B;
-      o.cssm_normalise = norm != 0;
+      o.cssm.order = M;
+      o.cssm.lookup = lk == 's' ? Lookup::Sat : Lookup::Mips;
+      o.cssm.offset = off;
+      o.cssm.scale = sc;
+      o.cssm.z_offset = zo;
+      o.cssm.width_scale = ws;
+      o.cssm.contact = contact != 0;
+      o.cssm.sharpen_a = A;
+      o.cssm.sharpen_b = B;
+      o.cssm.normalise = norm != 0;
       o.light = s.light;
       try {
         validate(o);
@@ -231,8 +231,8 @@ TEST(SoftFigures, CostAgainstLightSize) {
     for (double L : {0.05, 0.1, 0.2, 0.4, 0.8}) {
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
       o.light.size = L;
       if (V.m == SoftMethod::Cssm && V.order == 16 && V.lookup == Lookup::Sat) continue;  // minutes
@@ -260,8 +260,8 @@ TEST(SoftFigures, LightCount) {
     for (int N : {1, 10, 20, 40}) {
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
       std::vector<std::unique_ptr<SoftFilter>> F;
       std::vector<Device> D;

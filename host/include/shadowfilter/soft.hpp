@@ -11,9 +11,12 @@
 
 namespace sf {
 
+// A technique is selected by a resolved value in the options (SoftOptions::method here, the
+// method of FilterOptions for hard shadows); names are looked up only at the boundary (CLI,
+// files, bindings) by a find_* function that throws InputError naming the known ones.
 enum class SoftMethod { Pcss, Cssm, Ssmm, SsmmImproved };
-const char* soft_method_name(SoftMethod m);                   // "pcss", "cssm", "ssmm", "ssmm-improved"
-bool parse_soft_method(const std::string& s, SoftMethod* m);  // false for other names
+const char* soft_method_name(SoftMethod m);            // "pcss", "cssm", "ssmm", "ssmm-improved"
+SoftMethod find_soft_method(const std::string& name);  // InputError for other names
 
 // The light (scene generator conventions, docs/scenes.md). Depth d in [0,1] is the linear light
 // depth; view depth = near + d (far - near).
@@ -31,6 +34,31 @@ struct SoftLight {
 // L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis.
 double soft_width(const SoftLight& light, double d, double z);
 
+// cssm (convolution soft shadows, seed 000 ch. 8). Defaults chosen on the bundled scenes
+// (docs/soft.md "cssm defaults"; the offset and scale by the defaults sweep, docs/results.md).
+// Negative values select the default, which depends on M.
+struct CssmOptions {
+  int order = 4;                // M: 4M + 1 basis planes
+  Lookup lookup = Lookup::Sat;  // mips or sat
+  float offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.2 / M
+  float scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 1.5
+  float width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
+  bool normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
+  float sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off
+  float sharpen_b = -1.0f;      // default 10 M
+  float min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
+  float z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
+  bool contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
+};
+
+// ssmm and ssmm-improved (soft shadow mip-maps, seed 003).
+struct SsmmOptions {
+  int n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
+};
+
+// Every knob of a soft-shadow run: the generic ones, then one struct per technique (as
+// FilterOptions holds esm, vsm, ...); `method` selects the technique, the other structs are
+// ignored. pcss has no knob of its own.
 struct SoftOptions {
   SoftMethod method = SoftMethod::Pcss;
   SoftLight light;
@@ -42,22 +70,8 @@ struct SoftOptions {
   ReceiverPlaneOptions receiver_plane{true, 0.1f, 0.25f};
   bool facing_away_shadowed = true;  // receivers with ndl <= 0: 0 (sf::shadow_facing_away)
   float max_width = 256.0f;          // cap of every kernel width, level-0 texels
-  // cssm (defaults chosen on the bundled scenes, docs/soft.md "cssm defaults"; the offset and
-  // scale by the defaults sweep, docs/results.md). Negative values select the default, which
-  // depends on M.
-  int cssm_order = 4;                // M: 4M + 1 basis planes
-  Lookup cssm_lookup = Lookup::Sat;  // mips or sat
-  float cssm_offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.2 / M
-  float cssm_scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 1.5
-  float cssm_width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
-  bool cssm_normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
-  float cssm_sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off
-  float cssm_sharpen_b = -1.0f;      // default 10 M
-  float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
-  float cssm_z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
-  bool cssm_contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
-  // ssmm
-  int ssmm_n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
+  CssmOptions cssm;
+  SsmmOptions ssmm;
 };
 void validate(const SoftOptions& opt);  // throws InputError
 // cssm's parameters in effect (defaults resolved).

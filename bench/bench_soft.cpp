@@ -117,7 +117,12 @@ Prepared prepare(int method, double size, int map = kMap) {
 }
 double run_once(Prepared& p, const cl::Buffer* zavg = nullptr) {
   const SoftScene& s = *p.scene;
-  cl::Event e = p.f->run(s.u, s.v, s.d, cl::Buffer(), p.out, s.n, nullptr, zavg);
+  DeviceReceivers rx;
+  rx.count = s.n;
+  rx.u = s.u;
+  rx.v = s.v;
+  rx.d = s.d;
+  cl::Event e = zavg ? p.f->run(rx, p.out, *zavg) : p.f->run(rx, p.out);
   e.wait();
   const double dev = event_seconds(e);
   return dev > 0 ? dev : 0.0;
@@ -200,7 +205,7 @@ void BM_SoftMapSize(benchmark::State& state) {
       state,
       [&] {
         p.f->prepare(s.depth).wait();
-        const SoftTimes t = p.f->times();
+        const StageTimes t = p.f->times();
         const double r = run_once(p);
         prep += t.transform + t.pyramid + t.sat;
         run += r;

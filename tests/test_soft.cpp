@@ -76,7 +76,11 @@ std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, cons
   cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
   cl::Event e = f.prepare(dz);
   EventList after{e};
-  f.run(u, v, d, fp, out, rx.d.size(), &after, zavg ? &za : nullptr);
+  const DeviceReceivers points{false, rx.d.size(), u, v, d, fp};
+  if (zavg)
+    f.run(points, out, za, &after);
+  else
+    f.run(points, out, &after);
   if (zavg) *zavg = from_device(za, rx.d.size());
   return from_device(out, rx.d.size());
 }
@@ -475,6 +479,13 @@ TEST(SoftOptionsApi, MethodNamesRoundTripAndUnknownIsRefused) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "unknown soft method 'cssm2' (known: pcss, cssm, ssmm, ssmm-improved)");
   }
+  // The one receivers type: SoftFilter reads its map part as points; grid receivers are refused.
+  SoftFilter filter(runtime_ptr(), SoftOptions{}, 8, 8);
+  DeviceReceivers grid;
+  grid.grid = true;
+  grid.count = 64;
+  grid.d = to_device(std::vector<float>(64, 0.5f));
+  EXPECT_THROW(filter.run(grid, grid.d), InputError);
   SoftOptions o;
   o.method = SoftMethod::Cssm;
   o.cssm.order = 33;

@@ -24,24 +24,6 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
   }
 }
 
-size_t BufferPlan::total() const {
-  size_t t = 0;
-  for (const auto& b : buffers) t += b.bytes;
-  return t;
-}
-
-size_t BufferPlan::largest() const {
-  size_t m = 0;
-  for (const auto& b : buffers) m = std::max(m, b.bytes);
-  return m;
-}
-
-size_t BufferPlan::bytes(const std::string& name) const {
-  for (const auto& b : buffers)
-    if (b.name == name) return b.bytes;
-  return 0;
-}
-
 namespace {
 
 // Where the chain starts in the joined mips buffer: after level 0, at the device's sub-buffer

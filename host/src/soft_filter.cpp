@@ -173,7 +173,8 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   if (W_ <= 0 || H_ <= 0) throw InputError("empty shadow map");
   auto alloc = [this](size_t bytes) {
     bytes = std::max<size_t>(bytes, 4);
-    check_fits_device(*rt_, bytes, bytes, "the soft-shadow buffers");
+    check_fits_device(*rt_, bytes, device_bytes_ + bytes, "the soft-shadow buffers");
+    device_bytes_ += bytes;
     return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   };
   if (opt_.method == SoftMethod::Cssm) {
@@ -234,9 +235,18 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
   detail::throw_device_error("SoftFilter::prepare", e);
 }
 
-cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
-                          const cl::Buffer& visibility, size_t count, const EventList* wait, const cl::Buffer* zavg,
-                          int receiver_row) try {
+cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) {
+  return run(rx, visibility, cl::Buffer(), wait);
+}
+
+cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                          const EventList* wait) try {
+  if (rx.grid) throw InputError("SoftFilter::run takes points (DeviceReceivers::grid must be false)");
+  if (rx.count > 0 && (!rx.u() || !rx.v() || !rx.d()))
+    throw InputError("SoftFilter::run: DeviceReceivers::u, v and d must be buffers");
+  const cl::Buffer &u = rx.u, &v = rx.v, &d = rx.d, &f = rx.f;
+  const size_t count = rx.count;
+  const int receiver_row = rx.row;
   const ClSoftLight L = cl_light(opt_);
   // Every points kernel takes (its maps, W, H in its order), then (u, v, d, f, visibility
   // [, zavg], count, light [, its parameters]).
@@ -260,7 +270,7 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   else
     args.optional(depth_).optional(chain_).value(W_).value(H_);
   args.optional(u).optional(v).optional(d).optional(f).optional(visibility);
-  if (opt_.method == SoftMethod::Cssm) args.optional(zavg ? *zavg : cl::Buffer());
+  if (opt_.method == SoftMethod::Cssm) args.optional(zavg);
   args.value(static_cast<int>(count)).value(L);
   if (opt_.method == SoftMethod::Cssm) {
     const CssmParams c = cssm_params(opt_);
@@ -285,8 +295,8 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   detail::throw_device_error("SoftFilter::run", e);
 }
 
-SoftTimes SoftFilter::times() const try {
-  SoftTimes t;
+StageTimes SoftFilter::times() const try {
+  StageTimes t;
   if (have_transform_) t.transform = event_seconds(transform_done_);
   if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
   if (have_sat_) t.sat = event_seconds(sat_done_.first, pack_done_() ? pack_done_ : sat_done_.last);
@@ -349,22 +359,26 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     SoftFilter sfl(rt, o, in.depth.width, in.depth.height);
     cl::Buffer depth = upload(*rt, in.depth.data);
     const HostPoints p = points_of(in.receivers, in.depth.width, in.depth.height);
-    cl::Buffer u = upload(*rt, p.u), v = upload(*rt, p.v), d = upload(*rt, p.d);
-    cl::Buffer f = p.has_f ? upload(*rt, p.f) : cl::Buffer();
-    const size_t n = in.receivers.count();
+    DeviceReceivers rx;
+    rx.count = in.receivers.count();
+    rx.row = in.receivers.width;
+    rx.u = upload(*rt, p.u);
+    rx.v = upload(*rt, p.v);
+    rx.d = upload(*rt, p.d);
+    if (p.has_f) rx.f = upload(*rt, p.f);
+    const size_t n = rx.count;
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
     cl::Event prep = sfl.prepare(depth);
     EventList after{prep};
     // out-of-order queues: wait on it
-    const EventList ran{sfl.run(u, v, d, f, out, n, &after, nullptr, in.receivers.width)};
+    const EventList ran{sfl.run(rx, out, &after)};
     std::vector<float> vis(n);
     if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
-    const SoftTimes t = sfl.times();
-    r.times.transform += t.transform;
-    r.times.pyramid += t.pyramid;
-    r.times.sat += t.sat;
-    r.times.reconstruct += t.reconstruct;
-    if (opt.facing_away_shadowed) shadow_facing_away(in.receivers, vis);  // each light's own ndl
+    r.times += sfl.times();
+    r.device_bytes += sfl.device_bytes() + (in.depth.data.size() + (p.has_f ? 5 : 4) * n) * sizeof(float);
+    size_t facing_away = 0;
+    if (opt.facing_away_shadowed) facing_away = shadow_facing_away(in.receivers, vis);  // each light's own ndl
+    if (&in == &lights.front()) r.facing_away = facing_away;
     for (size_t i = 0; i < n; ++i) acc[i] += in.light.weight * vis[i];
     wsum += in.light.weight;
     if (&in == &lights.front())

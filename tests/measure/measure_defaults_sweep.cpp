@@ -388,7 +388,9 @@ std::vector<float> run_soft(const DeviceScene& ds, SoftOptions o) {
   SoftFilter filter(runtime_ptr(), o, ds.scene.depth.width, ds.scene.depth.height);
   const EventList after{filter.prepare(ds.depth)};
   // The receiver image's rows give each receiver's plane, as soft_filter() passes them.
-  return ds.read(filter.run(ds.u, ds.v, ds.d, ds.f, ds.visibility, ds.rx.count, &after, nullptr, ds.rx.row));
+  DeviceReceivers rx = ds.rx;
+  rx.f = ds.f;
+  return ds.read(filter.run(rx, ds.visibility, &after));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

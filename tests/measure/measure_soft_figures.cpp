@@ -42,6 +42,12 @@ Scene load(const std::string& dir) {
 struct Device {
   cl::Buffer depth, u, v, d, f, out;
   size_t n = 0;
+  DeviceReceivers rx() const {
+    DeviceReceivers r;
+    r.count = n;
+    r.u = u, r.v = v, r.d = d, r.f = f;
+    return r;
+  }
 };
 Device upload(const Scene& s) {
   Device D;
@@ -62,7 +68,7 @@ double time_method(SoftFilter& F, const Device& D, int runs = 3) {
     const auto t0 = std::chrono::steady_clock::now();
     cl::Event e = F.prepare(D.depth);
     EventList after{e};
-    F.run(D.u, D.v, D.d, D.f, D.out, D.n, &after);
+    F.run(D.rx(), D.out, &after);
     runtime().queue().finish();
     if (r) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -192,7 +198,7 @@ TEST(SoftFigures, CssmSweep) {
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       cl::Event ev = F.prepare(dev[k].depth);
       EventList after{ev};
-      F.run(dev[k].u, dev[k].v, dev[k].d, dev[k].f, dev[k].out, dev[k].n, &after);
+      F.run(dev[k].rx(), dev[k].out, &after);
       const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
       std::vector<double> err;
       double se = 0;
@@ -273,7 +279,7 @@ TEST(SoftFigures, LightCount) {
         for (int i = 0; i < N; ++i) {
           cl::Event e = F[i]->prepare(D[i].depth);
           EventList after{e};
-          F[i]->run(D[i].u, D[i].v, D[i].d, D[i].f, D[i].out, D[i].n, &after);
+          F[i]->run(D[i].rx(), D[i].out, &after);
         }
         runtime().queue().finish();
       };

@@ -6,7 +6,8 @@
 // one itself on the pipeline's tables. Only methods the registry marks classifiable take it.
 #include <memory>
 
-#include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/device_types.hpp"
+#include "shadowfilter/pyramids.hpp"
 
 namespace sf {
 

@@ -5,22 +5,12 @@
 // (FilterOptions::storage; float32 by default).
 #include <vector>
 
+#include "shadowfilter/device_types.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/runtime.hpp"
 
 namespace sf {
-
-using EventList = std::vector<cl::Event>;
-
-struct ImageShape {
-  int width = 0;
-  int height = 0;
-  int channels = 1;
-  int value_bytes = 4;  // bytes per stored value (storage_bytes of the storage format)
-  size_t plane_texels() const { return static_cast<size_t>(width) * height; }
-  size_t bytes() const { return plane_texels() * channels * value_bytes; }
-};
 
 // Normalised Gaussian weights w[0..R] for taps -R..R (w[k] = w[-k]); sigma <= 0 means
 // the default (2R+1)/6.

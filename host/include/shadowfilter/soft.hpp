@@ -84,31 +84,31 @@ CssmParams cssm_params(const SoftOptions& opt);
 double cssm_series(int order, double x);
 float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage in effect
 
-struct SoftTimes {  // device seconds (profiling queues), 0 otherwise
-  double transform = 0, pyramid = 0, sat = 0, reconstruct = 0;
-  double total() const { return transform + pyramid + sat + reconstruct; }
-};
-
 // One light's shadow map on the device. prepare() builds what the method reads (cssm: basis +
 // mips or SAT; ssmm: min-depth pyramid); run() writes visibility of `count` receivers.
 class SoftFilter {
  public:
   SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height);
   cl::Event prepare(const cl::Buffer& depth, const EventList* wait = nullptr);
-  // f may be an empty buffer (footprint 1); zavg (cssm only, may be empty): z_avg per receiver
-  // (NaN where no blocker was found).
-  // receiver_row: receivers per row of the receiver image, whose neighbours give each receiver's
-  // plane (DeviceReceivers::row); 0 = unstructured points.
-  cl::Event run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
-                const cl::Buffer& visibility, size_t count, const EventList* wait = nullptr,
-                const cl::Buffer* zavg = nullptr, int receiver_row = 0);
-  SoftTimes times() const;
+  // Visibility of the receivers' map part (u, v, d, f; DeviceReceivers, device_types.hpp: f
+  // empty = footprint 1, row as there; grid receivers are not taken) into `visibility`
+  // (rx.count floats), after prepare()'s event in `wait`.
+  cl::Event run(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
+  // The same, cssm only, also writing z_avg per receiver into `zavg` (NaN where no blocker was
+  // found).
+  cl::Event run(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                const EventList* wait = nullptr);
+  // Device seconds of the last prepare/run (the stages of the method; waits for their events).
+  StageTimes times() const;
+  // Bytes of the buffers this filter allocated.
+  size_t device_bytes() const { return device_bytes_; }
   const SoftOptions& options() const { return opt_; }
 
  private:
   std::shared_ptr<Runtime> rt_;
   SoftOptions opt_;
   int W_, H_;
+  size_t device_bytes_ = 0;
   cl::Buffer depth_, basis_, chain_, sat_, bands_, packed_;  // packed_: cssm's interleaved SAT
   cl::Event transform_done_, run_done_, pack_done_;
   PassEvents pyr_done_, sat_done_;
@@ -116,11 +116,8 @@ class SoftFilter {
 };
 
 // Host convenience: one light.
-struct SoftResult {
-  HostImage visibility;
-  SoftTimes times;
-  size_t background = 0, outside = 0;
-};
+// The counts are the first light's receivers'; times and device bytes are summed over the lights.
+struct SoftResult : VisibilityResult {};
 SoftResult soft_filter(std::shared_ptr<Runtime> rt, const SoftOptions& opt, const HostImage& depth,
                        const Receivers& receivers);
 

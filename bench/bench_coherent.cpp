@@ -263,8 +263,8 @@ void BM_Query(benchmark::State& state) {
   const bool coherent = state.range(1) == 1;
   const double bytes = bytes_per_query(filter == CsmFilter::Pcf, coherent);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_visibility(runtime(), f.compressed, coherent ? f.d_points_c : f.d_points,
-                                     coherent ? f.d_dirs_c : f.d_dirs, f.d_out, f.queries, filter);
+    cl::Event e = enqueue_visibility(runtime(), filter, CsmToward::Direction, f.queries, f.compressed,
+                                     coherent ? f.d_points_c : f.d_points, coherent ? f.d_dirs_c : f.d_dirs, f.d_out);
     e.wait();
     return event_seconds(e);
   });
@@ -336,13 +336,14 @@ void BM_Compress(benchmark::State& state) {
         rt.queue().enqueueWriteBuffer(offsets, CL_TRUE, 0, (texels + 1) * 4, counts.data());
         after.clear();
       } else {
-        const PassEvents scan = enqueue_compress_scan(rt, l, offsets, scratch, &after);
-        after = {scan.last};
+        cl::Event first;
+        const cl::Event scanned = enqueue_compress_scan(rt, l, offsets, scratch, &first, &after);
+        after = {scanned};
         rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), 8, &total, &after);
-        scan_s = event_seconds(scan.first, scan.last);
+        scan_s = event_seconds(first, scanned);
       }
-      const cl::Event written = enqueue_compress_write(rt, l, f.device.z1, f.device.z2, offsets, segments,
-                                                       f.compressed.segment_count, after.empty() ? nullptr : &after);
+      const cl::Event written = enqueue_compress_write(rt, l, f.compressed.segment_count, f.device.z1, f.device.z2,
+                                                       offsets, segments, after.empty() ? nullptr : &after);
       written.wait();
       count_s = event_seconds(counted);
       write_s = event_seconds(written);

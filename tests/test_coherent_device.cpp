@@ -197,7 +197,7 @@ DeviceQueries to_device(const Queries& q) {
 
 std::vector<float> visibility(const DeviceStack& s, const DeviceQueries& d, size_t count, CsmFilter filter,
                               CsmToward toward = CsmToward::Direction) {
-  enqueue_visibility(runtime(), s, d.points, d.dirs, d.out, count, filter, nullptr, toward).wait();
+  enqueue_visibility(runtime(), filter, toward, count, s, d.points, d.dirs, d.out).wait();
   return from_device(d.out, count);
 }
 std::vector<float> visibility(const DeviceStack& s, const Queries& q, CsmFilter filter,
@@ -206,7 +206,7 @@ std::vector<float> visibility(const DeviceStack& s, const Queries& q, CsmFilter 
 }
 
 std::vector<float> stack_test(const DeviceDualDepth& s, const DeviceQueries& d, size_t count) {
-  enqueue_stack_test(runtime(), s, d.points, d.dirs, d.out, count).wait();
+  enqueue_stack_test(runtime(), CsmToward::Direction, count, s, d.points, d.dirs, d.out).wait();
   return from_device(d.out, count);
 }
 std::vector<float> stack_test(const DeviceDualDepth& s, const Queries& q) {
@@ -291,14 +291,14 @@ TEST(CoherentDevice, CompressionPassesOnCallerBuffersRespectCapacity) {
   cl::Buffer offsets(rt.context(), CL_MEM_READ_WRITE, (l.texels() + 1) * 4);
   cl::Buffer scratch(rt.context(), CL_MEM_READ_WRITE, compress_scratch_bytes(l));
   const EventList counted{enqueue_compress_count(rt, l, z.z1, z.z2, offsets)};
-  const EventList scanned{enqueue_compress_scan(rt, l, offsets, scratch, &counted).last};
+  const EventList scanned{enqueue_compress_scan(rt, l, offsets, scratch, nullptr, &counted)};
   uint64_t total = 0;
   rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), 8, &total, &scanned);
   ASSERT_EQ(total, want.segments.size());
   const size_t capacity = want.segments.size() - 1;
   std::vector<uint32_t> seg(want.segments.size() + 1, 0xdeadbeefu);
   cl::Buffer segments(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, seg.size() * 4, seg.data());
-  enqueue_compress_write(rt, l, z.z1, z.z2, offsets, segments, capacity, &scanned).wait();
+  enqueue_compress_write(rt, l, capacity, z.z1, z.z2, offsets, segments, &scanned).wait();
   rt.queue().enqueueReadBuffer(segments, CL_TRUE, 0, seg.size() * 4, seg.data());
   for (size_t i = 0; i < capacity; ++i) ASSERT_EQ(seg[i], want.segments[i]) << "segment " << i;
   EXPECT_EQ(seg[capacity], 0xdeadbeefu);
@@ -522,31 +522,62 @@ TEST(CoherentDevice, BadInputIsRefusedNamingTheField) {
   bad_z.layout.views_theta = 3;  // Hilbert on a 3x4 grid
   EXPECT_TRUE(has(refusal([&] { compress_on_device(rt, bad_z); }), "hilbert"));
 
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, b.dirs, small, q.count); }), "out"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, cl::Buffer(), b.dirs, b.out, q.count); }), "points"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, small, b.out, q.count); }), "second"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, b.dirs, b.out, size_t(1) << 33); }), "count"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, d, b.points, b.dirs,
+                                       small);
+                  }),
+                  "out"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, d, cl::Buffer(), b.dirs,
+                                       b.out);
+                  }),
+                  "points"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, d, b.points, small,
+                                       b.out);
+                  }),
+                  "second"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, size_t(1) << 33, d, b.points,
+                                       b.dirs, b.out);
+                  }),
+                  "count"));
   DeviceStack bad_d = d;
   bad_d.segment_count += 1;
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "segments"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, bad_d, b.points, b.dirs,
+                                       b.out);
+                  }),
+                  "segments"));
   bad_d = d;
   bad_d.positions = small;
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "positions"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, bad_d, b.points, b.dirs,
+                                       b.out);
+                  }),
+                  "positions"));
   bad_d = d;
   bad_d.offsets = cl::Buffer();
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "offsets"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_stack_test(rt, z, b.points, b.dirs, small, q.count); }), "out"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, q.count, bad_d, b.points, b.dirs,
+                                       b.out);
+                  }),
+                  "offsets"));
+  EXPECT_TRUE(
+      has(refusal([&] { enqueue_stack_test(rt, CsmToward::Direction, q.count, z, b.points, b.dirs, small); }), "out"));
   DeviceDualDepth bad_dz = z;
   bad_dz.z1 = small;
-  EXPECT_TRUE(has(refusal([&] { enqueue_stack_test(rt, bad_dz, b.points, b.dirs, b.out, q.count); }), "z1"));
+  EXPECT_TRUE(has(
+      refusal([&] { enqueue_stack_test(rt, CsmToward::Direction, q.count, bad_dz, b.points, b.dirs, b.out); }), "z1"));
   EXPECT_TRUE(has(refusal([&] { compress_on_device(rt, bad_dz); }), "z1"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_count(rt, l, z.z1, z.z2, small); }), "offsets"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_scan(rt, l, d.offsets, small); }), "scratch"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, z.z1, z.z2, d.offsets, d.segments, 0); }), "capacity"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, z.z1, z.z2, d.offsets, small, c.segments.size()); }),
+  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, 0, z.z1, z.z2, d.offsets, d.segments); }), "capacity"));
+  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, c.segments.size(), z.z1, z.z2, d.offsets, small); }),
                   "segments"));
   // count 0 is not an error: a marker after `wait`.
-  enqueue_visibility(rt, d, cl::Buffer(), cl::Buffer(), cl::Buffer(), 0).wait();
+  enqueue_visibility(rt, CsmFilter::Nearest, CsmToward::Direction, 0, d, cl::Buffer(), cl::Buffer(), cl::Buffer())
+      .wait();
 }
 
 }  // namespace

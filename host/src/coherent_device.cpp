@@ -204,8 +204,8 @@ cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const c
   detail::throw_device_error("coherent::enqueue_compress_count", e);
 }
 
-PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
-                                 const cl::Buffer& scratch, const EventList* wait) try {
+cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
+                                const cl::Buffer& scratch, cl::Event* first, const EventList* wait) try {
   validate(layout);
   need_offsets("enqueue_compress_scan", layout, offsets);
   need_bytes("enqueue_compress_scan", "scratch", scratch, compress_scratch_bytes(layout),
@@ -216,20 +216,19 @@ PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const c
   detail::KernelArgs(a).buffer(offsets).value(texels).value(kScanBlock).buffer(scratch).value(blocks);
   detail::KernelArgs(b).buffer(scratch).value(blocks).buffer(offsets).value(texels);
   detail::KernelArgs(c).buffer(offsets).value(texels).value(kScanBlock).buffer(scratch);
-  PassEvents ev;
-  ev.first = launch(rt, a, blocks, wait);
-  const EventList after_a{ev.first};
+  const cl::Event scanned = launch(rt, a, blocks, wait);
+  if (first) *first = scanned;
+  const EventList after_a{scanned};
   cl::Event totals;
   rt.queue().enqueueNDRangeKernel(b, cl::NullRange, cl::NDRange(1), cl::NullRange, &after_a, &totals);
   const EventList after_b{totals};
-  ev.last = launch(rt, c, texels, &after_b);
-  return ev;
+  return launch(rt, c, texels, &after_b);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_compress_scan", e);
 }
 
-cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
-                                 const cl::Buffer& offsets, const cl::Buffer& segments, size_t capacity,
+cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
                                  const EventList* wait) try {
   need_stack_input("enqueue_compress_write", layout, z1, z2);
   need_offsets("enqueue_compress_write", layout, offsets);
@@ -264,7 +263,7 @@ DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const 
   d.offsets = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, (l.texels() + 1) * sizeof(uint32_t));
   cl::Buffer scratch(rt.context(), CL_MEM_READ_WRITE, compress_scratch_bytes(l));
   const EventList counted{enqueue_compress_count(rt, l, s.z1, s.z2, d.offsets, wait)};
-  const EventList scanned{enqueue_compress_scan(rt, l, d.offsets, scratch, &counted).last};
+  const EventList scanned{enqueue_compress_scan(rt, l, d.offsets, scratch, nullptr, &counted)};
   uint64_t total = 0;
   rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), sizeof(total), &total, &scanned);
   if (total > std::numeric_limits<uint32_t>::max())
@@ -272,7 +271,7 @@ DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const 
                      " segments, more than 32-bit offsets address");
   d.segment_count = size_t(total);  // >= texels >= 1: every texel holds a segment
   d.segments = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, d.segment_count * sizeof(uint32_t));
-  enqueue_compress_write(rt, l, s.z1, s.z2, d.offsets, d.segments, d.segment_count, &scanned).wait();
+  enqueue_compress_write(rt, l, d.segment_count, s.z1, s.z2, d.offsets, d.segments, &scanned).wait();
   return d;
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::compress_on_device", e);
@@ -282,9 +281,9 @@ CompressedStack compress_on_device(Runtime& rt, const DualDepthStack& stack) {
   return download(rt, compress_on_device(rt, upload(rt, stack)));
 }
 
-cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
-                             const cl::Buffer& out, size_t count, CsmFilter filter, const EventList* wait,
-                             CsmToward toward) try {
+cl::Event enqueue_visibility(Runtime& rt, CsmFilter filter, CsmToward toward, size_t count, const DeviceStack& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait) try {
   const StackLayout& l = stack.layout;
   validate(l);
   if (filter != CsmFilter::Nearest && filter != CsmFilter::Pcf)
@@ -305,9 +304,9 @@ cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Bu
   detail::throw_device_error("coherent::enqueue_visibility", e);
 }
 
-cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl::Buffer& points,
-                             const cl::Buffer& second, const cl::Buffer& out, size_t count, const EventList* wait,
-                             CsmToward toward) try {
+cl::Event enqueue_stack_test(Runtime& rt, CsmToward toward, size_t count, const DeviceDualDepth& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait) try {
   const StackLayout& l = stack.layout;
   need_stack_input("enqueue_stack_test", l, stack.z1, stack.z2);
   need_bytes("enqueue_stack_test", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");

@@ -209,24 +209,25 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
     EventList after{transform_done_};
     ImageShape s{W_, H_, 4 * M + 1, 4};
     if (opt_.cssm.lookup == Lookup::Mips) {
-      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, basis_, chain_, s, &after);
+      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, {}, s, basis_, chain_, &pyr_first_, &after);
       have_pyr_ = true;
-      return pyr_done_.last;
+      return pyr_done_;
     }
-    sat_done_ = enqueue_sat(*rt_, Storage::F32, basis_, sat_, bands_, s, &after);
+    sat_done_ = enqueue_sat(*rt_, Storage::F32, {}, {}, s, basis_, sat_, bands_, &sat_first_, &after);
     have_sat_ = true;
     cl::Kernel pk(cssm_program(*rt_, opt_), "sf_cssm_sat_pack");
     const int entries = (W_ + 1) * (H_ + 1);
     detail::KernelArgs(pk).buffer(sat_).buffer(packed_).value(W_).value(H_);
-    EventList after_sat{sat_done_.last};
+    EventList after_sat{sat_done_};
     rt_->queue().enqueueNDRangeKernel(pk, cl::NullRange, cl::NDRange(size_t(entries)), cl::NullRange, &after_sat,
                                       &pack_done_);
     return pack_done_;
   }
   if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
-    pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, depth, chain_, ImageShape{W_, H_, 1, 4}, wait);
+    pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, {}, ImageShape{W_, H_, 1, 4}, depth, chain_,
+                                &pyr_first_, wait);
     have_pyr_ = true;
-    return pyr_done_.last;
+    return pyr_done_;
   }
   cl::Event e;
   rt_->queue().enqueueMarkerWithWaitList(wait, &e);
@@ -298,8 +299,8 @@ cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibilit
 StageTimes SoftFilter::times() const try {
   StageTimes t;
   if (have_transform_) t.transform = event_seconds(transform_done_);
-  if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
-  if (have_sat_) t.sat = event_seconds(sat_done_.first, pack_done_() ? pack_done_ : sat_done_.last);
+  if (have_pyr_) t.pyramid = event_seconds(pyr_first_, pyr_done_);
+  if (have_sat_) t.sat = event_seconds(sat_first_, pack_done_() ? pack_done_ : sat_done_);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
   return t;
 } catch (const cl::Error& e) {

@@ -377,8 +377,8 @@ void run_group(const DeviceScene& ds, const MethodDesc& m, const std::vector<Fil
   take(group.front(), ds.read(pipe.reconstruct(ds.rx, ds.visibility, &after)));
   const LookupBuffers lookup = pipe.lookup_tables();
   for (size_t k = 1; k < group.size(); ++k) {
-    const cl::Event done = enqueue_reconstruct_points(runtime(), m, group[k].options, pipe.basis(), w, h, ds.u, ds.v,
-                                                      ds.d, ds.visibility, ds.rx.count, &after, &lookup, ds.rx.row);
+    const cl::Event done = enqueue_reconstruct_points(runtime(), m, group[k].options, w, h, ds.rx.count, ds.rx.row,
+                                                      pipe.basis(), &lookup, ds.u, ds.v, ds.d, ds.visibility, &after);
     take(group[k], ds.read(done));
   }
 }

@@ -2,14 +2,14 @@
 // Coherent shadow maps on the device (methods.md sec. 5; docs/coherent_device.md): the
 // compression of a dual-depth stack (kernels/coherent/csm_compress.cl, byte for byte the scalar
 // reference's greedy fit) and the visibility queries of points (kernels/coherent/
-// csm_visibility.cl over csm_query.clh). Thin wrappers in the toolkit's style: buffers are the
-// caller's, every enqueue_* call enqueues after `wait` and returns its event. Bad sizes or empty
-// buffers throw InputError naming the field; OpenCL failures DeviceError.
+// csm_visibility.cl over csm_query.clh). Thin wrappers in the toolkit's style and argument order
+// (kernels.hpp): buffers are the caller's, every enqueue_* call enqueues after `wait` and returns
+// its last event. Bad sizes or empty buffers throw InputError naming the field; OpenCL failures
+// DeviceError.
 #include <cstddef>
 
 #include "shadowfilter/coherent.hpp"
 #include "shadowfilter/kernels.hpp"
-#include "shadowfilter/pyramids.hpp"  // PassEvents
 
 namespace sf::coherent {
 
@@ -55,10 +55,10 @@ size_t compress_scratch_bytes(const StackLayout& layout);
 size_t compress_total_offset(const StackLayout& layout);  // bytes into scratch
 cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
                                  const cl::Buffer& offsets, const EventList* wait = nullptr);
-PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
-                                 const cl::Buffer& scratch, const EventList* wait = nullptr);
-cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
-                                 const cl::Buffer& offsets, const cl::Buffer& segments, size_t capacity,
+cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
+                                const cl::Buffer& scratch, cl::Event* first = nullptr, const EventList* wait = nullptr);
+cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
                                  const EventList* wait = nullptr);
 // The three passes with the total read in between (blocks until the stack is compressed).
 // Throws InputError when the stack holds more segments than 32-bit offsets address.
@@ -79,14 +79,14 @@ enum class CsmToward { Direction = 0, Point = 1 };
 // Visibility of `count` points (float4, w ignored) toward `second` (float4: directions or light
 // positions) -> out (count floats). A point outside the view's map is lit. count 0 enqueues a
 // marker.
-cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
-                             const cl::Buffer& out, size_t count, CsmFilter filter = CsmFilter::Nearest,
-                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+cl::Event enqueue_visibility(Runtime& rt, CsmFilter filter, CsmToward toward, size_t count, const DeviceStack& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait = nullptr);
 // The uncompressed dual-depth test with the same projection (nearest view and texel): out = +1
 // lit (q <= z1, or outside the map), 0 blocked (q >= z2), -1 between the two surfaces, where
 // either answer is right (sf::ref::coherent::stack_test).
-cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl::Buffer& points,
-                             const cl::Buffer& second, const cl::Buffer& out, size_t count,
-                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+cl::Event enqueue_stack_test(Runtime& rt, CsmToward toward, size_t count, const DeviceDualDepth& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait = nullptr);
 
 }  // namespace sf::coherent

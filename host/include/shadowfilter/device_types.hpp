@@ -68,9 +68,9 @@ struct StageTimes {
 struct VisibilityResult {
   HostImage visibility;  // the receivers' size, 1 channel
   StageTimes times;
-  size_t background = 0;   // receivers with non-finite depth (output 1)
-  size_t outside = 0;      // receivers no map covers (output 1)
-  size_t facing_away = 0;  // receivers whose ndl <= 0 (output 0 where the options shadow them)
+  size_t background = 0;    // receivers with non-finite depth (output 1)
+  size_t outside = 0;       // receivers no map covers (output 1)
+  size_t facing_away = 0;   // receivers whose ndl <= 0 (output 0 where the options shadow them)
   size_t device_bytes = 0;  // bytes of the device buffers the run allocated
 };
 

@@ -89,14 +89,14 @@ class Pipeline {
   ImageShape shape_;
   cl::Buffer basis_, scratch_;
   cl::Event transform_done_;
-  BlurEvents blur_done_;
+  cl::Event blur_first_, blur_done_;  // first and last command of each multi-command stage
   cl::Event reconstruct_done_;
   // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
   BufferPlan plan_;
   cl::Buffer mips_;           // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_;
-  PassEvents pyramid_done_, sat_done_;
+  cl::Event pyramid_first_, pyramid_done_, sat_first_, sat_done_;
   // The optional stage after the reconstruction (classify.hpp), when the options ask for it.
   std::shared_ptr<ClassifyStage> classify_;
 };

@@ -111,7 +111,7 @@ class SoftFilter {
   size_t device_bytes_ = 0;
   cl::Buffer depth_, basis_, chain_, sat_, bands_, packed_;  // packed_: cssm's interleaved SAT
   cl::Event transform_done_, run_done_, pack_done_;
-  PassEvents pyr_done_, sat_done_;
+  cl::Event pyr_first_, pyr_done_, sat_first_, sat_done_;
   bool have_pyr_ = false, have_sat_ = false, have_transform_ = false;
 };
 

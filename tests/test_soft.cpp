@@ -74,13 +74,13 @@ std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, cons
   cl::Buffer fp = rx.has_footprint ? to_device(rx.f) : cl::Buffer();
   cl::Buffer out = to_device(std::vector<float>(rx.d.size(), -1.0f));
   cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
-  cl::Event e = f.prepare(dz);
+  cl::Event e = f.prefilter(dz);
   EventList after{e};
   const DeviceReceivers points{false, rx.d.size(), u, v, d, fp};
   if (zavg)
-    f.run(points, out, za, &after);
+    f.reconstruct(points, out, za, &after);
   else
-    f.run(points, out, &after);
+    f.reconstruct(points, out, &after);
   if (zavg) *zavg = from_device(za, rx.d.size());
   return from_device(out, rx.d.size());
 }
@@ -485,7 +485,7 @@ TEST(SoftOptionsApi, MethodNamesRoundTripAndUnknownIsRefused) {
   grid.grid = true;
   grid.count = 64;
   grid.d = to_device(std::vector<float>(64, 0.5f));
-  EXPECT_THROW(filter.run(grid, grid.d), InputError);
+  EXPECT_THROW(filter.reconstruct(grid, grid.d), InputError);
   SoftOptions o;
   o.method = SoftMethod::Cssm;
   o.cssm.order = 33;

@@ -195,7 +195,7 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   detail::throw_device_error("SoftFilter::SoftFilter", e);
 }
 
-cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) try {
+cl::Event SoftFilter::prefilter(const cl::Buffer& depth, const EventList* wait) try {
   depth_ = depth;
   have_pyr_ = have_sat_ = have_transform_ = false;
   if (opt_.method == SoftMethod::Cssm) {
@@ -233,18 +233,18 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
   rt_->queue().enqueueMarkerWithWaitList(wait, &e);
   return e;
 } catch (const cl::Error& e) {
-  detail::throw_device_error("SoftFilter::prepare", e);
+  detail::throw_device_error("SoftFilter::prefilter", e);
 }
 
-cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) {
-  return run(rx, visibility, cl::Buffer(), wait);
+cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) {
+  return reconstruct(rx, visibility, cl::Buffer(), wait);
 }
 
-cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
-                          const EventList* wait) try {
-  if (rx.grid) throw InputError("SoftFilter::run takes points (DeviceReceivers::grid must be false)");
+cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                                  const EventList* wait) try {
+  if (rx.grid) throw InputError("SoftFilter::reconstruct takes points (DeviceReceivers::grid must be false)");
   if (rx.count > 0 && (!rx.u() || !rx.v() || !rx.d()))
-    throw InputError("SoftFilter::run: DeviceReceivers::u, v and d must be buffers");
+    throw InputError("SoftFilter::reconstruct: DeviceReceivers::u, v and d must be buffers");
   const cl::Buffer &u = rx.u, &v = rx.v, &d = rx.d, &f = rx.f;
   const size_t count = rx.count;
   const int receiver_row = rx.row;
@@ -293,7 +293,7 @@ cl::Event SoftFilter::run(const DeviceReceivers& rx, const cl::Buffer& visibilit
                                     &run_done_);
   return run_done_;
 } catch (const cl::Error& e) {
-  detail::throw_device_error("SoftFilter::run", e);
+  detail::throw_device_error("SoftFilter::reconstruct", e);
 }
 
 StageTimes SoftFilter::times() const try {
@@ -369,10 +369,10 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     if (p.has_f) rx.f = upload(*rt, p.f);
     const size_t n = rx.count;
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
-    cl::Event prep = sfl.prepare(depth);
+    cl::Event prep = sfl.prefilter(depth);
     EventList after{prep};
     // out-of-order queues: wait on it
-    const EventList ran{sfl.run(rx, out, &after)};
+    const EventList ran{sfl.reconstruct(rx, out, &after)};
     std::vector<float> vis(n);
     if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
     r.times += sfl.times();

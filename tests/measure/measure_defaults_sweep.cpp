@@ -386,11 +386,11 @@ void run_group(const DeviceScene& ds, const MethodDesc& m, const std::vector<Fil
 std::vector<float> run_soft(const DeviceScene& ds, SoftOptions o) {
   o.light = ds.light;
   SoftFilter filter(runtime_ptr(), o, ds.scene.depth.width, ds.scene.depth.height);
-  const EventList after{filter.prepare(ds.depth)};
+  const EventList after{filter.prefilter(ds.depth)};
   // The receiver image's rows give each receiver's plane, as soft_filter() passes them.
   DeviceReceivers rx = ds.rx;
   rx.f = ds.f;
-  return ds.read(filter.run(rx, ds.visibility, &after));
+  return ds.read(filter.reconstruct(rx, ds.visibility, &after));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -66,9 +66,9 @@ double time_method(SoftFilter& F, const Device& D, int runs = 3) {
   std::vector<double> t;
   for (int r = 0; r <= runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    cl::Event e = F.prepare(D.depth);
+    cl::Event e = F.prefilter(D.depth);
     EventList after{e};
-    F.run(D.rx(), D.out, &after);
+    F.reconstruct(D.rx(), D.out, &after);
     runtime().queue().finish();
     if (r) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -196,9 +196,9 @@ TEST(SoftFigures, CssmSweep) {
         break;
       }
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
-      cl::Event ev = F.prepare(dev[k].depth);
+      cl::Event ev = F.prefilter(dev[k].depth);
       EventList after{ev};
-      F.run(dev[k].rx(), dev[k].out, &after);
+      F.reconstruct(dev[k].rx(), dev[k].out, &after);
       const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
       std::vector<double> err;
       double se = 0;
@@ -277,9 +277,9 @@ TEST(SoftFigures, LightCount) {
       }
       auto frame = [&] {
         for (int i = 0; i < N; ++i) {
-          cl::Event e = F[i]->prepare(D[i].depth);
+          cl::Event e = F[i]->prefilter(D[i].depth);
           EventList after{e};
-          F[i]->run(D[i].rx(), D[i].out, &after);
+          F[i]->reconstruct(D[i].rx(), D[i].out, &after);
         }
         runtime().queue().finish();
       };

@@ -84,21 +84,22 @@ CssmParams cssm_params(const SoftOptions& opt);
 double cssm_series(int order, double x);
 float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage in effect
 
-// One light's shadow map on the device. prepare() builds what the method reads (cssm: basis +
-// mips or SAT; ssmm: min-depth pyramid); run() writes visibility of `count` receivers.
+// One light's shadow map on the device, in the shape of Pipeline (pipeline.hpp; ownership,
+// queues, events and threads as it says): prefilter() builds what the method reads (cssm: basis
+// + mips or SAT; ssmm: min-depth pyramid), reconstruct() writes the visibility of the receivers.
 class SoftFilter {
  public:
   SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height);
-  cl::Event prepare(const cl::Buffer& depth, const EventList* wait = nullptr);
+  cl::Event prefilter(const cl::Buffer& depth, const EventList* wait = nullptr);
   // Visibility of the receivers' map part (u, v, d, f; DeviceReceivers, device_types.hpp: f
   // empty = footprint 1, row as there; grid receivers are not taken) into `visibility`
-  // (rx.count floats), after prepare()'s event in `wait`.
-  cl::Event run(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
+  // (rx.count floats), after prefilter()'s event in `wait`.
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
   // The same, cssm only, also writing z_avg per receiver into `zavg` (NaN where no blocker was
   // found).
-  cl::Event run(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
-                const EventList* wait = nullptr);
-  // Device seconds of the last prepare/run (the stages of the method; waits for their events).
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                        const EventList* wait = nullptr);
+  // Device seconds of the last prefilter/reconstruct (the stages of the method; waits for their events).
   StageTimes times() const;
   // Bytes of the buffers this filter allocated.
   size_t device_bytes() const { return device_bytes_; }

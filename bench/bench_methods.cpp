@@ -39,7 +39,7 @@ void BM_Transform(benchmark::State& state, FilterOptions opt) {
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(out_bytes);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_transform(runtime(), m, opt, depth, n, n, basis);
+    cl::Event e = enqueue_transform(runtime(), m, opt, n, n, depth, basis);
     e.wait();
     return event_seconds(e);
   });
@@ -63,11 +63,12 @@ void BM_Reconstruct(benchmark::State& state, std::string method) {
   if (!m.raw_depth) {
     basis_bytes = basis_bytes_per_texel(m, opt) * texels;
     basis = device_buffer(basis_bytes);
-    enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
+    enqueue_transform(runtime(), m, opt, n, n, depth, basis).wait();
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = m.raw_depth ? enqueue_pcf_points(runtime(), opt, depth, n, n, u, v, d, vis, count)
-                              : enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, u, v, d, vis, count);
+    cl::Event e = m.raw_depth
+                      ? enqueue_pcf_points(runtime(), opt, n, n, count, 0, depth, u, v, d, cl::Buffer(), vis)
+                      : enqueue_reconstruct_points(runtime(), m, opt, n, n, count, 0, basis, nullptr, u, v, d, vis);
     e.wait();
     return event_seconds(e);
   });

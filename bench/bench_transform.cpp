@@ -18,7 +18,7 @@ void BM_EsmTransform(benchmark::State& state) {
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(texels * sizeof(float));
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_transform(runtime(), esm, opt, depth, n, n, basis);
+    cl::Event e = enqueue_transform(runtime(), esm, opt, n, n, depth, basis);
     e.wait();
     return event_seconds(e);
   });

@@ -54,7 +54,7 @@ TEST_P(MethodKernels, TransformMatchesReference) {
     cl::Buffer z = to_device(depth.data);
     const size_t n = depth.texels() * ch;
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(mc.storage));
-    enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+    enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
     const auto got = read_stored(basis, n, mc.storage);
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < n; ++i) {
@@ -84,7 +84,7 @@ TEST_P(MethodKernels, TransformPartialTailEveryVectorWidth) {
     opt.schedule.transform_vector_width = width;
     const size_t n = texels * m.channels(opt);
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(mc.storage));
-    enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+    enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
     const auto got = read_stored(basis, n, mc.storage);
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < n; ++i) {
@@ -171,7 +171,8 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
     d.push_back(0.5f);
     cl::Buffer ub = to_device(u), vb = to_device(v), db = to_device(d);
     cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, u.size() * sizeof(float));
-    enqueue_reconstruct_points(runtime(), m, opt, pipe.basis(), depth.width, depth.height, ub, vb, db, out, u.size())
+    enqueue_reconstruct_points(runtime(), m, opt, depth.width, depth.height, u.size(), 0, pipe.basis(), nullptr, ub, vb,
+                               db, out)
         .wait();
     const auto got = from_device(out, u.size());
     std::vector<double> b(ch);
@@ -200,7 +201,7 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
     for (size_t i = 0; i < dg.size(); ++i) dg[i] = std::clamp(depth.data[i] + (unit(rng) - 0.5f) * 0.2f, 0.0f, 1.0f);
     cl::Buffer dgb = to_device(dg);
     cl::Buffer outg(runtime().context(), CL_MEM_READ_WRITE, dg.size() * sizeof(float));
-    enqueue_reconstruct_grid(runtime(), m, opt, pipe.basis(), depth.width, depth.height, dgb, outg).wait();
+    enqueue_reconstruct_grid(runtime(), m, opt, depth.width, depth.height, pipe.basis(), dgb, outg).wait();
     const auto gotg = from_device(outg, dg.size());
     worst = 0;
     for (size_t i = 0; i < dg.size(); ++i) {
@@ -298,7 +299,7 @@ TEST(MethodKernels, BlurredPipelineMatchesReference) {
     // The device blur against the double blur of the device transform's output: relative 1e-5
     // (test_kernels.cpp, Blur) on positive planes; csm's signed planes: absolute 1e-5.
     cl::Buffer unblurred(runtime().context(), CL_MEM_READ_WRITE, stored.data.size() * 4);
-    enqueue_transform(runtime(), pipe.method(), opt, z, depth.width, depth.height, unblurred).wait();
+    enqueue_transform(runtime(), pipe.method(), opt, depth.width, depth.height, z, unblurred).wait();
     ref::Planes raw(depth.width, depth.height, ch);
     const auto rv = from_device(unblurred, raw.data.size());
     std::copy(rv.begin(), rv.end(), raw.data.begin());
@@ -366,7 +367,7 @@ TEST(MethodLimits, RefusalsNameTheLimit) {
   o.schedule.transform_vector_width = 3;
   const cl::Buffer one = to_device(std::vector<float>(1, 0.5f));
   try {
-    enqueue_transform(runtime(), find_method("esm"), o, one, 1, 1, one);
+    enqueue_transform(runtime(), find_method("esm"), o, 1, 1, one, one);
     ADD_FAILURE() << "transform vector width 3 accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("1, 4, 8 or 16"), std::string::npos) << e.what();
@@ -395,7 +396,7 @@ TEST(MethodLimits, EvsmExponentsClampToStorage) {
   const HostImage depth = stress_depths()[3];  // 0/1 checkerboard: both extremes
   cl::Buffer z = to_device(depth.data);
   cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * 4 * 2);
-  enqueue_transform(runtime(), find_method("evsm4"), o, z, depth.width, depth.height, basis).wait();
+  enqueue_transform(runtime(), find_method("evsm4"), o, depth.width, depth.height, z, basis).wait();
   for (float v : read_stored(basis, depth.texels() * 4, Storage::F16)) ASSERT_TRUE(std::isfinite(v));
 }
 

@@ -54,7 +54,7 @@ TEST(CsmUnormCodes, DenseDepthsWithinOneCode) {
       const MethodDesc& m = find_method("csm");
       const size_t n = depth.texels() * m.channels(opt);
       cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(st));
-      enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+      enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
       const auto got = read_stored(basis, n, st);
       const auto want = ref::transform(opt, depth);
       const double step = storage_step(0.5, st), tol = 2e-6 + 6e-7 * M + step;

@@ -239,7 +239,7 @@ TEST(Numerics, Sat4096) {
   cl::Buffer src = to_device(host);
   cl::Buffer table(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
-  enqueue_sat(runtime(), Storage::F32, src, table, bands, shape).last.wait();
+  enqueue_sat(runtime(), Storage::F32, {}, {}, shape, src, table, bands).wait();
   const auto t = from_device(table, L.table_floats);
   auto S = [&](int x, int y) { return double(t[L.at(0, false, x, y)]) + double(t[L.at(0, true, x, y)]); };
   struct Box {

@@ -87,18 +87,18 @@ std::vector<float> sat_unchecked(const FilterOptions& o, const HostImage& m, con
   const ImageShape shape{m.width, m.height, method.channels(o), storage_bytes(o.storage)};
   cl::Buffer depth = to_device(m.data);
   cl::Buffer basis(rt.context(), CL_MEM_READ_WRITE, shape.bytes());
-  enqueue_transform(rt, method, o, depth, m.width, m.height, basis).wait();
+  enqueue_transform(rt, method, o, m.width, m.height, depth, basis).wait();
   const SatLayout L = sat_layout(shape);
   LookupBuffers lk;
   lk.kind = Lookup::Sat;
   lk.sat = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
   cl::Buffer bands(rt.context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
-  enqueue_sat(rt, o.storage, basis, lk.sat, bands, shape).last.wait();
+  enqueue_sat(rt, o.storage, {}, {}, shape, basis, lk.sat, bands).wait();
   lk.footprint = to_device(rx.f);
   const size_t n = rx.count();
   cl::Buffer vis(rt.context(), CL_MEM_READ_WRITE, n * sizeof(float));
-  enqueue_reconstruct_points(rt, method, o, basis, m.width, m.height, to_device(rx.u), to_device(rx.v), to_device(rx.d),
-                             vis, n, nullptr, &lk)
+  enqueue_reconstruct_points(rt, method, o, m.width, m.height, n, 0, basis, &lk, to_device(rx.u), to_device(rx.v),
+                             to_device(rx.d), vis)
       .wait();
   return from_device(vis, n);
 }

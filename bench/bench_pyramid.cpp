@@ -54,7 +54,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   FilterOptions opt;
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), find_method("esm"), opt, depth, n, n, basis).wait();
+  enqueue_transform(runtime(), *sf::method("esm"), opt, depth, n, n, basis).wait();
   std::vector<float> hu, hv, hd, f;
   if (state.range(1) == 1) {
     coherent_receivers(n, hu, hv, hd, f);
@@ -69,7 +69,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
     cl::Event e =
-        enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, n, n, u, v, d, vis, count, nullptr, &lk);
+        enqueue_reconstruct_points(runtime(), *sf::method("esm"), opt, basis, n, n, u, v, d, vis, count, nullptr, &lk);
     e.wait();
     return event_seconds(e);
   });

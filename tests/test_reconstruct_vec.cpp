@@ -217,7 +217,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       if (w * h > 1) {  // a table of another chain's size is refused
         LookupBuffers wrong = one;
         wrong.level_offsets = cl::Buffer(runtime().context(), CL_MEM_READ_ONLY, sizeof(cl_int));
-        EXPECT_THROW(enqueue_reconstruct_points(runtime(), find_method(method), opt, joined, w, h, u, v, d, u,
+        EXPECT_THROW(enqueue_reconstruct_points(runtime(), *sf::method(method), opt, joined, w, h, u, v, d, u,
                                                 rx.u.size(), nullptr, &wrong),
                      InputError);
       }
@@ -230,7 +230,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
         opt.schedule.reconstruct_vector_width = width;
         cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4),
             b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
-        const MethodDesc& m = find_method(method);
+        const MethodDesc& m = *sf::method(method);
         enqueue_reconstruct_points(runtime(), m, opt, level0, w, h, u, v, d, a, rx.u.size(), nullptr, &separate);
         enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, b, rx.u.size(), nullptr, &one);
         const auto va = from_device(a, rx.u.size()), vj = from_device(b, rx.u.size());

@@ -1,6 +1,6 @@
 #pragma once
-// What the per-method registrations (host/src/methods/*.cpp) share: one builder per method and
-// the small helpers they validate and pack with.
+// What the per-method registrations (host/src/methods/*.cpp) share: the small helpers they
+// validate and pack with. Each file's builder is declared where it is listed (registry.cpp).
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -13,13 +13,6 @@
 #include "shadowfilter/methods.hpp"
 
 namespace sf::registration {
-
-MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered);
-MethodDesc esm_method();
-MethodDesc vsm_method();
-MethodDesc evsm_method(int channels);
-MethodDesc msm_method(bool hausdorff);
-MethodDesc csm_method();
 
 template <typename T>
 std::vector<uint8_t> bytes_of(const T& v) {

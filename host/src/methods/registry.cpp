@@ -132,6 +132,14 @@ std::vector<StorageLimit> plain_storages(std::initializer_list<Storage> list) {
   return out;
 }
 
+// The builders of the library's methods, one per file of host/src/methods/, listed in registry().
+MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered);
+MethodDesc esm_method();
+MethodDesc vsm_method();
+MethodDesc evsm_method(int channels);
+MethodDesc msm_method(bool hausdorff);
+MethodDesc csm_method();
+
 }  // namespace registration
 
 namespace {

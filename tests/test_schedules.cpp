@@ -1,4 +1,4 @@
-// The launch-shape families (docs/gpu.md, "Launch shapes"; host/src/schedule_defaults.cpp): the
+// The launch-shape families (docs/gpu.md, "Launch shapes"; host/src/runtime/schedule_defaults.cpp): the
 // Gpu family's blur, SAT and pyramid forced on the test device (PoCL, a CPU) against the scalar
 // reference with the tolerances of the Cpu family's tests (test_kernels.cpp, test_sat.cpp,
 // test_pyramid.cpp), on sizes that are not multiples of the work-groups (partial groups), and

@@ -1,4 +1,4 @@
-// Soft shadows (kernels/soft/*.cl, host/src/soft_filter.cpp; docs/soft.md): kernels against the
+// Soft shadows (kernels/soft/*.cl, host/src/soft/soft_filter.cpp; docs/soft.md): kernels against the
 // scalar reference, cssm's average blocker depth against the brute-force mean, and the
 // parallel-planes penumbra width of every method.
 #include <gtest/gtest.h>

@@ -156,7 +156,7 @@ struct EsmClassifyOptions {
 // shapes"). Cpu: one work-item per long strip or band (work-groups of one item, SIMD inside it:
 // tuned for PoCL). Gpu: work-groups of 64-256 items, one item per output texel, local-memory
 // tiles. Auto: the defaults table by device type (CPU devices take Cpu, GPUs and accelerators
-// take Gpu; host/src/schedule_defaults.cpp). Forcing Gpu on a CPU device is how the GPU shapes
+// take Gpu; host/src/runtime/schedule_defaults.cpp). Forcing Gpu on a CPU device is how the GPU shapes
 // are tested on PoCL and Oclgrind.
 enum class ScheduleFamily { Auto = 0, Cpu = 1, Gpu = 2 };
 const char* schedule_family_name(ScheduleFamily f);        // "auto", "cpu", "gpu"

@@ -51,7 +51,7 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   const int n = int(state.range(0));
   const Lookup kind = static_cast<Lookup>(state.range(1));
   const FilterOptions opt = options_for(method);
-  const MethodDesc& m = find_method(method);
+  const MethodDesc& m = *sf::method(method);
   const RandomReceivers& rx = receivers();
   cl::Buffer depth = to_device(random_floats(size_t(n) * n, 25, 0.2f, 0.8f));
   if (m.raw_depth) {
@@ -92,7 +92,7 @@ void BM_EsmClassify(benchmark::State& state) {
   FilterOptions opt;  // esm, c = 80
   opt.esm_classify.mode = state.range(1) == 1 ? EsmClassify::ZMax : EsmClassify::Threshold;
   opt.lookup.kind = Lookup::Mips;
-  const MethodDesc& esm = find_method("esm");
+  const MethodDesc& esm = *sf::method("esm");
   const RandomReceivers& rx = receivers();
   const ImageShape shape{n, n, 1, 4};
   ClassifyInputs in;
@@ -132,7 +132,7 @@ ref::Planes planes_of(const HostImage& img) {
 void BM_RefTransform(benchmark::State& state, std::string method) {
   const HostImage depth = random_depth(kRefSize, 31);
   const FilterOptions opt = options_for(method);
-  const int ch = find_method(method).channels(opt);
+  const int ch = sf::method(method)->channels(opt);
   const double s = time_runs(
       state, [&] { return wall_seconds([&] { benchmark::DoNotOptimize(ref::transform(opt, depth)); }); }, 1);
   set_throughput(state, 4.0 * (1.0 + ch) * depth.texels(), double(depth.texels()), s);

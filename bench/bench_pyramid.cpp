@@ -55,7 +55,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   FilterOptions opt;
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), find_method("esm"), opt, n, n, depth, basis).wait();
+  enqueue_transform(runtime(), *sf::method("esm"), opt, n, n, depth, basis).wait();
   std::vector<float> hu, hv, hd, f;
   if (state.range(1) == 1) {
     coherent_receivers(n, hu, hv, hd, f);
@@ -70,7 +70,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
     cl::Event e =
-        enqueue_reconstruct_points(runtime(), find_method("esm"), opt, n, n, count, 0, basis, &lk, u, v, d, vis);
+        enqueue_reconstruct_points(runtime(), *sf::method("esm"), opt, n, n, count, 0, basis, &lk, u, v, d, vis);
     e.wait();
     return event_seconds(e);
   });

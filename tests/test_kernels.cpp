@@ -50,7 +50,7 @@ TEST_P(EsmTransform, MatchesReference) {
     const auto opt = esm_options(c);
     cl::Buffer z = to_device(depth.data);
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * sizeof(float));
-    enqueue_transform(runtime(), find_method("esm"), opt, depth.width, depth.height, z, basis).wait();
+    enqueue_transform(runtime(), *sf::method("esm"), opt, depth.width, depth.height, z, basis).wait();
     const auto got = from_device(basis, depth.texels());
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < got.size(); ++i) {
@@ -64,7 +64,7 @@ INSTANTIATE_TEST_SUITE_P(Exponents, EsmTransform, ::testing::Values(1.0f, 40.0f,
 TEST(EsmTransform, RefusesExponentsBeyondTheFloat32Limit) {
   auto opt = esm_options(200.0f);
   try {
-    find_method("esm").validate(opt);
+    sf::method("esm")->validate(opt);
     FAIL() << "c = 200 accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("174"), std::string::npos) << e.what();

@@ -51,7 +51,7 @@ TEST(CsmUnormCodes, DenseDepthsWithinOneCode) {
     for (int M : {1, 7, 32}) {
       const MethodCase mc{"csm", st, M};
       const FilterOptions opt = mc.options();
-      const MethodDesc& m = find_method("csm");
+      const MethodDesc& m = *sf::method("csm");
       const size_t n = depth.texels() * m.channels(opt);
       cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(st));
       enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();

@@ -217,7 +217,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       if (w * h > 1) {  // a table of another chain's size is refused
         LookupBuffers wrong = one;
         wrong.level_offsets = cl::Buffer(runtime().context(), CL_MEM_READ_ONLY, sizeof(cl_int));
-        EXPECT_THROW(enqueue_reconstruct_points(runtime(), find_method(method), opt, w, h, rx.u.size(), 0, joined,
+        EXPECT_THROW(enqueue_reconstruct_points(runtime(), *sf::method(method), opt, w, h, rx.u.size(), 0, joined,
                                                 &wrong, u, v, d, u),
                      InputError);
       }
@@ -230,7 +230,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
         opt.schedule.reconstruct_vector_width = width;
         cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4),
             b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
-        const MethodDesc& m = find_method(method);
+        const MethodDesc& m = *sf::method(method);
         enqueue_reconstruct_points(runtime(), m, opt, w, h, rx.u.size(), 0, level0, &separate, u, v, d, a);
         enqueue_reconstruct_points(runtime(), m, opt, w, h, rx.u.size(), 0, joined, &one, u, v, d, b);
         const auto va = from_device(a, rx.u.size()), vj = from_device(b, rx.u.size());

@@ -179,7 +179,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
   if (r.frames < 1 || r.frames > 1000) throw InputError("--frames must lie in 1..1000");
   if (r.total_size < 8 || r.total_size > 16384) throw InputError("--total-size must lie in 8..16384");
   if (r.timing_runs < 1) throw InputError("--runs must be at least 1");
-  for (const std::string& m : r.methods) find_method(m);  // InputError for unknown methods
+  for (const std::string& m : r.methods) method(m);  // InputError for unknown methods
   const std::vector<LayoutConfig> configs = make_configs(r);
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);

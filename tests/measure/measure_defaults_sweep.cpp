@@ -184,7 +184,7 @@ std::vector<SoftSetting> soft_sweep(SoftMethod m) {
 std::string fingerprint(const FilterOptions& o) {
   std::ostringstream s;
   s.precision(9);
-  for (const MethodParameter& p : find_method(o.method).parameter_values(o)) s << p.key << '=' << p.value << ' ';
+  for (const MethodParameter& p : o.method->parameter_values(o)) s << p.key << '=' << p.value << ' ';
   s << "bias=" << depth_bias(o) << " plane=" << o.receiver_plane.enabled << ',' << o.receiver_plane.max_slope << ','
     << o.receiver_plane.slope_bias << " classify=" << int(classify_mode(o)) << ',' << o.esm_classify.zmax_offset << ','
     << o.esm_classify.threshold_eps << " storage=" << int(o.storage) << " blur=" << o.blur.radius << ',' << o.blur.sigma

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "planned_scope.hpp"
 #include "method_build.hpp"
 #include "plane_params.hpp"
 #include "shadowfilter/classify.hpp"
@@ -17,11 +18,11 @@ namespace {
 using ClassifyParams = sf_classify_params;  // shared_types.clh
 
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {
-  const MethodDesc& m = find_method(opt.method);
+  const MethodDesc& m = *opt.method;
   if (!m.classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
-                     opt.method);
-  m.validate(opt);
+                     opt.method.name());
+  detail::validate_unless_planned(m, opt);
   detail::validate(opt.receiver_plane, "FilterOptions::receiver_plane");
   detail::BuildOptions b;
   detail::add_method_options(b, m, opt).lookup(opt.lookup.kind);
@@ -80,7 +81,7 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, siz
       .buffer(flags)
       .value(static_cast<int>(count))
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt))
+      .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, receiver_row));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
@@ -99,7 +100,7 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
       .buffer(visibility)
       .buffer(flags)
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt))
+      .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, 0));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange, wait, &e);
@@ -114,9 +115,9 @@ namespace sf {
 
 void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan) {
   if (classify_mode(options) == EsmClassify::None) return;
-  if (!find_method(options.method).classifiable)
+  if (!options.method->classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
-                     options.method);
+                     options.method.name());
   if (classify_mode(options) == EsmClassify::ZMax)
     plan.buffers.push_back(
         {"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});

@@ -8,6 +8,7 @@
 
 #include "cl_errors.hpp"
 #include "method_build.hpp"
+#include "planned_scope.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -51,7 +52,7 @@ cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& 
 
 // The method's sf_method_params for these options, validated.
 std::vector<uint8_t> method_params(const MethodDesc& m, const FilterOptions& opt) {
-  m.validate(opt);
+  detail::validate_unless_planned(m, opt);
   return m.pack_params(opt);
 }
 
@@ -61,7 +62,7 @@ cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterO
                             const cl::Buffer& depth, const cl::Buffer& basis, const EventList* wait) try {
   const int texels = width * height;
   if (method.raw_depth) {  // sm, pcf: the "basis" is the depth map itself
-    method.validate(opt);
+    detail::validate_unless_planned(method, opt);
     cl::Event e;
     rt.queue().enqueueCopyBuffer(depth, basis, 0, 0, size_t(texels) * sizeof(float), wait, &e);
     return e;

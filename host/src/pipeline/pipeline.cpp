@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "cl_errors.hpp"
+#include "planned_scope.hpp"
 #include "shadowfilter/classify.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
@@ -47,9 +48,8 @@ void require_sat_holds(const FilterOptions& options, const SatMap& map) {
 BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int width, int height) try {
   if (width <= 0 || height <= 0)
     throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" + std::to_string(height));
-  require_finite_options(options);
-  const MethodDesc& method = find_method(options.method);
-  method.validate(options);
+  validate_options(options);
+  const MethodDesc& method = *options.method;
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
   // A stated depth range is checked here, before anything is allocated; else prefilter() checks
   // each map's own.
@@ -83,7 +83,7 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
 }
 
 Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height) try
-    : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
+    : rt_(std::move(runtime)), options_(std::move(options)), method_(&*options_.method) {
   plan_ = plan(*rt_, options_, width, height);
   shape_ = plan_.shape;
   check_fits_device(*rt_, plan_.largest(), plan_.total(), "the pipeline's buffers");
@@ -111,6 +111,7 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
+  const detail::PlannedScope planned;  // options_ were validated by the plan
   // Without a stated range, a lookup whose limit depends on it measures this map first
   // (blocking) and refuses it before anything is enqueued.
   if (sat_() && !options_.depth_range && method_->sat_limit) {
@@ -159,6 +160,7 @@ void Pipeline::set_depth_range(const MapRange& range) {
 }
 
 cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) try {
+  const detail::PlannedScope planned;  // options_ were validated by the plan
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
   // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).

@@ -11,7 +11,7 @@ import numpy as np
 from . import _core
 from ._core import DeviceError, InputError
 
-__all__ = ["filter", "receivers", "methods", "devices", "Device", "View", "load_view", "InputError", "DeviceError"]
+__all__ = ["filter", "options", "receivers", "methods", "devices", "Device", "View", "load_view", "InputError", "DeviceError"]
 
 Device = _core.Device
 View = _core.View
@@ -21,6 +21,12 @@ _default_device: "_core.Device | None" = None
 def devices():
     """Every OpenCL device on every platform, in platform/device order."""
     return _core.devices()
+
+
+def options():
+    """Every keyword option of filter(), generated from the library's declared parameters: a list
+    of dicts with keyword, flag (the CLI's), field, type, choices, default, range and help."""
+    return _core.options()
 
 
 def methods():
@@ -63,17 +69,11 @@ def filter(depth, receivers=None, *, receiver_depth=None, method="esm", device=N
     """
     if (receivers is None) == (receiver_depth is None):
         raise InputError("give exactly one of receivers and receiver_depth")
-    o = _core.FilterOptions()
-    o.method = method
-    for key, value in options.items():
-        if not hasattr(o, key):
-            raise InputError(f"unknown option {key}")
-        setattr(o, key, value)
     dev = _device(device)
     d = _float32("depth", depth, 2)
     if receivers is not None:
-        return _core.filter_points(dev, o, d, _float32("receivers", receivers, 3))
-    return _core.filter_grid(dev, o, d, _float32("receiver_depth", receiver_depth, 2))
+        return _core.filter_points(dev, method, options, d, _float32("receivers", receivers, 3))
+    return _core.filter_grid(dev, method, options, d, _float32("receiver_depth", receiver_depth, 2))
 
 
 _VIEW_KEYS = {"view", "projection", "clip", "reversed_z", "far", "width", "height"}

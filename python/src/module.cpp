@@ -11,7 +11,12 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstring>
+#include <map>
+#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +24,7 @@
 #include "shadowfilter/camera_receivers.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/parameters.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/runtime.hpp"
 
@@ -80,6 +86,89 @@ Output2D to_numpy(std::vector<float> values, int width, int height) {
   return Output2D(owned->data(), {static_cast<size_t>(height), static_cast<size_t>(width)}, owner);
 }
 
+// --- keyword options, generated from the declared parameters (parameters.hpp) -----------------
+// A flag's keyword: "--esm-c" -> "esm_c". Messages are the CLI's with the keyword for the flag.
+std::string keyword_of(const sf::Parameter& p) {
+  std::string k = p.flag.substr(p.flag.find_first_not_of('-'));
+  std::replace(k.begin(), k.end(), '-', '_');
+  return k;
+}
+
+bool is_knob(const sf::Parameter& p) {
+  for (const sf::Parameter& k : sf::filter_parameters())
+    if (k.field == p.field) return true;
+  return false;
+}
+
+const sf::Parameter& parameter_of(const std::string& keyword) {
+  std::string known;
+  for (const sf::Parameter* p : sf::declared_parameters()) {
+    if (keyword_of(*p) == keyword) return *p;
+    known += (known.empty() ? "" : ", ") + keyword_of(*p);
+  }
+  throw sf::InputError("unknown option '" + keyword + "' (known: method, " + known + ")");
+}
+
+std::string text_of(double v) { return sf::parameter_text(v); }
+
+// The library's messages name fields ("FilterOptions::esm.c"); a Python caller reads keywords.
+std::string keyword_message(std::string s) {
+  std::vector<std::pair<std::string, std::string>> names;
+  for (const sf::Parameter* p : sf::declared_parameters()) names.emplace_back(p->field, keyword_of(*p));
+  names.emplace_back("FilterOptions::method", "method");
+  std::stable_sort(names.begin(), names.end(),
+                   [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });
+  for (const auto& [field, keyword] : names)
+    for (size_t at = s.find(field); at != std::string::npos; at = s.find(field, at + keyword.size()))
+      s.replace(at, field.size(), keyword);
+  return s;
+}
+
+// Sets one keyword option as the CLI's flag would: a name for a choice (case-insensitive), a
+// finite number otherwise (an integer for integer parameters), a knob's range checked here, a
+// method's parameters by the method's validation when the options are used.
+void set_option(sf::FilterOptions& o, const std::string& keyword, nb::handle value) {
+  const sf::Parameter& p = parameter_of(keyword);
+  if (p.type == sf::ParameterType::Choice) {
+    if (!nb::isinstance<nb::str>(value))
+      throw sf::InputError(keyword + ": must be a name, got " + nb::cast<std::string>(nb::repr(value)));
+    const std::string text = nb::cast<std::string>(value);
+    if (p.parse) {
+      try {
+        p.set(o, p.parse(text));
+      } catch (const sf::InputError& e) {
+        throw sf::InputError(keyword + ": " + e.what());
+      }
+      return;
+    }
+    std::vector<std::string> names = p.choices;
+    std::sort(names.begin(), names.end());
+    std::string listed, lower = text;
+    for (size_t i = 0; i < names.size(); ++i)
+      listed += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i];
+    for (char& ch : lower) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    for (size_t i = 0; i < p.choices.size(); ++i)
+      if (p.choices[i] == lower) return p.set(o, double(i));
+    throw sf::InputError(keyword + ": must be " + listed + ", got '" + text + "'");
+  }
+  if (nb::isinstance<nb::bool_>(value) || !(nb::isinstance<nb::int_>(value) || nb::isinstance<nb::float_>(value)))
+    throw sf::InputError(keyword + ": must be a number, got " + nb::cast<std::string>(nb::repr(value)));
+  const double v = nb::cast<double>(value);
+  if (!std::isfinite(v)) throw sf::InputError(keyword + ": must be a finite number, got " + text_of(v));
+  if (p.type == sf::ParameterType::Integer && (v != std::floor(v) || std::abs(v) > 2147483647.0))
+    throw sf::InputError(keyword + ": must be an integer, got " + text_of(v));
+  if (is_knob(p) && p.range && !p.range->contains(v) && !(p.unset == sf::ParameterUnset::Negative && v < 0))
+    throw sf::InputError(keyword + ": must be " + p.range->text(p.type) + ", got " + text_of(v));
+  p.set(o, v);
+}
+
+sf::FilterOptions options_of(const std::string& method, const nb::dict& options) {
+  sf::FilterOptions o;
+  o.method = sf::method(method);
+  for (auto [key, value] : options) set_option(o, nb::cast<std::string>(key), value);
+  return o;
+}
+
 // One warm device: a Runtime with its context, queue and program cache, shared by every call
 // that names it.
 struct Device {
@@ -89,9 +178,11 @@ struct Device {
 Output2D run_filter(const Device& device, const sf::FilterOptions& options, const Image2D& depth,
                     const sf::Receivers& receivers) {
   sf::FilterResult result;
-  {
+  try {
     nb::gil_scoped_release released;
     result = sf::filter(device.runtime, options, host_image(depth), receivers);
+  } catch (const sf::InputError& e) {
+    throw sf::InputError(keyword_message(e.what()));
   }
   return to_numpy(std::move(result.visibility.data), result.visibility.width, result.visibility.height);
 }
@@ -188,6 +279,29 @@ NB_MODULE(_core, m) {
       .def("__repr__", [](const sf::DeviceInfo& d) { return d.device_name + " (" + d.platform_name + ")"; });
   m.def("devices", &sf::list_devices, "Every OpenCL device on every platform, in platform/device order.");
 
+  m.def("options", [] {
+    nb::list out;
+    for (const sf::Parameter* p : sf::declared_parameters()) {
+      nb::dict d;
+      d["keyword"] = keyword_of(*p);
+      d["flag"] = p->flag;
+      d["field"] = p->field;
+      d["type"] = p->type == sf::ParameterType::Real      ? "real"
+                  : p->type == sf::ParameterType::Integer ? "integer"
+                                                          : "choice";
+      d["choices"] = p->choices;
+      d["default"] = p->default_text;
+      d["range"] = p->range ? p->range->text(p->type) : std::string();
+      d["help"] = p->help;
+      nb::list users;  // the methods that declare it (empty for the knobs every method has)
+      for (const auto& m : sf::methods())
+        for (const sf::Parameter& q : m.parameters)
+          if (q.field == p->field) users.append(m.name);
+      d["methods"] = users;
+      out.append(d);
+    }
+    return out;
+  });
   m.def("method_names", [] {
     std::vector<std::string> names;
     for (const auto& d : sf::methods()) names.push_back(d.name);
@@ -201,25 +315,20 @@ NB_MODULE(_core, m) {
           "selector"_a = "")
       .def_prop_ro("name", [](const Device& d) { return d.runtime->info().device_name; });
 
-  nb::class_<sf::FilterOptions>(m, "FilterOptions")
-      .def(nb::init<>())
-      .def_rw("method", &sf::FilterOptions::method)
-      .def_prop_rw(
-          "blur_radius", [](const sf::FilterOptions& o) { return o.blur.radius; },
-          [](sf::FilterOptions& o, int r) { o.blur.radius = r; });
-
   m.def(
       "filter_points",
-      [](const Device& device, const sf::FilterOptions& options, const Image2D& depth, const Image3D& receivers) {
-        return run_filter(device, options, depth, receivers_of(receivers));
+      [](const Device& device, const std::string& method, const nb::dict& options, const Image2D& depth,
+         const Image3D& receivers) {
+        return run_filter(device, options_of(method, options), depth, receivers_of(receivers));
       },
-      "device"_a, "options"_a, "depth"_a, "receivers"_a);
+      "device"_a, "method"_a, "options"_a, "depth"_a, "receivers"_a);
   m.def(
       "filter_grid",
-      [](const Device& device, const sf::FilterOptions& options, const Image2D& depth, const Image2D& receiver_depth) {
-        return run_filter(device, options, depth, receiver_grid(receiver_depth));
+      [](const Device& device, const std::string& method, const nb::dict& options, const Image2D& depth,
+         const Image2D& receiver_depth) {
+        return run_filter(device, options_of(method, options), depth, receiver_grid(receiver_depth));
       },
-      "device"_a, "options"_a, "depth"_a, "receiver_depth"_a);
+      "device"_a, "method"_a, "options"_a, "depth"_a, "receiver_depth"_a);
 
   nb::class_<sf::ViewProjection>(m, "View", "A camera or a light: row-major view and projection matrices")
       .def(

@@ -9,6 +9,7 @@
 #include <nanobind/stl/shared_ptr.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
@@ -261,6 +262,50 @@ std::pair<Output3D, nb::dict> receivers_of_camera(
   return {Output3D(out->data(), {static_cast<size_t>(r.height), static_cast<size_t>(r.width), 5}, owner), c};
 }
 
+// --- pyopencl in place ---------------------------------------------------------------------------
+// pyopencl objects arrive as their handles (int_ptr): cl:: wrappers that retain them for the call
+// and release them after, so the caller's objects keep their identity, content and reference
+// counts. Events go back as a handle with one reference that pyopencl takes over
+// (Event.from_int_ptr(p, retain=False)).
+template <class T, class H>
+T retained(uintptr_t handle) {
+  return T(reinterpret_cast<H>(handle), /*retainObject=*/true);
+}
+
+cl::Buffer buffer_of(uintptr_t handle, size_t bytes, const char* name) {
+  if (handle == 0) throw sf::InputError(std::string(name) + " is not a buffer");
+  cl::Buffer b = retained<cl::Buffer, cl_mem>(handle);
+  const size_t size = b.getInfo<CL_MEM_SIZE>();
+  if (size < bytes)
+    throw sf::InputError(std::string(name) + " holds " + std::to_string(size) + " bytes, " + std::to_string(bytes) +
+                         " needed");
+  return b;
+}
+
+sf::EventList events_of(const std::vector<uintptr_t>& handles) {
+  sf::EventList list;
+  for (uintptr_t h : handles) list.push_back(retained<cl::Event, cl_event>(h));
+  return list;
+}
+
+uintptr_t handed_over(const cl::Event& e) {
+  cl_event raw = e();
+  if (raw) clRetainEvent(raw);
+  return reinterpret_cast<uintptr_t>(raw);
+}
+
+// A Pipeline on a caller's context and queue (one Runtime per queue, shared by its pipelines).
+struct DevicePipeline {
+  std::shared_ptr<sf::Runtime> runtime;
+  std::unique_ptr<sf::Pipeline> pipeline;
+  int width = 0, height = 0;
+};
+
+std::shared_ptr<sf::Runtime> runtime_of_queue(uintptr_t context, uintptr_t queue) {
+  return std::make_shared<sf::Runtime>(retained<cl::Context, cl_context>(context),
+                                       retained<cl::CommandQueue, cl_command_queue>(queue));
+}
+
 }  // namespace
 
 NB_MODULE(_core, m) {
@@ -341,4 +386,70 @@ NB_MODULE(_core, m) {
       .def_prop_ro("clip", [](const sf::ViewProjection& v) { return std::string(sf::clip_space_name(v.clip)); });
   m.def("camera_receivers", &receivers_of_camera, "camera"_a, "camera_depth"_a, "kind"_a, "light"_a, "map_width"_a,
         "map_height"_a, "normals"_a = nb::none());
+
+  nb::class_<sf::Runtime>(m, "Runtime", "A caller's OpenCL context and queue, with their program cache")
+      .def_static(
+          "on_queue",
+          [](uintptr_t context, uintptr_t queue) -> std::shared_ptr<sf::Runtime> {
+            return runtime_of_queue(context, queue);
+          },
+          "context"_a, "queue"_a);
+  nb::class_<DevicePipeline>(m, "DevicePipeline")
+      .def(
+          "__init__",
+          [](DevicePipeline* self, std::shared_ptr<sf::Runtime> rt, const std::string& method, const nb::dict& options,
+             int width, int height) {
+            sf::FilterOptions o = options_of(method, options);
+            new (self) DevicePipeline{rt, nullptr, width, height};
+            try {
+              self->pipeline = std::make_unique<sf::Pipeline>(rt, o, width, height);
+            } catch (const sf::InputError& e) {
+              throw sf::InputError(keyword_message(e.what()));
+            }
+          },
+          "runtime"_a, "method"_a, "options"_a, "width"_a, "height"_a)
+      .def(
+          "prefilter",
+          [](DevicePipeline& p, uintptr_t depth, const std::vector<uintptr_t>& wait) {
+            const cl::Buffer d = buffer_of(depth, size_t(p.width) * p.height * sizeof(float), "depth");
+            const sf::EventList w = events_of(wait);
+            cl::Event e;
+            {
+              nb::gil_scoped_release released;
+              e = p.pipeline->prefilter(d, w.empty() ? nullptr : &w);
+            }
+            return handed_over(e);
+          },
+          "depth"_a, "wait"_a)
+      .def(
+          "reconstruct",
+          [](DevicePipeline& p, size_t count, bool grid, uintptr_t u, uintptr_t v, uintptr_t d, uintptr_t f, int row,
+             uintptr_t visibility, const std::vector<uintptr_t>& wait) {
+            const size_t bytes = count * sizeof(float);
+            sf::DeviceReceivers rx;
+            rx.grid = grid;
+            rx.count = count;
+            rx.row = row;
+            if (grid && count != size_t(p.width) * p.height)
+              throw sf::InputError("grid receivers are one per map texel: " +
+                                   std::to_string(size_t(p.width) * p.height) + ", got " + std::to_string(count));
+            if (!grid) {
+              rx.u = buffer_of(u, bytes, "u");
+              rx.v = buffer_of(v, bytes, "v");
+              if (f) rx.f = buffer_of(f, bytes, "f");
+            }
+            rx.d = buffer_of(d, bytes, "d");
+            const cl::Buffer out = buffer_of(visibility, bytes, "visibility");
+            const sf::EventList w = events_of(wait);
+            cl::Event e;
+            try {
+              nb::gil_scoped_release released;
+              e = p.pipeline->reconstruct(rx, out, w.empty() ? nullptr : &w);
+            } catch (const sf::InputError& err) {
+              throw sf::InputError(keyword_message(err.what()));
+            }
+            return handed_over(e);
+          },
+          "count"_a, "grid"_a, "u"_a, "v"_a, "d"_a, "f"_a, "row"_a, "visibility"_a, "wait"_a)
+      .def_prop_ro("device_bytes", [](const DevicePipeline& p) { return p.pipeline->device_bytes(); });
 }

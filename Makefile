@@ -150,7 +150,7 @@ mesh-scenes: meshes
 	  $(BUILD)/shadowfilter scene $(BUILD)/meshes/$$m.off -o $(OUT)/mesh-scenes/$$m $(MESH_ARGS) || exit 1; \
 	done
 
-# Seed 002's Table 1 (coherent shadow maps): compression of the scanned meshes at 32x32 and
+# Ritschel 2007's Table 1 (coherent shadow maps): compression of the scanned meshes at 32x32 and
 # 128x128 views, M = 128, scan-line and Hilbert (docs/coherent.md; ~15 minutes on 2 cores).
 coherent-table: meshes
 	@scripts/coherent_table.sh $(BUILD)

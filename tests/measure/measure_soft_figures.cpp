@@ -246,7 +246,7 @@ TEST(SoftFigures, CostAgainstLightSize) {
   }
 }
 
-// Frame time against the number of lights (seed 000 table 8.1): N lights, each its own map
+// Frame time against the number of lights (Annen 2008 table 8.1): N lights, each its own map
 // (the first scene's map, uploaded N times), prepare + run per light, one frame = all of them.
 TEST(SoftFigures, LightCount) {
   const auto dirs = scene_dirs();

@@ -1,7 +1,7 @@
 #pragma once
 // Soft shadows from square area lights (methods.md sec. 4; docs/soft.md): pcss (brute force),
-// cssm (convolution soft shadows, seed 000 ch. 8), ssmm and ssmm-improved (soft shadow mip-maps,
-// seed 003). They read the raw depth (or their own bases and pyramids / SATs) and output
+// cssm (convolution soft shadows, Annen 2008 ch. 8), ssmm and ssmm-improved (soft shadow mip-maps,
+// Shen 2016). They read the raw depth (or their own bases and pyramids / SATs) and output
 // visibility per receiver, like the basis methods at the reconstruction end.
 #include <memory>
 #include <string>
@@ -57,7 +57,7 @@ struct SoftOptions {
   float cssm_z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
   bool cssm_contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
   // ssmm
-  int ssmm_n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
+  int ssmm_n = 4;  // n x n texels per layer (Shen 2016 eq. 3.4)
 };
 void validate(const SoftOptions& opt);  // throws InputError
 // cssm's parameters in effect (defaults resolved).

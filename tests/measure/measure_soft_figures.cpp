@@ -1,5 +1,5 @@
 // Figures of docs/soft.md (sf_measure, run by scripts/soft_figures.sh; not part of the test suite).
-//   SF_SOFT_SCENES="dir dir ..." sf_tests --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
+//   SF_SOFT_SCENES="dir dir ..." sf_measure --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
 // Every scene dir holds shadowmap.exr (the light in its header), receivers.exr, reference_soft.exr.
 #include <gtest/gtest.h>
 

@@ -95,7 +95,7 @@ fuzz:
 # clang-tidy (.clang-tidy) over the core library's sources, with their headers, through the
 # compile_commands.json of $(BUILD) (configured, not built). Any finding fails.
 CLANG_TIDY ?= clang-tidy
-TIDY_SRC = $(sort $(wildcard host/src/*.cpp))
+TIDY_SRC = $(sort $(wildcard host/src/*/*.cpp))
 tidy: configure deps-dev
 	@printf '%s\n' $(TIDY_SRC) | xargs -P $(JOBS) -n 1 $(CLANG_TIDY) -p $(BUILD) --quiet \
 	  && echo "tidy: $(words $(TIDY_SRC)) files clean"

@@ -202,7 +202,7 @@ Fixture& fixture() {
 }
 
 // Loads of one texel test: positions[g], offsets[t], offsets[t + 1], one segment per binary
-// search step and the final one (csm_query.clh, sf_csm_segment_depth); none outside the map.
+// search step and the final one (coherent/query.clh, sf_coherent_segment_depth); none outside the map.
 double texel_bytes(const CompressedStack& c, int x, int y) {
   const int m = c.layout.resolution;
   if (x < 0 || y < 0 || x >= m || y >= m) return 0.0;
@@ -259,12 +259,12 @@ double bytes_per_query(bool filtered, bool coherent) {
 
 void BM_Query(benchmark::State& state) {
   Fixture& f = fixture();
-  const CsmFilter filter = state.range(0) == 1 ? CsmFilter::Pcf : CsmFilter::Nearest;
+  const CoherentFilter filter = state.range(0) == 1 ? CoherentFilter::Pcf : CoherentFilter::Nearest;
   const bool coherent = state.range(1) == 1;
-  const double bytes = bytes_per_query(filter == CsmFilter::Pcf, coherent);
+  const double bytes = bytes_per_query(filter == CoherentFilter::Pcf, coherent);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_visibility(runtime(), f.compressed, coherent ? f.d_points_c : f.d_points,
-                                     coherent ? f.d_dirs_c : f.d_dirs, f.d_out, f.queries, filter);
+    cl::Event e = enqueue_visibility(runtime(), filter, CoherentToward::Direction, f.queries, f.compressed,
+                                     coherent ? f.d_points_c : f.d_points, coherent ? f.d_dirs_c : f.d_dirs, f.d_out);
     e.wait();
     return event_seconds(e);
   });
@@ -273,15 +273,15 @@ void BM_Query(benchmark::State& state) {
   set_throughput(state, bytes * f.queries, f.queries, s);
 }
 
-// The query's geometry alone (csm_query.clh: the view of the direction, the point's map
+// The query's geometry alone (coherent/query.clh: the view of the direction, the point's map
 // coordinates and depth in it; no stack read): what a nearest query costs at least, the bound
 // that says whether the queries wait on memory or on arithmetic.
 const char* kGeometrySource = R"CLC(
-__kernel void geometry(const sf_csm_layout L, __global const float4* restrict points,
+__kernel void geometry(const sf_coherent_layout L, __global const float4* restrict points,
                        __global const float4* restrict dirs, __global float* restrict out) {
   const uint i = get_global_id(0);
   uint q;
-  const float2 uv = sf_csm_map_coords(L, sf_csm_view_of(L, dirs[i].xyz), points[i].xyz, &q);
+  const float2 uv = sf_coherent_map_coords(L, sf_coherent_view_of(L, dirs[i].xyz), points[i].xyz, &q);
   out[i] = uv.x + uv.y + (float)q;
 }
 )CLC";
@@ -289,7 +289,7 @@ __kernel void geometry(const sf_csm_layout L, __global const float4* restrict po
 void BM_QueryGeometry(benchmark::State& state) {
   Fixture& f = fixture();
   const bool coherent = state.range(0) == 1;
-  cl::Program p(runtime().context(), kernel_source("coherent/csm_query.clh") + kGeometrySource);
+  cl::Program p(runtime().context(), kernel_source("coherent/query.clh") + kGeometrySource);
   p.build({runtime().device()}, "-cl-std=CL1.2");
   cl::Kernel k(p, "geometry");
   k.setArg(0, sizeof(DeviceLayout), &f.compressed.device);
@@ -336,13 +336,14 @@ void BM_Compress(benchmark::State& state) {
         rt.queue().enqueueWriteBuffer(offsets, CL_TRUE, 0, (texels + 1) * 4, counts.data());
         after.clear();
       } else {
-        const PassEvents scan = enqueue_compress_scan(rt, l, offsets, scratch, &after);
-        after = {scan.last};
+        cl::Event first;
+        const cl::Event scanned = enqueue_compress_scan(rt, l, offsets, scratch, &first, &after);
+        after = {scanned};
         rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), 8, &total, &after);
-        scan_s = event_seconds(scan.first, scan.last);
+        scan_s = event_seconds(first, scanned);
       }
-      const cl::Event written = enqueue_compress_write(rt, l, f.device.z1, f.device.z2, offsets, segments,
-                                                       f.compressed.segment_count, after.empty() ? nullptr : &after);
+      const cl::Event written = enqueue_compress_write(rt, l, f.compressed.segment_count, f.device.z1, f.device.z2,
+                                                       offsets, segments, after.empty() ? nullptr : &after);
       written.wait();
       count_s = event_seconds(counted);
       write_s = event_seconds(written);

@@ -85,12 +85,12 @@ LookupBuffers lookup_tables(Lookup kind, const cl::Buffer& basis, const ImageSha
   lk.footprint = footprint;
   if (kind == Lookup::Mips) {
     lk.chain = device_buffer(mip_layout(shape.width, shape.height, shape.channels).chain_values * sizeof(float));
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, basis, lk.chain, shape).last.wait();
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, {}, shape, basis, lk.chain).wait();
   } else if (kind == Lookup::Sat) {
     const SatLayout L = sat_layout(shape);
     lk.sat = device_buffer(L.table_floats * sizeof(float));
     cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
-    enqueue_sat(runtime(), Storage::F32, basis, lk.sat, bands, shape).last.wait();
+    enqueue_sat(runtime(), Storage::F32, {}, {}, shape, basis, lk.sat, bands).wait();
   }
   return lk;
 }
@@ -101,9 +101,10 @@ void time_chain(benchmark::State& state, Reduce op, const ImageShape& shape, uns
   cl::Buffer src = to_device(random_floats(values, seed));
   cl::Buffer chain = device_buffer(std::max<size_t>(chain_values, 1) * sizeof(float));
   const double s = time_runs(state, [&] {
-    PassEvents e = enqueue_pyramid(runtime(), op, Storage::F32, src, chain, shape);
-    e.last.wait();
-    return event_seconds(e.first, e.last);
+    cl::Event first;
+    const cl::Event last = enqueue_pyramid(runtime(), op, Storage::F32, {}, shape, src, chain, &first);
+    last.wait();
+    return event_seconds(first, last);
   });
   set_throughput(state, 4.0 * double(values + chain_values), double(values), s);
 }

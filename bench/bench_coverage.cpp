@@ -51,12 +51,12 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   const int n = int(state.range(0));
   const Lookup kind = static_cast<Lookup>(state.range(1));
   const FilterOptions opt = options_for(method);
-  const MethodDesc& m = find_method(method);
+  const MethodDesc& m = *sf::method(method);
   const RandomReceivers& rx = receivers();
   cl::Buffer depth = to_device(random_floats(size_t(n) * n, 25, 0.2f, 0.8f));
   if (m.raw_depth) {
     const double s = time_runs(state, [&] {
-      cl::Event e = enqueue_pcf_points(runtime(), opt, depth, n, n, rx.u, rx.v, rx.d, rx.vis, kRx);
+      cl::Event e = enqueue_pcf_points(runtime(), opt, n, n, kRx, 0, depth, rx.u, rx.v, rx.d, cl::Buffer(), rx.vis);
       e.wait();
       return event_seconds(e);
     });
@@ -67,11 +67,10 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   const int ch = m.channels(opt);
   const ImageShape shape{n, n, ch, 4};
   cl::Buffer basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
+  enqueue_transform(runtime(), m, opt, n, n, depth, basis).wait();
   const LookupBuffers lk = lookup_tables(kind, basis, shape, rx.f);
   const double s = time_runs(state, [&] {
-    cl::Event e =
-        enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx, nullptr, &lk);
+    cl::Event e = enqueue_reconstruct_points(runtime(), m, opt, n, n, kRx, 0, basis, &lk, rx.u, rx.v, rx.d, rx.vis);
     e.wait();
     return event_seconds(e);
   });
@@ -93,24 +92,23 @@ void BM_EsmClassify(benchmark::State& state) {
   FilterOptions opt;  // esm, c = 80
   opt.esm_classify.mode = state.range(1) == 1 ? EsmClassify::ZMax : EsmClassify::Threshold;
   opt.lookup.kind = Lookup::Mips;
-  const MethodDesc& esm = find_method("esm");
+  const MethodDesc& esm = *sf::method("esm");
   const RandomReceivers& rx = receivers();
   const ImageShape shape{n, n, 1, 4};
   ClassifyInputs in;
   in.width = in.height = n;
   in.depth = to_device(random_floats(shape.plane_texels(), 27, 0.2f, 0.8f));
   in.basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), esm, opt, in.depth, n, n, in.basis).wait();
+  enqueue_transform(runtime(), esm, opt, n, n, in.depth, in.basis).wait();
   in.lookup = lookup_tables(Lookup::Mips, in.basis, shape, rx.f);
   if (opt.esm_classify.mode == EsmClassify::ZMax) {
     in.zmax_chain = device_buffer(std::max<size_t>(mip_layout(n, n, 1).chain_values, 1) * sizeof(float));
-    enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, in.depth, in.zmax_chain, shape).last.wait();
+    enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, {}, shape, in.depth, in.zmax_chain).wait();
   }
-  enqueue_reconstruct_points(runtime(), esm, opt, in.basis, n, n, rx.u, rx.v, rx.d, rx.vis, kRx, nullptr, &in.lookup)
-      .wait();
+  enqueue_reconstruct_points(runtime(), esm, opt, n, n, kRx, 0, in.basis, &in.lookup, rx.u, rx.v, rx.d, rx.vis).wait();
   cl::Buffer flags = device_buffer(kRx);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_esm_classify_points(runtime(), opt, in, rx.u, rx.v, rx.d, rx.vis, flags, kRx);
+    cl::Event e = enqueue_esm_classify_points(runtime(), opt, kRx, 0, in, rx.u, rx.v, rx.d, rx.vis, flags);
     e.wait();
     return event_seconds(e);
   });
@@ -134,7 +132,7 @@ ref::Planes planes_of(const HostImage& img) {
 void BM_RefTransform(benchmark::State& state, std::string method) {
   const HostImage depth = random_depth(kRefSize, 31);
   const FilterOptions opt = options_for(method);
-  const int ch = find_method(method).channels(opt);
+  const int ch = sf::method(method)->channels(opt);
   const double s = time_runs(
       state, [&] { return wall_seconds([&] { benchmark::DoNotOptimize(ref::transform(opt, depth)); }); }, 1);
   set_throughput(state, 4.0 * (1.0 + ch) * depth.texels(), double(depth.texels()), s);

@@ -80,7 +80,7 @@ Frame make_frame(const FilterOptions& opt, LayoutKind kind, int cascades, int si
   return f;
 }
 
-double run_frame(Frame& f, const DeviceViewReceivers& rx, const cl::Buffer& vis) {
+double run_frame(Frame& f, const DeviceReceivers& rx, const cl::Buffer& vis) {
   EventList filtered{f.pipe->prefilter(f.depth)};
   f.pipe->reconstruct(rx, vis, &filtered).wait();
   return f.pipe->times().total();
@@ -94,7 +94,7 @@ void BM_LayeredFrame(benchmark::State& state) {
   opt.esm_classify.mode = EsmClassify::None;  // as esm_pipeline (bench_pipeline.cpp)
   const CameraFrustum cam = bench_camera();
   const ViewReceivers view = ground_view(cam);
-  const DeviceViewReceivers rx = upload_view_receivers(runtime(), view);
+  const DeviceReceivers rx = upload_view_receivers(runtime(), view);
   cl::Buffer vis = device_buffer(view.count() * sizeof(float));
   Frame single = make_frame(opt, LayoutKind::Single, 1, size, cam);
   Frame four = make_frame(opt, LayoutKind::Pssm, 4, size / 2, cam);
@@ -103,9 +103,9 @@ void BM_LayeredFrame(benchmark::State& state) {
   const double s = time_runs(state, [&] {
     single_s += run_frame(single, rx, vis);
     const double t = run_frame(four, rx, vis);
-    const LayeredTimes lt = four.pipe->times();
-    project_s += lt.project, blend_s += lt.blend, reconstruct_s += lt.sum.reconstruct + lt.sum.classify;
-    prefilter_s += lt.sum.transform + lt.sum.blur + lt.sum.pyramid + lt.sum.zmax;
+    const StageTimes lt = four.pipe->times();
+    project_s += lt.project, blend_s += lt.blend, reconstruct_s += lt.reconstruct + lt.classify;
+    prefilter_s += lt.transform + lt.blur + lt.pyramid + lt.zmax;
     four_s += t;
     ++runs;
     return t;

@@ -34,12 +34,12 @@ void BM_Transform(benchmark::State& state, FilterOptions opt) {
   const int n = static_cast<int>(state.range(0));
   opt.schedule.transform_vector_width = static_cast<int>(state.range(1));
   const size_t texels = size_t(n) * n;
-  const MethodDesc& m = find_method(opt.method);
+  const MethodDesc& m = *opt.method;
   const size_t out_bytes = basis_bytes_per_texel(m, opt) * texels;
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(out_bytes);
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_transform(runtime(), m, opt, depth, n, n, basis);
+    cl::Event e = enqueue_transform(runtime(), m, opt, n, n, depth, basis);
     e.wait();
     return event_seconds(e);
   });
@@ -53,7 +53,7 @@ void BM_Reconstruct(benchmark::State& state, std::string method) {
   const int n = static_cast<int>(state.range(0));
   const size_t texels = size_t(n) * n, count = screen().count();
   const FilterOptions opt = MethodCase{method, Storage::F32, 8}.options();
-  const MethodDesc& m = find_method(method);
+  const MethodDesc& m = *sf::method(method);
   cl::Buffer depth = to_device(random_floats(texels, 3));
   cl::Buffer u = to_device(random_floats(count, 4)), v = to_device(random_floats(count, 5)),
              d = to_device(random_floats(count, 6));
@@ -63,11 +63,12 @@ void BM_Reconstruct(benchmark::State& state, std::string method) {
   if (!m.raw_depth) {
     basis_bytes = basis_bytes_per_texel(m, opt) * texels;
     basis = device_buffer(basis_bytes);
-    enqueue_transform(runtime(), m, opt, depth, n, n, basis).wait();
+    enqueue_transform(runtime(), m, opt, n, n, depth, basis).wait();
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = m.raw_depth ? enqueue_pcf_points(runtime(), opt, depth, n, n, u, v, d, vis, count)
-                              : enqueue_reconstruct_points(runtime(), m, opt, basis, n, n, u, v, d, vis, count);
+    cl::Event e = m.raw_depth
+                      ? enqueue_pcf_points(runtime(), opt, n, n, count, 0, depth, u, v, d, cl::Buffer(), vis)
+                      : enqueue_reconstruct_points(runtime(), m, opt, n, n, count, 0, basis, nullptr, u, v, d, vis);
     e.wait();
     return event_seconds(e);
   });
@@ -93,7 +94,7 @@ void BM_OpenCvPyrDownChain(benchmark::State& state) {
 
 const bool registered = [] {
   for (const MethodCase& mc : method_storage_cases({4, 8, 16})) {
-    const std::string name = "transform/" + mc.method + "/" + storage_name(mc.storage) +
+    const std::string name = "transform/" + mc.method.name() + "/" + storage_name(mc.storage) +
                              (mc.method == "csm" ? "/M" + std::to_string(mc.csm_order) : "");
     auto* b = configure(benchmark::RegisterBenchmark(name.c_str(), BM_Transform, mc.options()))
                   ->ArgNames({"size", "vec"})

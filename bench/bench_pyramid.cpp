@@ -34,9 +34,10 @@ void BM_Sat(benchmark::State& state) {
   cl::Buffer table = device_buffer(L.table_floats * sizeof(float));
   cl::Buffer bands = device_buffer(L.band_floats * sizeof(float));
   const double s = time_runs(state, [&] {
-    PassEvents e = enqueue_sat(runtime(), Storage::F32, src, table, bands, shape);
-    e.last.wait();
-    return event_seconds(e.first, e.last);
+    cl::Event first;
+    const cl::Event last = enqueue_sat(runtime(), Storage::F32, {}, {}, shape, src, table, bands, &first);
+    last.wait();
+    return event_seconds(first, last);
   });
   set_throughput(state, (4.0 * double(shape.plane_texels()) + 8.0 * (n + 1.0) * (n + 1.0)) * channels,
                  double(shape.plane_texels()) * channels, s);
@@ -54,7 +55,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   FilterOptions opt;
   cl::Buffer depth = to_device(random_floats(shape.plane_texels(), 4, 0.2f, 0.8f));
   cl::Buffer basis = device_buffer(shape.bytes());
-  enqueue_transform(runtime(), find_method("esm"), opt, depth, n, n, basis).wait();
+  enqueue_transform(runtime(), *sf::method("esm"), opt, n, n, depth, basis).wait();
   std::vector<float> hu, hv, hd, f;
   if (state.range(1) == 1) {
     coherent_receivers(n, hu, hv, hd, f);
@@ -69,7 +70,7 @@ void BM_ReconstructLookup(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const double s = time_runs(state, [&] {
     cl::Event e =
-        enqueue_reconstruct_points(runtime(), find_method("esm"), opt, basis, n, n, u, v, d, vis, count, nullptr, &lk);
+        enqueue_reconstruct_points(runtime(), *sf::method("esm"), opt, n, n, count, 0, basis, &lk, u, v, d, vis);
     e.wait();
     return event_seconds(e);
   });

@@ -28,11 +28,11 @@ struct Basis {
   Basis() {
     cl::Buffer depth = to_device(random_floats(size_t(n) * n, 4, 0.2f, 0.8f));
     const FilterOptions esm;  // c = 80
-    enqueue_transform(runtime(), find_method("esm"), esm, depth, n, n, buf).wait();
+    enqueue_transform(runtime(), *sf::method("esm"), esm, n, n, depth, buf).wait();
     const ImageShape shape{n, n, 1, 4};
     const size_t level0 = shape.bytes(), chain_bytes = mip_layout(n, n, 1).chain_values * sizeof(float);
     chain = device_buffer(chain_bytes);
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, buf, chain, shape).last.wait();
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, {}, shape, buf, chain).wait();
     joined = device_buffer(level0 + chain_bytes + 4);  // one padding value (kernels.cpp)
     cl_buffer_region region{level0, chain_bytes + 4};
     joined_chain = joined.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
@@ -86,8 +86,8 @@ void BM_ReconstructPoints(benchmark::State& state) {
     lookup.footprint = rx.f;
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_points(runtime(), find_method("esm"), opt, joined ? basis().joined : basis().buf,
-                                             n, n, rx.u, rx.v, rx.d, vis, count, nullptr, &lookup);
+    cl::Event e = enqueue_reconstruct_points(runtime(), *sf::method("esm"), opt, n, n, count, 0,
+                                             joined ? basis().joined : basis().buf, &lookup, rx.u, rx.v, rx.d, vis);
     e.wait();
     return event_seconds(e);
   });
@@ -102,7 +102,7 @@ void BM_ReconstructGrid(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   const FilterOptions opt;
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_reconstruct_grid(runtime(), find_method("esm"), opt, basis().buf, n, n, d, vis);
+    cl::Event e = enqueue_reconstruct_grid(runtime(), *sf::method("esm"), opt, n, n, basis().buf, d, vis);
     e.wait();
     return event_seconds(e);
   });

@@ -68,23 +68,23 @@ SoftOptions options(int method, double size) {
       break;
     case 1:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 4;
-      o.cssm_lookup = Lookup::Mips;
+      o.cssm.order = 4;
+      o.cssm.lookup = Lookup::Mips;
       break;
     case 2:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 4;
-      o.cssm_lookup = Lookup::Sat;
+      o.cssm.order = 4;
+      o.cssm.lookup = Lookup::Sat;
       break;
     case 3:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 16;
-      o.cssm_lookup = Lookup::Mips;
+      o.cssm.order = 16;
+      o.cssm.lookup = Lookup::Mips;
       break;
     case 4:
       o.method = SoftMethod::Cssm;
-      o.cssm_order = 16;
-      o.cssm_lookup = Lookup::Sat;
+      o.cssm.order = 16;
+      o.cssm.lookup = Lookup::Sat;
       break;
     case 5:
       o.method = SoftMethod::Ssmm;
@@ -112,12 +112,17 @@ Prepared prepare(int method, double size, int map = kMap) {
   p.f = std::make_unique<SoftFilter>(runtime_ptr(), options(method, size), map, map);
   p.out = device_buffer(s.n * sizeof(float));
   p.scene = &s;
-  p.f->prepare(s.depth).wait();
+  p.f->prefilter(s.depth).wait();
   return p;
 }
 double run_once(Prepared& p, const cl::Buffer* zavg = nullptr) {
   const SoftScene& s = *p.scene;
-  cl::Event e = p.f->run(s.u, s.v, s.d, cl::Buffer(), p.out, s.n, nullptr, zavg);
+  DeviceReceivers rx;
+  rx.count = s.n;
+  rx.u = s.u;
+  rx.v = s.v;
+  rx.d = s.d;
+  cl::Event e = zavg ? p.f->reconstruct(rx, p.out, *zavg) : p.f->reconstruct(rx, p.out);
   e.wait();
   const double dev = event_seconds(e);
   return dev > 0 ? dev : 0.0;
@@ -180,7 +185,7 @@ void BM_SoftConstantCost(benchmark::State& state) {
 
 // Map sizes (512, 2048, 4096): the per-map prepare step (cssm: transform + mips or SAT;
 // ssmm: the min-depth pyramid) and the reconstruction at L = 0.05, device time of both per
-// iteration, no warm-up (prepare() and one run happen before the timing); 3 timed runs at 512, one
+// iteration, no warm-up (prefilter() and one reconstruct() happen before the timing); 3 timed runs at 512, one
 // above (pcss and cssm take seconds a run there). cssm M = 16 at 512 only (its SAT at 2048 is over
 // the 2 GiB per buffer PoCL allows, its mips take seconds a run), no cssm SAT at 4096 (over 2 GiB
 // at M = 4 too).
@@ -199,8 +204,8 @@ void BM_SoftMapSize(benchmark::State& state) {
   const double total = time_runs(
       state,
       [&] {
-        p.f->prepare(s.depth).wait();
-        const SoftTimes t = p.f->times();
+        p.f->prefilter(s.depth).wait();
+        const StageTimes t = p.f->times();
         const double r = run_once(p);
         prep += t.transform + t.pyramid + t.sat;
         run += r;

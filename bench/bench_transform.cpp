@@ -14,11 +14,11 @@ void BM_EsmTransform(benchmark::State& state) {
   const size_t texels = size_t(n) * n;
   FilterOptions opt;  // esm, c = 80
   opt.schedule.transform_vector_width = static_cast<int>(state.range(1));
-  const MethodDesc& esm = find_method("esm");
+  const MethodDesc& esm = *sf::method("esm");
   cl::Buffer depth = to_device(random_floats(texels, 2));
   cl::Buffer basis = device_buffer(texels * sizeof(float));
   const double s = time_runs(state, [&] {
-    cl::Event e = enqueue_transform(runtime(), esm, opt, depth, n, n, basis);
+    cl::Event e = enqueue_transform(runtime(), esm, opt, n, n, depth, basis);
     e.wait();
     return event_seconds(e);
   });

@@ -1,4 +1,4 @@
-// Least and largest finite depth of a map (host/src/depth_range.cpp finishes the reduction):
+// Least and largest finite depth of a map (host/src/pipeline/depth_range.cpp finishes the reduction):
 // work-item g reduces texels [g per_item, (g + 1) per_item) and writes (min, max) to out[g]
 // (INFINITY, -INFINITY when it saw no finite texel).
 __kernel void sf_depth_range(__global const float* restrict depth, ulong texels, ulong per_item,

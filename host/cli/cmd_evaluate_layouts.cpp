@@ -109,7 +109,7 @@ int run_evaluate_layouts(EvaluateLayoutsArgs& a) {
   const int root = static_cast<int>(std::lround(std::sqrt(std::max(0, r.soft_samples))));
   if (r.soft_samples < 0 || root * root != r.soft_samples) throw InputError("--samples must be a square number");
   r.lookup = a.lookup == "bilinear" ? Lookup::Bilinear : a.lookup == "sat" ? Lookup::Sat : Lookup::Mips;
-  for (const std::string& m : r.methods) find_method(m);  // InputError for unknown methods
+  for (const std::string& m : r.methods) method(m);  // InputError for unknown methods
   if (r.methods.empty()) throw InputError("--methods names no method");
 
   auto runtime = Runtime::create(r.device);

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -5,6 +6,7 @@
 
 #include "commands.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/parameters.hpp"
 
 namespace sf::cli {
 
@@ -17,12 +19,27 @@ CLI::App* add_methods_command(CLI::App& app, MethodsArgs& a) {
 
 namespace {
 
+// The method's flags, generated from its declarations: its own parameters, then the knobs it
+// reads ("--esm-c C (default 120; a positive number), --esm-classify ...").
+std::string parameters_line(const MethodDesc& m) {
+  std::string line;
+  auto add = [&line](const Parameter& p) { line += (line.empty() ? "" : ", ") + p.usage(); };
+  for (const Parameter& p : m.parameters) add(p);
+  // A knob whose default the method resolves shows its flag only: the method's value is on the
+  // defaults line.
+  for (const std::string& field : m.reads)
+    for (const Parameter& k : filter_parameters())
+      if (k.field == field)
+        line += (line.empty() ? "" : ", ") + (std::isnan(k.default_value) ? k.flag + " " + k.metavar : k.usage());
+  return line.empty() ? "none" : line;
+}
+
 nlohmann::json methods_json() {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& m : methods()) {
     FilterOptions o;
-    o.method = m.name;
-    nlohmann::json j{{"name", m.name}, {"summary", m.summary}, {"parameters", m.parameters}};
+    o.method = m;
+    nlohmann::json j{{"name", m.name}, {"summary", m.summary}, {"parameters", parameters_line(m)}};
     nlohmann::json defaults = nlohmann::json::object();
     for (const MethodParameter& p : m.parameter_values(o)) defaults[p.key] = p.value;
     j["defaults"] = defaults;
@@ -51,8 +68,10 @@ int run_methods(const MethodsArgs& a) {
   }
   for (const auto& m : methods()) {
     FilterOptions o;  // defaults
-    o.method = m.name;
-    std::cout << m.name << ": " << m.summary << "\n    parameters: " << m.parameters;
+    o.method = m;
+    std::cout << m.name << ": " << m.summary << "\n    parameters: " << parameters_line(m);
+    std::cout << "\n    defaults:";
+    for (const MethodParameter& p : m.parameter_values(o)) std::cout << " " << p.key << "=" << parameter_text(p.value);
     if (m.raw_depth) {
       std::cout << "\n    memory: no basis images (tests the float32 depth map, 4 bytes per texel)\n";
       continue;

@@ -72,7 +72,7 @@ int run_render(const RenderArgs& a) {
   if (a.filter != "nearest" && a.filter != "pcf")
     throw InputError("--filter must be nearest or pcf, got '" + a.filter + "'");
   if (a.filter == "pcf" && a.reference == "embree")
-    throw InputError("--filter pcf is a CSM lookup; --reference embree has none");
+    throw InputError("--filter pcf is a coherent-map lookup; --reference embree has none");
   if (!a.reference.empty() && a.reference != "embree")
     throw InputError("--reference must be embree, got '" + a.reference + "'");
   for (double c : a.albedo)
@@ -132,8 +132,8 @@ int run_render(const RenderArgs& a) {
     device_name = "Embree occlusion rays";
   } else {
     const std::shared_ptr<Runtime> rt = Runtime::create(a.device);
-    image = scene::render_csm(*rt, file.stack, g, env, settings, &seconds, a.filter == "pcf");
-    device_name = "CSM (" + a.filter + ") on " + rt->info().device_name;
+    image = scene::render_coherent(*rt, file.stack, g, env, settings, &seconds, a.filter == "pcf");
+    device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
   }
   std::vector<io::ImageToWrite> outputs{{a.output, &image}};
   const HostImage mapped = tone_mapped(image);
@@ -183,7 +183,7 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
                 "Visibility lookup: nearest (view and texel, 0 or 1) or pcf (2x2 views x 2x2 texels, fractional)")
       ->capture_default_str();
   c->add_option("--reference", r->reference,
-                "embree: the same samples with Embree occlusion rays instead of the CSM (host threads)");
+                "embree: the same samples with Embree occlusion rays instead of the coherent maps (host threads)");
   c->add_option("--mesh", r->mesh, "The object's mesh, when the file's source path does not reach it");
   c->add_option("--seed", r->seed, "Seed of the per-pixel random numbers")->capture_default_str();
   c->add_option("--threads", r->threads, "Host threads of the G-buffer and --reference (0 = all cores)")

@@ -91,7 +91,7 @@ int run_filter_layered(const FilterArgs& a) {
       std::snprintf(b, sizeof b, ", %s %.3f", name, seconds * 1e3);
       stages += b;
     };
-    const StageTimes& s = r.times.sum;
+    const StageTimes& s = r.times;
     if (s.pyramid > 0) stage("mips", s.pyramid);
     if (s.sat > 0) stage("sat", s.sat);
     if (s.zmax > 0) stage("zmax", s.zmax);
@@ -104,8 +104,8 @@ int run_filter_layered(const FilterArgs& a) {
         (method_summary(a.options) + ", " + prefilter_summary(a.options)).c_str(), layered.set.layers.size(),
         layered.set.width, layered.set.height, layered.set.blend, view.width, view.height, layers.c_str(), r.blended,
         r.background, r.outside, r.facing_away, runtime->info().device_name.c_str(), s.transform * 1e3, s.blur * 1e3,
-        stages.c_str(), r.times.project * 1e3, s.reconstruct * 1e3, r.times.blend * 1e3, r.upload * 1e3,
-        r.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());
+        stages.c_str(), r.times.project * 1e3, s.reconstruct * 1e3, r.times.blend * 1e3, r.times.upload * 1e3,
+        r.times.download * 1e3, load_ms, run_ms, write_ms, ms_since(t0), a.output.c_str());
   }
   return 0;
 }

@@ -26,7 +26,7 @@ nlohmann::json stage_ms_json(const StageTimes& t, double scale) {
 
 nlohmann::json filter_options_json(const FilterOptions& o) {
   nlohmann::json j;
-  j["method"] = o.method;
+  j["method"] = o.method.name();
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& d : methods())
     if (d.name == o.method) {

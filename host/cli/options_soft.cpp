@@ -173,29 +173,29 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
       ->capture_default_str();
   add_receiver_plane_options(*c, a.options.receiver_plane, "pcss, ssmm");
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
-  c->add_option("--cssm-order", a.options.cssm_order, "cssm: Fourier order M")->capture_default_str();
+  c->add_option("--cssm-order", a.options.cssm.order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();
-  c->add_option("--cssm-offset", a.options.cssm_offset, "cssm: d' = d - offset (< 0: 0.1 / M)")->capture_default_str();
-  c->add_option("--cssm-scale", a.options.cssm_scale, "cssm: v = clamp(0.5 + scale (s - 0.5)) (< 0: 3)")
+  c->add_option("--cssm-offset", a.options.cssm.offset, "cssm: d' = d - offset (< 0: 0.1 / M)")->capture_default_str();
+  c->add_option("--cssm-scale", a.options.cssm.scale, "cssm: v = clamp(0.5 + scale (s - 0.5)) (< 0: 3)")
       ->capture_default_str();
-  c->add_option("--cssm-normalise", a.options.cssm_normalise, "cssm: 1 = divide s by lit (the series at z = d)")
+  c->add_option("--cssm-normalise", a.options.cssm.normalise, "cssm: 1 = divide s by lit (the series at z = d)")
       ->capture_default_str();
   c->add_option("--cssm-sharpen", a.sharpen,
                 "cssm: A,B of eq. 8.9 (p = 1 + A exp(-B (d - z_avg)); default 30,10M; A = 0: off)")
       ->delimiter(',')
       ->expected(2);
-  c->add_option("--cssm-min-den", a.options.cssm_min_den, "cssm: 1 - s_f below this = no blocker")
+  c->add_option("--cssm-min-den", a.options.cssm.min_den, "cssm: 1 - s_f below this = no blocker")
       ->capture_default_str();
-  c->add_option("--cssm-z-offset", a.options.cssm_z_offset,
+  c->add_option("--cssm-z-offset", a.options.cssm.z_offset,
                 "cssm: offset of the z_avg stage (< 0: ~0.306 / M, where a lit texel reconstructs to 1)")
       ->capture_default_str();
-  c->add_option("--cssm-width-scale", a.options.cssm_width_scale,
+  c->add_option("--cssm-width-scale", a.options.cssm.width_scale,
                 "cssm: stage-2 kernel width multiplier (< 0: scale x lit)")
       ->capture_default_str();
-  c->add_option("--cssm-contact", a.options.cssm_contact,
+  c->add_option("--cssm-contact", a.options.cssm.contact,
                 "cssm: 1 = receivers without a stage-1 blocker still run stage 2 at their footprint")
       ->capture_default_str();
-  c->add_option("--ssmm-n", a.options.ssmm_n, "ssmm: n x n texels per layer")->capture_default_str();
+  c->add_option("--ssmm-n", a.options.ssmm.n, "ssmm: n x n texels per layer")->capture_default_str();
   add_depth_options(*c, a.inputs);
   add_camera_options(*c, a.inputs);
   c->add_option("--device", a.device, "OpenCL device");
@@ -230,17 +230,16 @@ SoftLightInput load_soft_light(const std::string& shadow_map, const std::string&
 
 SoftOptions soft_options(const SoftArgs& a) {
   SoftOptions opt = a.options;
-  if (!parse_soft_method(a.method, &opt.method))
-    throw InputError("--method must be pcss, cssm, ssmm or ssmm-improved, got '" + a.method + "'");
+  opt.method = find_soft_method(a.method);
   if (a.lookup == "mips")
-    opt.cssm_lookup = Lookup::Mips;
+    opt.cssm.lookup = Lookup::Mips;
   else if (a.lookup == "sat")
-    opt.cssm_lookup = Lookup::Sat;
+    opt.cssm.lookup = Lookup::Sat;
   else
     throw InputError("--lookup must be mips or sat, got '" + a.lookup + "'");
   if (a.sharpen.size() == 2) {
-    opt.cssm_sharpen_a = a.sharpen[0];
-    opt.cssm_sharpen_b = a.sharpen[1];
+    opt.cssm.sharpen_a = a.sharpen[0];
+    opt.cssm.sharpen_b = a.sharpen[1];
   }
   return opt;
 }

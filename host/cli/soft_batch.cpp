@@ -30,7 +30,7 @@ int run_soft_batch(const SoftArgs& a) {
   check_batch_outputs(frames, {}, a.frames);
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
-  SoftTimes device;
+  StageTimes device;
   size_t receivers_done = 0;
 
   BatchSettings settings;
@@ -60,10 +60,7 @@ int run_soft_batch(const SoftArgs& a) {
         o.light = light.front().light;
         validate(o);
         SoftResult r = soft_filter_lights(runtime, o, light);
-        device.transform += r.times.transform;
-        device.pyramid += r.times.pyramid;
-        device.sat += r.times.sat;
-        device.reconstruct += r.times.reconstruct;
+        device += r.times;
         receivers_done += light.front().receivers.count();
         return Done{std::move(r.visibility), std::move(loaded.warnings)};
       },

@@ -5,6 +5,7 @@
 
 #include "eval_util.hpp"
 #include "evaluate.hpp"
+#include "method_catalogue.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -15,9 +16,9 @@ using detail::median;
 
 double estimated_cost(const FilterOptions& o, int map_w, int map_h, size_t receivers) {
   // Nanoseconds per map texel for the prefilter stages and per receiver for the reconstruction:
-  // the method's coefficients (MethodDesc::cost), the stages' below (docs/results.md "cost model").
-  const MethodDesc& m = find_method(o.method);
-  const CostModel& k = m.cost;
+  // the method's coefficients (evaluate's catalogue), the stages' below (docs/results.md "cost model").
+  const MethodDesc& m = *o.method;
+  const CostModel& k = catalogue_entry(o.method).cost;
   const double T = double(map_w) * map_h, N = double(receivers);
   if (m.raw_depth) {
     const double side = 2.0 * o.blur.radius + 2.0;  // the support's texels, each tested
@@ -45,7 +46,7 @@ namespace {
 // What the kernels compute for these options: two candidates with the same key are one
 // configuration (evsm's warps above the f16 limit pack to the same clamped value).
 std::string candidate_key(const MethodDesc& m, const FilterOptions& o) {
-  std::string key = o.method + "/" + storage_name(o.storage) + "/" + std::to_string(int(o.lookup.kind)) + "/" +
+  std::string key = o.method.name() + "/" + storage_name(o.storage) + "/" + std::to_string(int(o.lookup.kind)) + "/" +
                     std::to_string(int(classify_mode(o))) + "/";
   for (uint8_t b : m.pack_params(o)) key += std::to_string(b) + ",";
   return key + m.defines(o);
@@ -60,9 +61,9 @@ std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest
   if (target.lookup.kind != Lookup::Bilinear) lookups.push_back(target.lookup.kind);
   std::vector<FilterOptions> all;
   for (const auto& name : names) {
-    const MethodDesc& m = find_method(name);
     FilterOptions base = target;
-    base.method = name;
+    base.method = method(name);
+    const MethodDesc& m = *base.method;
     base.esm_classify = EsmClassifyOptions{};
     base.lookup.kind = Lookup::Bilinear;
     if (m.raw_depth) {
@@ -71,7 +72,7 @@ std::vector<AutoCandidate> auto_candidates(const Scene& scene, const AutoRequest
       continue;
     }
     std::vector<std::string> seen;
-    for (const auto& p : m.variants(base, GridSize::Auto))
+    for (const auto& p : auto_variants(base))
       for (const StorageLimit& st : m.storages)
         for (Lookup lk : lookups) {
           FilterOptions o = p;
@@ -254,8 +255,8 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
     res.skipped.push_back(std::string(target.lookup.kind == Lookup::Mips ? "mip pyramid" : "summed-area table") +
                           ": bilinear already meets the bound at the scene's footprints");
   // A method whose channel count follows its order (csm): say when smaller orders miss.
-  if (res.found && find_method(res.chosen.method).order_sets_channels) {
-    const MethodDesc& m = find_method(res.chosen.method);
+  if (res.found && res.chosen.method->order_sets_channels) {
+    const MethodDesc& m = *res.chosen.method;
     for (const auto& row : res.tried)
       if (row.method == res.chosen.method && m.channels(row.options) < m.channels(res.chosen) &&
           metric_value(row.sref, req.metric) > req.max_error) {
@@ -266,7 +267,7 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   }
   if (!res.not_tried.empty()) {
     std::map<std::string, int> by_method;
-    for (const auto& c : res.not_tried) ++by_method[c.options.method];
+    for (const auto& c : res.not_tried) ++by_method[c.options.method.name()];
     std::string list;
     for (const auto& [m, n] : by_method) list += (list.empty() ? "" : ", ") + m + " (" + std::to_string(n) + ")";
     res.skipped.push_back(std::to_string(res.not_tried.size()) + " configurations estimated at more than " +

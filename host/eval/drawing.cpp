@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "io_detail.hpp"
+#include "method_catalogue.hpp"
 #include "output_file.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -34,7 +35,7 @@ int text_width(const std::string& s, int size) {
 }
 
 std::vector<float> method_colour(const std::string& m) {
-  const auto& c = find_method(m).colour;
+  const auto& c = catalogue_entry(method(m)).colour;
   return {c[0], c[1], c[2]};
 }
 

@@ -1,9 +1,10 @@
-// The parameter grid: every method's variants (the registry's MethodDesc::variants) crossed with
-// radii, lookups and storages, and the labels of its rows.
+// The parameter grid: every method's variants (evaluate's catalogue, method_catalogue.hpp) crossed
+// with radii, lookups and storages, and the labels of its rows.
 #include <algorithm>
 #include <sstream>
 
 #include "evaluate.hpp"
+#include "method_catalogue.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -26,7 +27,7 @@ std::vector<std::string> parse_methods(const std::string& list) {
   std::string item;
   while (std::getline(ss, item, ',')) {
     if (item.empty()) continue;
-    find_method(item);  // throws naming the known methods
+    method(item);  // throws naming the known methods
     if (std::find(out.begin(), out.end(), item) == out.end()) out.push_back(item);
   }
   if (out.empty()) throw InputError("the method list '" + list + "' names no method ('all' or a comma-separated list)");
@@ -36,8 +37,8 @@ std::vector<std::string> parse_methods(const std::string& list) {
 
 std::string config_label(const FilterOptions& o) {
   std::ostringstream s;
-  const MethodDesc& m = find_method(o.method);
-  s << o.method << m.label(o);
+  const MethodDesc& m = *o.method;
+  s << o.method << catalogue_label(o);
   if (m.filtered) s << " R=" << o.blur.radius;
   if (!m.raw_depth) {
     if (o.lookup.kind == Lookup::Mips) s << " mips";
@@ -48,22 +49,6 @@ std::string config_label(const FilterOptions& o) {
   if (classify_mode(o) == EsmClassify::Threshold) s << " threshold";
   return s.str();
 }
-
-namespace {
-
-GridSize grid_size(Grid g) {
-  switch (g) {
-    case Grid::Quick:
-      return GridSize::Quick;
-    case Grid::Wide:
-      return GridSize::Wide;
-    case Grid::Default:
-      break;
-  }
-  return GridSize::Default;
-}
-
-}  // namespace
 
 std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid grid, double max_footprint,
                                      double sref_bias) {
@@ -78,11 +63,11 @@ std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid
   }
   std::vector<FilterOptions> out;
   for (const auto& name : names) {
-    const MethodDesc& m = find_method(name);
     FilterOptions base;
-    base.method = name;
+    base.method = method(name);
+    const MethodDesc& m = *base.method;
     if (m.raw_depth) base.depth_test.bias = float(sref_bias);
-    const std::vector<FilterOptions> variants = m.variants(base, grid_size(grid));
+    const std::vector<FilterOptions> variants = grid_variants(base, grid);
     for (const auto& v : variants) {
       if (!m.filtered) {  // the unfiltered test: no radius, no lookup
         out.push_back(v);
@@ -96,7 +81,7 @@ std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid
           continue;
         }
         for (Lookup lk : lookups) {
-          if (quick && lk != Lookup::Bilinear && !m.quick_footprints) continue;
+          if (quick && lk != Lookup::Bilinear && !catalogue_entry(base.method).quick_footprints) continue;
           FilterOptions o = v;
           o.blur.radius = r;
           o.lookup.kind = lk;

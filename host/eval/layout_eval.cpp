@@ -65,7 +65,7 @@ struct LayeredTiming {
 };
 
 LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const CascadeSet& set,
-                           const std::vector<HostImage>& maps, const DeviceViewReceivers& rx, int runs) {
+                           const std::vector<HostImage>& maps, const DeviceReceivers& rx, int runs) {
   LayeredPipeline pipe(rt, o, set);
   auto& q = rt->queue();
   const auto up = [&](const std::vector<float>& h) {
@@ -179,7 +179,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
   if (r.frames < 1 || r.frames > 1000) throw InputError("--frames must lie in 1..1000");
   if (r.total_size < 8 || r.total_size > 16384) throw InputError("--total-size must lie in 8..16384");
   if (r.timing_runs < 1) throw InputError("--runs must be at least 1");
-  for (const std::string& m : r.methods) find_method(m);  // InputError for unknown methods
+  for (const std::string& m : r.methods) method(m);  // InputError for unknown methods
   const std::vector<LayoutConfig> configs = make_configs(r);
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);
@@ -237,8 +237,8 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       const CameraFrustum frustum = scene::camera_frustum(cameras[frame], near_depth, far_depth);
       // The view on the device once a frame; for the flicker figure, the same receivers with their
       // view depths in the previous frame's camera (only the depth buffer differs).
-      const DeviceViewReceivers rx = upload_view_receivers(*rt, view);
-      DeviceViewReceivers previous_rx = rx;
+      const DeviceReceivers rx = upload_view_receivers(*rt, view);
+      DeviceReceivers previous_rx = rx;
       if (frame > 0) {
         const CameraFrustum before = scene::camera_frustum(cameras[frame - 1], near_depth, far_depth);
         std::vector<float> depth(n);
@@ -246,8 +246,8 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           depth[i] = static_cast<float>((view.x[i] - before.position[0]) * before.forward[0] +
                                         (view.y[i] - before.position[1]) * before.forward[1] +
                                         (view.z[i] - before.position[2]) * before.forward[2]);
-        previous_rx.depth = cl::Buffer(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(n, 1) * sizeof(float));
-        if (n) rt->queue().enqueueWriteBuffer(previous_rx.depth, CL_TRUE, 0, n * sizeof(float), depth.data());
+        previous_rx.view.depth = cl::Buffer(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(n, 1) * sizeof(float));
+        if (n) rt->queue().enqueueWriteBuffer(previous_rx.view.depth, CL_TRUE, 0, n * sizeof(float), depth.data());
       }
 
       for (size_t c = 0; c < configs.size(); ++c) {

@@ -145,7 +145,7 @@ const std::vector<double>& SrefCache::get(const BlurOptions& blur, Lookup lookup
 }
 
 const std::vector<double>& SrefCache::for_options(const FilterOptions& o) {
-  const MethodDesc& m = find_method(o.method);
+  const MethodDesc& m = *o.method;
   BlurOptions blur = o.blur;
   if (!m.filtered) blur = BlurOptions{};
   return get(blur, m.raw_depth ? Lookup::Bilinear : o.lookup.kind);

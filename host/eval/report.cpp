@@ -61,7 +61,7 @@ void stats_json(std::ostream& f, const char* name, const ErrorStats& e) {
 // The method's parameters in effect, "key=value" separated by spaces (the registry's names).
 std::string parameter_text(const FilterOptions& o) {
   std::string s;
-  for (const MethodParameter& p : find_method(o.method).parameter_values(o)) {
+  for (const MethodParameter& p : o.method->parameter_values(o)) {
     std::ostringstream v;
     v << p.value;
     s += (s.empty() ? "" : " ") + p.key + "=" + v.str();
@@ -133,7 +133,7 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     f << "    {\"scene\": \"" << json_escape(r.scene) << "\", \"method\": \"" << r.method << "\", \"config\": \""
       << json_escape(r.label) << "\", \"parameters\": {\"blur_radius\": " << o.blur.radius << ", \"lookup\": \""
       << lookup_name(o.lookup.kind) << "\", \"storage\": \"" << storage_name(o.storage) << "\"";
-    for (const MethodParameter& p : find_method(o.method).parameter_values(o))
+    for (const MethodParameter& p : o.method->parameter_values(o))
       f << ", \"" << json_escape(p.key) << "\": " << p.value;
     f << "}, \"time_ms\": " << r.time_ms << ", \"min_ms\": " << r.min_ms << ", \"runs\": " << r.runs
       << ", \"stages_ms\": {\"transform\": " << r.stages.transform * 1e3 << ", \"blur\": " << r.stages.blur * 1e3

@@ -82,7 +82,7 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
 Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
   Row row;
   row.scene = scene.name;
-  row.method = o.method;
+  row.method = o.method.name();
   row.label = config_label(o);
   row.options = o;
   row.time_ms = m.median_ms;

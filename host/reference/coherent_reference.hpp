@@ -33,7 +33,7 @@ bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t
 double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
                   const std::array<double, 3>& d);
 
-// Generalized PCF (Ritschel 2007 sec. 4.5), the twin of csm_query.clh's sf_csm_visibility_filtered:
+// Generalized PCF (Ritschel 2007 sec. 4.5), the twin of coherent/query.clh's sf_coherent_visibility_filtered:
 // the 2x2 views nearest to d in continuous lat-long coordinates (row t / pi T - 1/2 clamped to
 // [0, T - 1], column p / (2 pi) P - 1/2 wrapping around), in each the 2x2 texels nearest to p
 // (x = u M - 1/2; outside the map lit) tested at p's depth in that view, weighted bilinearly:

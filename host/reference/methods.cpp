@@ -11,8 +11,8 @@
 namespace sf::ref {
 
 MethodRef method_ref(const FilterOptions& opt) {
-  const MethodDesc& m = find_method(opt.method);
-  if (!m.scalar) throw std::invalid_argument("reference: method " + opt.method + " has no basis");
+  const MethodDesc& m = *opt.method;
+  if (!m.scalar) throw std::invalid_argument("reference: method " + opt.method.name() + " has no basis");
   m.validate(opt);
   return m.scalar(opt);
 }

@@ -111,7 +111,7 @@ void shadow_facing_away(const FilterOptions& opt, const Receivers& rx, std::vect
 
 std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, const Receivers& rx) {
   std::vector<double> out(rx.count(), 1.0);
-  const MethodDesc& method = find_method(opt.method);
+  const MethodDesc& method = *opt.method;
   if (method.raw_depth) {
     BlurOptions weights = opt.blur;
     if (!method.filtered) weights.radius = 0;

@@ -113,7 +113,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   if (outside(u, v, plane.d)) return 1.0;
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
-  const double n = o.ssmm_n;
+  const double n = o.ssmm.n;
   const double search = soft_width(o.light, d, 0.0);
   const double horizon = soft_horizon(o, plane, W, H);
   int last = 0;
@@ -209,24 +209,24 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   if (zavg_out) *zavg_out = NAN;
   if (outside(u, v, d)) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
-  const int M = o.cssm_order;
+  const int M = o.cssm.order;
   const CssmParams P = cssm_params(o);
   const double dp = d - P.offset;
   std::vector<double> b(4 * M + 1);
   const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
-  const double ms = o.cssm_lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
+  const double ms = o.cssm.lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
   for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
   double num;
   const double den = 1.0 - series(b, M, d - P.z_offset, &num);
-  const bool blocked = den >= o.cssm_min_den;
-  if (!blocked && !o.cssm_contact) return 1.0;
+  const bool blocked = den >= o.cssm.min_den;
+  if (!blocked && !o.cssm.contact) return 1.0;
   const double zavg = blocked ? std::clamp(num / den, 0.0, d) : d;
   if (zavg_out && blocked) *zavg_out = zavg;
   const double fw =
       std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
   for (int c = 0; c < 2 * M; ++c) b[c] = basis.value(c, u, v, ms * fw);
   double vis =
-      std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm_normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
+      std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm.normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
   if (P.sharpen_a > 0) vis = std::pow(vis, 1.0 + P.sharpen_a * std::exp(-P.sharpen_b * (d - zavg)));
   return vis;
 }

@@ -41,7 +41,7 @@ double segment_distance(Vec3 c, Vec3 a, Vec3 e) {
   return length(c - (a + s * e));
 }
 
-// --- the host twin of csm_render.cl (same integer hashing, same float operations) ------------
+// --- the host twin of coherent/render.cl (same integer hashing, same float operations) ------------
 
 using F3 = std::array<float, 3>;
 
@@ -269,12 +269,12 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
   });
 }
 
-HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                     const RenderSettings& settings, double* seconds, bool pcf) {
+HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
+                          const RenderSettings& settings, double* seconds, bool pcf) {
   validate(settings);
   // The compressed stack as the query kernels take it (offsets, segments, positions, layout).
-  const coherent::DeviceStack csm = coherent::upload(rt, stack);
-  const coherent::DeviceLayout layout = csm.device;
+  const coherent::DeviceStack maps = coherent::upload(rt, stack);
+  const coherent::DeviceLayout layout = maps.device;
   const cl::Context& ctx = rt.context();
   auto upload = [&](const void* data, size_t bytes) {
     // A zero-size buffer is invalid in OpenCL: empty inputs get one unused element.
@@ -302,7 +302,7 @@ HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const 
   cl::Buffer light_buf = upload(lights.data(), bytes_of(lights));
   cl::Buffer out(ctx, CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * 4 * sizeof(float));
 
-  cl::Kernel k(rt.program({"coherent/csm_query.clh", "coherent/csm_render.cl"}, "-cl-std=CL1.2"), "sf_csm_render");
+  cl::Kernel k(rt.program({"coherent/query.clh", "coherent/render.cl"}, "-cl-std=CL1.2"), "sf_coherent_render");
   const uint32_t S = uint32_t(settings.samples);
   int a = 0;
   k.setArg(a++, cl_int(n));
@@ -310,9 +310,9 @@ HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const 
   k.setArg(a++, nor);
   k.setArg(a++, alb);
   k.setArg(a++, sizeof(layout), &layout);
-  k.setArg(a++, csm.offsets);
-  k.setArg(a++, csm.segments);
-  k.setArg(a++, csm.positions);
+  k.setArg(a++, maps.offsets);
+  k.setArg(a++, maps.segments);
+  k.setArg(a++, maps.positions);
   k.setArg(a++, cl_int(env.width));
   k.setArg(a++, cl_int(env.height));
   k.setArg(a++, cl_int(env.sampled ? 1 : 0));

@@ -2,10 +2,10 @@
 // Direct lighting of one object with its coherent shadow map (Ritschel 2007 sec. 5;
 // docs/coherent_render.md): a G-buffer from Embree camera rays, then per pixel S stratified samples
 // of a lat-long environment map (drawn from its luminance) and of rectangular semi-local area
-// lights, diffuse BRDF. The visibility of every sample comes from the CSM on the device
-// (render_csm, kernels/coherent/csm_render.cl) or, for the reference, from a host twin of the
+// lights, diffuse BRDF. The visibility of every sample comes from the coherent maps on the device
+// (render_coherent, kernels/coherent/render.cl) or, for the reference, from a host twin of the
 // same sampler with the same random numbers and Embree occlusion rays (render_traced): the two
-// differ by the CSM's discretisation alone.
+// differ by the coherent maps' discretisation alone.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -24,7 +24,7 @@
 namespace sf::scene {
 
 // A two-sided rectangle (parallelogram) corner + s edge_a + t edge_b, s, t in [0, 1], emitting
-// `radiance` (RGB) from both faces. Semi-local (seed sec. 4.3): the CSM only knows the object
+// `radiance` (RGB) from both faces. Semi-local (seed sec. 4.3): the coherent maps only knows the object
 // from outside, so the light must lie outside its convex hull; lights that reach into the
 // bounding sphere are refused.
 struct AreaLight {
@@ -64,10 +64,10 @@ struct RenderSettings {
 inline constexpr int kMaxSamples = 1 << 20;
 inline constexpr int kMaxLights = 64;
 void validate(const RenderSettings& settings);
-// The Latin hypercube's second stride: coprime to S, near S / golden ratio (csm_render.cl).
+// The Latin hypercube's second stride: coprime to S, near S / golden ratio (coherent/render.cl).
 uint32_t sample_stride(uint32_t samples);
 
-// The host twin of csm_render.cl: the same samples and float arithmetic, visibility from
+// The host twin of coherent/render.cl: the same samples and float arithmetic, visibility from
 // `visible(p, d, t_max)`: is the segment p + t d, t in (0, t_max), free (d unit length)?
 using Visibility = std::function<bool(const std::array<float, 3>& p, const std::array<float, 3>& d, float t_max)>;
 HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible);
@@ -78,8 +78,8 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
 // host twin and the reference reproduce), or pcf (generalized PCF of the 2x2 nearest views' 2x2
 // texels, seed sec. 4.5: fractional visibility). seconds, when given, receives the kernel's wall
 // time (built program, uploaded inputs: the render alone).
-HostImage render_csm(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                     const RenderSettings& settings, double* seconds = nullptr, bool pcf = false);
+HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
+                          const RenderSettings& settings, double* seconds = nullptr, bool pcf = false);
 
 // Visibility queries a render makes at most: pixels on the object x S x (1 + lights) (samples
 // below the horizon of the normal skip their query).

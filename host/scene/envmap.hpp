@@ -1,7 +1,7 @@
 #pragma once
 // Lat-long environment maps for distant light (Ritschel 2007 sec. 4.1 and 5.1; docs/coherent_render.md):
 // the map as RGB float radiance, its luminance-proportional sampling tables (what
-// kernels/coherent/csm_render.cl reads), a host twin of the kernel's sampling, and a synthetic
+// kernels/coherent/render.cl reads), a host twin of the kernel's sampling, and a synthetic
 // sky so that the repository needs no downloaded HDR.
 //
 // Convention (the same as the coherent stack's view grid, shadowfilter/coherent.hpp): texel
@@ -57,7 +57,7 @@ EnvMap load_envmap(const std::string& path);
 // A constant map (the white furnace): every texel `value`.
 EnvMap uniform_envmap(int width, int height, float value);
 
-// One direction drawn from the map (host twin of sf_env_sample in csm_render.cl, same float
+// One direction drawn from the map (host twin of sf_env_sample in coherent/render.cl, same float
 // arithmetic): u0 picks the row, u1 the column, their remainders the point within the texel.
 struct EnvSample {
   std::array<float, 3> dir;

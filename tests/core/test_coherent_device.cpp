@@ -195,18 +195,18 @@ DeviceQueries to_device(const Queries& q) {
   return {test::to_device(q.points), test::to_device(q.dirs), test::to_device(std::vector<float>(q.count, -7.0f))};
 }
 
-std::vector<float> visibility(const DeviceStack& s, const DeviceQueries& d, size_t count, CsmFilter filter,
-                              CsmToward toward = CsmToward::Direction) {
-  enqueue_visibility(runtime(), s, d.points, d.dirs, d.out, count, filter, nullptr, toward).wait();
+std::vector<float> visibility(const DeviceStack& s, const DeviceQueries& d, size_t count, CoherentFilter filter,
+                              CoherentToward toward = CoherentToward::Direction) {
+  enqueue_visibility(runtime(), filter, toward, count, s, d.points, d.dirs, d.out).wait();
   return from_device(d.out, count);
 }
-std::vector<float> visibility(const DeviceStack& s, const Queries& q, CsmFilter filter,
-                              CsmToward toward = CsmToward::Direction) {
+std::vector<float> visibility(const DeviceStack& s, const Queries& q, CoherentFilter filter,
+                              CoherentToward toward = CoherentToward::Direction) {
   return visibility(s, to_device(q), q.count, filter, toward);
 }
 
 std::vector<float> stack_test(const DeviceDualDepth& s, const DeviceQueries& d, size_t count) {
-  enqueue_stack_test(runtime(), s, d.points, d.dirs, d.out, count).wait();
+  enqueue_stack_test(runtime(), CoherentToward::Direction, count, s, d.points, d.dirs, d.out).wait();
   return from_device(d.out, count);
 }
 std::vector<float> stack_test(const DeviceDualDepth& s, const Queries& q) {
@@ -291,14 +291,14 @@ TEST(CoherentDevice, CompressionPassesOnCallerBuffersRespectCapacity) {
   cl::Buffer offsets(rt.context(), CL_MEM_READ_WRITE, (l.texels() + 1) * 4);
   cl::Buffer scratch(rt.context(), CL_MEM_READ_WRITE, compress_scratch_bytes(l));
   const EventList counted{enqueue_compress_count(rt, l, z.z1, z.z2, offsets)};
-  const EventList scanned{enqueue_compress_scan(rt, l, offsets, scratch, &counted).last};
+  const EventList scanned{enqueue_compress_scan(rt, l, offsets, scratch, nullptr, &counted)};
   uint64_t total = 0;
   rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), 8, &total, &scanned);
   ASSERT_EQ(total, want.segments.size());
   const size_t capacity = want.segments.size() - 1;
   std::vector<uint32_t> seg(want.segments.size() + 1, 0xdeadbeefu);
   cl::Buffer segments(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, seg.size() * 4, seg.data());
-  enqueue_compress_write(rt, l, z.z1, z.z2, offsets, segments, capacity, &scanned).wait();
+  enqueue_compress_write(rt, l, capacity, z.z1, z.z2, offsets, segments, &scanned).wait();
   rt.queue().enqueueReadBuffer(segments, CL_TRUE, 0, seg.size() * 4, seg.data());
   for (size_t i = 0; i < capacity; ++i) ASSERT_EQ(seg[i], want.segments[i]) << "segment " << i;
   EXPECT_EQ(seg[capacity], 0xdeadbeefu);
@@ -330,7 +330,7 @@ TEST(CoherentDevice, CompressedQueryIsLosslessForEveryOrdering) {
   for (Ordering o : {Ordering::ScanLine, Ordering::ZigZag, Ordering::Hilbert}) {
     const StackLayout l = layout_of(16, 16, 32, o);
     const DeviceStack c = compress_on_device(runtime(), upload(runtime(), sphere_scene(l)));
-    const std::vector<float> got = visibility(c, q, kQueries, CsmFilter::Nearest);
+    const std::vector<float> got = visibility(c, q, kQueries, CoherentFilter::Nearest);
     size_t wrong = 0, binary = 0;
     for (size_t i = 0; i < kQueries; ++i) {
       binary += got[i] == 0.0f || got[i] == 1.0f;
@@ -350,7 +350,7 @@ TEST(CoherentDevice, CompressedQueryIsLosslessOnThinAndOpenSurfaces) {
   const DualDepthStack s = smooth_random(l, 5);
   const DeviceStack c = compress_on_device(runtime(), upload(runtime(), s));
   const Queries q = random_queries(l, 200000, 21);
-  const std::vector<float> got = visibility(c, q, CsmFilter::Nearest);
+  const std::vector<float> got = visibility(c, q, CoherentFilter::Nearest);
   const std::vector<float> truth = stack_test(upload(runtime(), s), q);
   size_t wrong = 0, between = 0;
   for (size_t i = 0; i < q.count; ++i) {
@@ -376,7 +376,7 @@ TEST(CoherentDevice, NearestQueryAgreesWithTheDoubleReference) {
   const CompressedStack c = ref::coherent::compress(sphere_scene(l));
   const std::vector<uint32_t> pos = sequence_positions(l);
   const Queries q = random_queries(l, kQueries, 31);
-  const std::vector<float> got = visibility(upload(runtime(), c), q, CsmFilter::Nearest);
+  const std::vector<float> got = visibility(upload(runtime(), c), q, CoherentFilter::Nearest);
   size_t differ = 0, unexplained = 0, lit = 0;
   for (size_t i = 0; i < kQueries; ++i) {
     const double want = ref::coherent::visibility(c, pos, q.point(i), q.dir(i));
@@ -405,8 +405,8 @@ TEST(CoherentDevice, LightPositionQueriesEqualDirectionQueries) {
       toward.dirs[4 * i + k] = toward.points[4 * i + k] + 3.0f * toward.dirs[4 * i + k];  // l = p + 3 d
       dirs.dirs[4 * i + k] = toward.dirs[4 * i + k] - toward.points[4 * i + k];
     }
-  for (CsmFilter f : {CsmFilter::Nearest, CsmFilter::Pcf}) {
-    const std::vector<float> a = visibility(c, toward, f, CsmToward::Point), b = visibility(c, dirs, f);
+  for (CoherentFilter f : {CoherentFilter::Nearest, CoherentFilter::Pcf}) {
+    const std::vector<float> a = visibility(c, toward, f, CoherentToward::Point), b = visibility(c, dirs, f);
     size_t differ = 0;
     for (size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
     EXPECT_EQ(differ, 0u) << "filter " << int(f);
@@ -426,7 +426,7 @@ TEST(CoherentDevice, FilteredQueryAgreesWithTheDoubleReference) {
   const CompressedStack c = ref::coherent::compress(sphere_scene(l));
   const std::vector<uint32_t> pos = sequence_positions(l);
   const Queries q = random_queries(l, kQueries, 51);
-  const std::vector<float> got = visibility(upload(runtime(), c), q, CsmFilter::Pcf);
+  const std::vector<float> got = visibility(upload(runtime(), c), q, CoherentFilter::Pcf);
   size_t off = 0, partial = 0, outside = 0;
   double worst_within = 0.0;
   for (size_t i = 0; i < kQueries; ++i) {
@@ -459,14 +459,14 @@ TEST(CoherentDevice, FilteredQueryIsExactWhereVisibilityIsConstant) {
   Queries q = random_queries(l, 50000, 61, 0.8);
   const DeviceStack empty = compress_on_device(runtime(), upload(runtime(), s));
   EXPECT_EQ(empty.segment_count, l.texels());  // one segment per texel
-  for (CsmFilter f : {CsmFilter::Nearest, CsmFilter::Pcf}) {
+  for (CoherentFilter f : {CoherentFilter::Nearest, CoherentFilter::Pcf}) {
     const std::vector<float> v = visibility(empty, q, f);
     EXPECT_EQ(std::count(v.begin(), v.end(), 1.0f), long(v.size())) << "filter " << int(f);
   }
   std::fill(s.z1.begin(), s.z1.end(), uint16_t(0));
   std::fill(s.z2.begin(), s.z2.end(), uint16_t(1));
   const DeviceStack wall = compress_on_device(runtime(), upload(runtime(), s));
-  for (CsmFilter f : {CsmFilter::Nearest, CsmFilter::Pcf}) {
+  for (CoherentFilter f : {CoherentFilter::Nearest, CoherentFilter::Pcf}) {
     const std::vector<float> v = visibility(wall, q, f);
     EXPECT_EQ(std::count(v.begin(), v.end(), 0.0f), long(v.size())) << "filter " << int(f);
   }
@@ -474,7 +474,7 @@ TEST(CoherentDevice, FilteredQueryIsExactWhereVisibilityIsConstant) {
   for (size_t i = 0; i < 4; ++i)
     for (int k = 0; k < 3; ++k) q.dirs[4 * i + k] = i == 0 ? 0.0f : i == 1 ? nan : (k == int(i) - 2 ? nan : 0.5f);
   q.points[4 * 3] = nan;
-  for (CsmFilter f : {CsmFilter::Nearest, CsmFilter::Pcf}) {
+  for (CoherentFilter f : {CoherentFilter::Nearest, CoherentFilter::Pcf}) {
     const std::vector<float> v = visibility(wall, q, f);
     for (size_t i = 0; i < 4; ++i) EXPECT_TRUE(v[i] >= 0.0f && v[i] <= 1.0f) << "query " << i << ": " << v[i];
   }
@@ -522,31 +522,64 @@ TEST(CoherentDevice, BadInputIsRefusedNamingTheField) {
   bad_z.layout.views_theta = 3;  // Hilbert on a 3x4 grid
   EXPECT_TRUE(has(refusal([&] { compress_on_device(rt, bad_z); }), "hilbert"));
 
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, b.dirs, small, q.count); }), "out"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, cl::Buffer(), b.dirs, b.out, q.count); }), "points"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, small, b.out, q.count); }), "second"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, d, b.points, b.dirs, b.out, size_t(1) << 33); }), "count"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, d, b.points,
+                                       b.dirs, small);
+                  }),
+                  "out"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, d, cl::Buffer(),
+                                       b.dirs, b.out);
+                  }),
+                  "points"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, d, b.points,
+                                       small, b.out);
+                  }),
+                  "second"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, size_t(1) << 33, d,
+                                       b.points, b.dirs, b.out);
+                  }),
+                  "count"));
   DeviceStack bad_d = d;
   bad_d.segment_count += 1;
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "segments"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, bad_d, b.points,
+                                       b.dirs, b.out);
+                  }),
+                  "segments"));
   bad_d = d;
   bad_d.positions = small;
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "positions"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, bad_d, b.points,
+                                       b.dirs, b.out);
+                  }),
+                  "positions"));
   bad_d = d;
   bad_d.offsets = cl::Buffer();
-  EXPECT_TRUE(has(refusal([&] { enqueue_visibility(rt, bad_d, b.points, b.dirs, b.out, q.count); }), "offsets"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_stack_test(rt, z, b.points, b.dirs, small, q.count); }), "out"));
+  EXPECT_TRUE(has(refusal([&] {
+                    enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, bad_d, b.points,
+                                       b.dirs, b.out);
+                  }),
+                  "offsets"));
+  EXPECT_TRUE(has(
+      refusal([&] { enqueue_stack_test(rt, CoherentToward::Direction, q.count, z, b.points, b.dirs, small); }), "out"));
   DeviceDualDepth bad_dz = z;
   bad_dz.z1 = small;
-  EXPECT_TRUE(has(refusal([&] { enqueue_stack_test(rt, bad_dz, b.points, b.dirs, b.out, q.count); }), "z1"));
+  EXPECT_TRUE(
+      has(refusal([&] { enqueue_stack_test(rt, CoherentToward::Direction, q.count, bad_dz, b.points, b.dirs, b.out); }),
+          "z1"));
   EXPECT_TRUE(has(refusal([&] { compress_on_device(rt, bad_dz); }), "z1"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_count(rt, l, z.z1, z.z2, small); }), "offsets"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_scan(rt, l, d.offsets, small); }), "scratch"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, z.z1, z.z2, d.offsets, d.segments, 0); }), "capacity"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, z.z1, z.z2, d.offsets, small, c.segments.size()); }),
+  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, 0, z.z1, z.z2, d.offsets, d.segments); }), "capacity"));
+  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, c.segments.size(), z.z1, z.z2, d.offsets, small); }),
                   "segments"));
   // count 0 is not an error: a marker after `wait`.
-  enqueue_visibility(rt, d, cl::Buffer(), cl::Buffer(), cl::Buffer(), 0).wait();
+  enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, 0, d, cl::Buffer(), cl::Buffer(),
+                     cl::Buffer())
+      .wait();
 }
 
 }  // namespace

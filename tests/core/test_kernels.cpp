@@ -50,7 +50,7 @@ TEST_P(EsmTransform, MatchesReference) {
     const auto opt = esm_options(c);
     cl::Buffer z = to_device(depth.data);
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * sizeof(float));
-    enqueue_transform(runtime(), find_method("esm"), opt, z, depth.width, depth.height, basis).wait();
+    enqueue_transform(runtime(), *sf::method("esm"), opt, depth.width, depth.height, z, basis).wait();
     const auto got = from_device(basis, depth.texels());
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < got.size(); ++i) {
@@ -64,7 +64,7 @@ INSTANTIATE_TEST_SUITE_P(Exponents, EsmTransform, ::testing::Values(1.0f, 40.0f,
 TEST(EsmTransform, RefusesExponentsBeyondTheFloat32Limit) {
   auto opt = esm_options(200.0f);
   try {
-    find_method("esm").validate(opt);
+    sf::method("esm")->validate(opt);
     FAIL() << "c = 200 accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("174"), std::string::npos) << e.what();
@@ -93,7 +93,7 @@ TEST_P(Blur, MatchesReference) {
   BlurOptions blur{bc.radius, 0.0f};
   ScheduleOptions sched;
   sched.blur_vector_width = bc.vec;
-  enqueue_blur(runtime(), blur, sched, src, tmp, dst, shape).cols.wait();
+  enqueue_blur(runtime(), blur, sched, Storage::F32, shape, src, tmp, dst).wait();
   const auto got = from_device(dst, host.size());
   const auto want = ref::blur(in, bc.radius, 0.0);
   for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(got[i], want.data[i], 1e-5 * want.data[i]) << "index " << i;
@@ -112,8 +112,8 @@ TEST(Blur, InPlaceEqualsOutOfPlace) {
   ImageShape shape{53, 41, 1};
   cl::Buffer a = to_device(img.data), b = to_device(img.data), out = to_device(img.data);
   cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
-  enqueue_blur(runtime(), {5, 2.0f}, {}, a, tmp, a, shape).cols.wait();
-  enqueue_blur(runtime(), {5, 2.0f}, {}, b, tmp, out, shape).cols.wait();
+  enqueue_blur(runtime(), {5, 2.0f}, {}, Storage::F32, shape, a, tmp, a).wait();
+  enqueue_blur(runtime(), {5, 2.0f}, {}, Storage::F32, shape, b, tmp, out).wait();
   EXPECT_EQ(from_device(a, img.texels()), from_device(out, img.texels()));
 }
 
@@ -176,7 +176,7 @@ TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
   cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   ScheduleOptions sched;
   sched.blur_vector_width = bc.vec;
-  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, src, tmp, dst, shape, nullptr, bc.storage).cols.wait();
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, bc.storage, shape, src, tmp, dst).wait();
   const auto got = read_stored(dst, n, bc.storage);
   const auto want = ref::blur(in, bc.radius, 0.0);
   const double e = 1.2e-7 * (bc.radius + 2) * maxabs;
@@ -192,7 +192,7 @@ TEST_P(BlurStorage, MatchesReferenceWithinHalfAStep) {
   }
   // In place (through tmp and the copy back) gives the same codes.
   cl::Buffer a = raw_to_device(codes);
-  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, a, tmp, a, shape, nullptr, bc.storage).cols.wait();
+  enqueue_blur(runtime(), {bc.radius, 0.0f}, sched, bc.storage, shape, a, tmp, a).wait();
   EXPECT_EQ(raw_from_device(a, shape.bytes()), raw_from_device(dst, shape.bytes()));
 }
 
@@ -236,7 +236,7 @@ TEST(BlurStorage, SchedulesAreBitIdentical) {
       sched.blur_strip_texels = strip;
       sched.blur_rows = rows;
       cl::Buffer dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
-      enqueue_blur(runtime(), {4, 0.0f}, sched, src, tmp, dst, shape, nullptr, st).cols.wait();
+      enqueue_blur(runtime(), {4, 0.0f}, sched, st, shape, src, tmp, dst).wait();
       const auto got = raw_from_device(dst, shape.bytes());
       if (first.empty()) first = got;
       EXPECT_EQ(got, first) << storage_name(st) << " vec " << vec << " strip " << strip << " rows " << rows;
@@ -255,7 +255,7 @@ TEST(BlurStorage, ConstantsStayConstant) {
         std::memcpy(&raw[i * shape.value_bytes], &code, shape.value_bytes);
       cl::Buffer a = raw_to_device(raw);
       cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
-      enqueue_blur(runtime(), {7, 0.0f}, {}, a, tmp, a, shape, nullptr, st).cols.wait();
+      enqueue_blur(runtime(), {7, 0.0f}, {}, st, shape, a, tmp, a).wait();
       EXPECT_EQ(raw_from_device(a, shape.bytes()), raw) << storage_name(st) << " code " << code;
     }
   }
@@ -264,7 +264,7 @@ TEST(BlurStorage, ConstantsStayConstant) {
 TEST(BlurStorage, RefusesAShapeOfAnotherFormat) {
   const ImageShape shape{8, 8, 1, 4};
   cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
-  EXPECT_THROW(enqueue_blur(runtime(), {2, 0.0f}, {}, a, a, a, shape, nullptr, Storage::F16), InputError);
+  EXPECT_THROW(enqueue_blur(runtime(), {2, 0.0f}, {}, Storage::F16, shape, a, a, a), InputError);
 }
 
 TEST(Blur, WeightsAreNormalisedAndDefaultSigmaSpansThreeSigma) {

@@ -20,6 +20,7 @@
 #include "lookups.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
 #include "shadowfilter/methods.hpp"
 
@@ -175,7 +176,7 @@ Point3 position(const ViewReceivers& v, size_t i) { return {v.x[i], v.y[i], v.z[
 // ---- device helpers -------------------------------------------------------------------------
 
 struct DeviceView {
-  DeviceViewReceivers rx;
+  DeviceReceivers rx;
   cl::Buffer visibility;
 };
 DeviceView upload(const ViewReceivers& v) {
@@ -419,6 +420,34 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
     EXPECT_GT(blended, 20u) << layout_name(kind);
     EXPECT_GT(none, 200u) << layout_name(kind);
     EXPECT_GT(fell_through, 5u) << layout_name(kind);
+  }
+}
+
+// One receivers type and one stage-times type: the layered pipeline reads the view part of
+// DeviceReceivers (a map part alone is refused, naming the field), and its times are its layers'
+// summed stage by stage plus the projection and the blend.
+TEST(Layered, ReadsTheViewPartAndSumsItsLayersTimes) {
+  const CascadeSet set = layout(LayoutKind::Pssm, 64);
+  LayeredPipeline pipe(runtime_ptr(), FilterOptions{}, set);
+  const ViewReceivers view = render_view(32, 18);
+  run(pipe, render_maps(set), view);
+  const StageTimes t = pipe.times();
+  double layers = 0;
+  for (int k = 0; k < pipe.layer_count(); ++k) layers += pipe.layer(k).times().total();
+  EXPECT_NEAR(t.total(), layers + t.project + t.blend, 1e-12);
+  if (test::runtime().profiling()) {
+    EXPECT_GT(t.project, 0.0);
+  }
+
+  DeviceReceivers map_only;
+  map_only.count = view.count();
+  map_only.u = map_only.v = map_only.d = test::to_device(std::vector<float>(view.count(), 0.5f));
+  const cl::Buffer vis = test::to_device(std::vector<float>(view.count(), -1.0f));
+  try {
+    pipe.reconstruct(map_only, vis);
+    FAIL() << "receivers without a view part must be refused";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "DeviceReceivers::view.x is an empty buffer");
   }
 }
 

@@ -59,17 +59,17 @@ std::vector<std::vector<float>> device_lookup(const ref::Planes& img, Lookup kin
   if (kind == Lookup::Mips) {
     const MipLayout L = mip_layout(img.width, img.height, img.channels);
     lk.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(L.chain_values, 1) * 4);
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, level0, lk.chain, shape).last.wait();
+    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, {}, shape, level0, lk.chain).wait();
   } else if (kind == Lookup::Sat) {
     const SatLayout L = sat_layout(shape);
     lk.sat = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * 4);
     cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * 4);
-    enqueue_sat(runtime(), Storage::F32, level0, lk.sat, bands, shape).last.wait();
+    enqueue_sat(runtime(), Storage::F32, {}, {}, shape, level0, lk.sat, bands).wait();
   }
   lk.footprint = to_device(rx.f);
   const size_t n = rx.u.size();
   cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, n * img.channels * 4);
-  enqueue_lookup_points(runtime(), Storage::F32, lk, level0, shape, to_device(rx.u), to_device(rx.v), out, n).wait();
+  enqueue_lookup_points(runtime(), Storage::F32, shape, n, lk, level0, to_device(rx.u), to_device(rx.v), out).wait();
   const auto flat = from_device(out, n * img.channels);
   std::vector<std::vector<float>> res(img.channels);
   for (int c = 0; c < img.channels; ++c) res[c].assign(flat.begin() + c * n, flat.begin() + (c + 1) * n);
@@ -121,7 +121,7 @@ TEST_P(StepBasis, LookupsReproduceSRef) {
   const ImageShape shape{depth.width, depth.height, 1, 4};
   cl::Buffer src = to_device(step);
   cl::Buffer tmp(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
-  enqueue_blur(runtime(), {radius, 0.0f}, {}, src, tmp, src, shape).cols.wait();
+  enqueue_blur(runtime(), {radius, 0.0f}, {}, Storage::F32, shape, src, tmp, src).wait();
   ref::Planes blurred(depth.width, depth.height, 1);
   const auto b = from_device(src, step.size());
   for (size_t i = 0; i < b.size(); ++i) blurred.data[i] = b[i];

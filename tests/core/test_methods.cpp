@@ -33,9 +33,9 @@ double basis_tolerance(const MethodCase& mc, double v) {
     f32 = (1e-6 + 1e-7 * 80) * av;
   else if (mc.method == "vsm")
     f32 = 1.2e-7 * av + 1e-12;
-  else if (mc.method.rfind("evsm", 0) == 0)
+  else if (mc.method.name().rfind("evsm", 0) == 0)
     f32 = 1.2e-5 * av;
-  else if (mc.method.rfind("msm", 0) == 0)
+  else if (mc.method.name().rfind("msm", 0) == 0)
     f32 = unorm ? 4e-5 : 4e-7 * av + 1e-12;
   else
     f32 = 2e-6 + 6e-7 * mc.csm_order;
@@ -48,13 +48,13 @@ class MethodKernels : public ::testing::TestWithParam<MethodCase> {};
 TEST_P(MethodKernels, TransformMatchesReference) {
   const MethodCase mc = GetParam();
   const FilterOptions opt = mc.options();
-  const MethodDesc& m = find_method(mc.method);
+  const MethodDesc& m = *mc.method;
   const int ch = m.channels(opt);
   for (const HostImage& depth : stress_depths()) {
     cl::Buffer z = to_device(depth.data);
     const size_t n = depth.texels() * ch;
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(mc.storage));
-    enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+    enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
     const auto got = read_stored(basis, n, mc.storage);
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < n; ++i) {
@@ -72,7 +72,7 @@ TEST_P(MethodKernels, TransformMatchesReference) {
 // above; the tail and the vector body must both match.
 TEST_P(MethodKernels, TransformPartialTailEveryVectorWidth) {
   const MethodCase mc = GetParam();
-  const MethodDesc& m = find_method(mc.method);
+  const MethodDesc& m = *mc.method;
   HostImage depth = random_depth(37, 29, 11);
   const size_t texels = depth.texels();
   depth.data[texels - 1] = 1.0f;
@@ -84,7 +84,7 @@ TEST_P(MethodKernels, TransformPartialTailEveryVectorWidth) {
     opt.schedule.transform_vector_width = width;
     const size_t n = texels * m.channels(opt);
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(mc.storage));
-    enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+    enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
     const auto got = read_stored(basis, n, mc.storage);
     const auto want = ref::transform(opt, depth);
     for (size_t i = 0; i < n; ++i) {
@@ -107,14 +107,14 @@ double visibility_tolerance(const MethodCase& mc) {
   // Chebyshev p = var / (var + t^2): dp <= dvar / (4 var) with dvar ~ 4e-7 m2 <= 4e-7 and
   // var >= vmin = 2e-5 (vsm) -> 5e-3; EVSM's relative floor keeps var >= (1e-4 c e)^2 against
   // dvar ~ 4e-7 e^2 -> 4e-7 / (4 (1e-4 c)^2) <= 6e-3 for c- = 5 (f16: floor 2e-3, c 5.54: less).
-  if (mc.method == "vsm" || mc.method.rfind("evsm", 0) == 0) return 6e-3;
+  if (mc.method == "vsm" || mc.method.name().rfind("evsm", 0) == 0) return 6e-3;
   // MSM reconstructs in double (msm.clh): on the same moments it matches the double reference to
   // rounding, then returns v in float: the Hankel solve amplifies double rounding by ~1/a^2 and
   // which side of a root a receiver falls can differ by that much (measured 1e-5 at unorm16's
   // near-singular z = 0 moments). Its inputs are not the same at bilinear points, though: the
   // float lookup rounds each moment (~2 ulp), and the solve amplifies that by ~1/a. Points are
   // therefore checked for backward error (msm_backward_ok); the 2e-5 applies to grid receivers.
-  if (mc.method.rfind("msm", 0) == 0) return 2e-5;
+  if (mc.method.name().rfind("msm", 0) == 0) return 2e-5;
   // CSM: f = 1/2 + 2 sum_k (...)/c_k with |terms| <= 1/c_k: 2M float roundings of order 1e-7
   // each, plus the recurrence of d (4e-7 k): 1e-6 + 1e-6 M, times scale.
   return (1e-6 + 1e-6 * mc.csm_order) * 2;
@@ -139,7 +139,7 @@ bool msm_backward_ok(const ref::MethodRef& mr, std::vector<double> b, double d, 
 TEST_P(MethodKernels, ReconstructionMatchesReference) {
   const MethodCase mc = GetParam();
   const FilterOptions opt = mc.options();
-  const MethodDesc& m = find_method(mc.method);
+  const MethodDesc& m = *mc.method;
   const ref::MethodRef mr = ref::method_ref(opt);
   const double tol = visibility_tolerance(mc);
   std::vector<HostImage> depths = stress_depths();
@@ -171,7 +171,8 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
     d.push_back(0.5f);
     cl::Buffer ub = to_device(u), vb = to_device(v), db = to_device(d);
     cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, u.size() * sizeof(float));
-    enqueue_reconstruct_points(runtime(), m, opt, pipe.basis(), depth.width, depth.height, ub, vb, db, out, u.size())
+    enqueue_reconstruct_points(runtime(), m, opt, depth.width, depth.height, u.size(), 0, pipe.basis(), nullptr, ub, vb,
+                               db, out)
         .wait();
     const auto got = from_device(out, u.size());
     std::vector<double> b(ch);
@@ -182,7 +183,7 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
       if (std::isfinite(d[i]) && u[i] >= 0 && u[i] <= 1) {
         for (int c = 0; c < ch; ++c) b[c] = ref::bilinear(stored, c, u[i], v[i]);
         want = mr.visibility(b.data(), std::clamp(double(d[i]), 0.0, 1.0));
-        if (mc.method.rfind("msm", 0) == 0 && msm_backward_ok(mr, b, std::clamp(double(d[i]), 0.0, 1.0), got[i]))
+        if (mc.method.name().rfind("msm", 0) == 0 && msm_backward_ok(mr, b, std::clamp(double(d[i]), 0.0, 1.0), got[i]))
           want = got[i];
       }
       if (std::abs(got[i] - want) > tol && std::getenv("SF_TEST_VERBOSE")) {
@@ -200,7 +201,7 @@ TEST_P(MethodKernels, ReconstructionMatchesReference) {
     for (size_t i = 0; i < dg.size(); ++i) dg[i] = std::clamp(depth.data[i] + (unit(rng) - 0.5f) * 0.2f, 0.0f, 1.0f);
     cl::Buffer dgb = to_device(dg);
     cl::Buffer outg(runtime().context(), CL_MEM_READ_WRITE, dg.size() * sizeof(float));
-    enqueue_reconstruct_grid(runtime(), m, opt, pipe.basis(), depth.width, depth.height, dgb, outg).wait();
+    enqueue_reconstruct_grid(runtime(), m, opt, depth.width, depth.height, pipe.basis(), dgb, outg).wait();
     const auto gotg = from_device(outg, dg.size());
     worst = 0;
     for (size_t i = 0; i < dg.size(); ++i) {
@@ -298,7 +299,7 @@ TEST(MethodKernels, BlurredPipelineMatchesReference) {
     // The device blur against the double blur of the device transform's output: relative 1e-5
     // (test_kernels.cpp, Blur) on positive planes; csm's signed planes: absolute 1e-5.
     cl::Buffer unblurred(runtime().context(), CL_MEM_READ_WRITE, stored.data.size() * 4);
-    enqueue_transform(runtime(), pipe.method(), opt, z, depth.width, depth.height, unblurred).wait();
+    enqueue_transform(runtime(), pipe.method(), opt, depth.width, depth.height, z, unblurred).wait();
     ref::Planes raw(depth.width, depth.height, ch);
     const auto rv = from_device(unblurred, raw.data.size());
     std::copy(rv.begin(), rv.end(), raw.data.begin());
@@ -324,7 +325,7 @@ TEST(MethodKernels, BlurredPipelineMatchesReference) {
 TEST(MethodLimits, RefusalsNameTheLimit) {
   auto refused = [](FilterOptions o, const std::string& needle) {
     try {
-      find_method(o.method).validate(o);
+      o.method->validate(o);
       ADD_FAILURE() << o.method << " " << storage_name(o.storage) << " accepted";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
@@ -336,7 +337,7 @@ TEST(MethodLimits, RefusalsNameTheLimit) {
   o.esm.c = 80;
   refused(o, "float16 limit of 22");
   o.esm.c = 20;
-  EXPECT_NO_THROW(find_method("esm").validate(o));
+  EXPECT_NO_THROW(sf::method("esm")->validate(o));
   o.storage = Storage::Unorm8;
   refused(o, "unorm");
   o.method = "evsm4";
@@ -366,7 +367,7 @@ TEST(MethodLimits, RefusalsNameTheLimit) {
   o.schedule.transform_vector_width = 3;
   const cl::Buffer one = to_device(std::vector<float>(1, 0.5f));
   try {
-    enqueue_transform(runtime(), find_method("esm"), o, one, 1, 1, one);
+    enqueue_transform(runtime(), *sf::method("esm"), o, 1, 1, one, one);
     ADD_FAILURE() << "transform vector width 3 accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("1, 4, 8 or 16"), std::string::npos) << e.what();
@@ -381,7 +382,7 @@ TEST(MethodLimits, EvsmExponentsClampToStorage) {
   o.evsm.pos = 80;
   o.evsm.neg = 60;
   auto params = [&] {
-    const auto bytes = find_method("evsm4").pack_params(o);
+    const auto bytes = sf::method("evsm4")->pack_params(o);
     std::vector<float> p(bytes.size() / 4);
     std::memcpy(p.data(), bytes.data(), bytes.size());
     return p;
@@ -395,7 +396,7 @@ TEST(MethodLimits, EvsmExponentsClampToStorage) {
   const HostImage depth = stress_depths()[3];  // 0/1 checkerboard: both extremes
   cl::Buffer z = to_device(depth.data);
   cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * 4 * 2);
-  enqueue_transform(runtime(), find_method("evsm4"), o, z, depth.width, depth.height, basis).wait();
+  enqueue_transform(runtime(), *sf::method("evsm4"), o, depth.width, depth.height, z, basis).wait();
   for (float v : read_stored(basis, depth.texels() * 4, Storage::F16)) ASSERT_TRUE(std::isfinite(v));
 }
 

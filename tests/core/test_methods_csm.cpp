@@ -51,10 +51,10 @@ TEST(CsmUnormCodes, DenseDepthsWithinOneCode) {
     for (int M : {1, 7, 32}) {
       const MethodCase mc{"csm", st, M};
       const FilterOptions opt = mc.options();
-      const MethodDesc& m = find_method("csm");
+      const MethodDesc& m = *sf::method("csm");
       const size_t n = depth.texels() * m.channels(opt);
       cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, n * storage_bytes(st));
-      enqueue_transform(runtime(), m, opt, z, depth.width, depth.height, basis).wait();
+      enqueue_transform(runtime(), m, opt, depth.width, depth.height, z, basis).wait();
       const auto got = read_stored(basis, n, st);
       const auto want = ref::transform(opt, depth);
       const double step = storage_step(0.5, st), tol = 2e-6 + 6e-7 * M + step;

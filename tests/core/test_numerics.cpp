@@ -49,7 +49,7 @@ Outcome run_case(const std::string& name, const FilterOptions& o, const HostImag
   // sm and pcf against their reference (s_ref of the receivers' planes, ref::filter), the
   // others against s_ref of d.
   const std::vector<double> want =
-      find_method(o.method).raw_depth ? ref::filter(o, depth, rx) : ref::s_ref(depth, blur, Lookup::Bilinear, rx);
+      o.method->raw_depth ? ref::filter(o, depth, rx) : ref::s_ref(depth, blur, Lookup::Bilinear, rx);
   Outcome out;
   for (size_t i = 0; i < want.size(); ++i) {
     const float v = r.visibility.data[i];
@@ -60,7 +60,7 @@ Outcome run_case(const std::string& name, const FilterOptions& o, const HostImag
     out.worst = std::max(out.worst, std::abs(double(v) - want[i]));
   }
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::printf("NUMERICS| %s | %s | %.3g | %s.%s\n", name.c_str(), o.method.c_str(), out.bad ? NAN : out.worst,
+  std::printf("NUMERICS| %s | %s | %.3g | %s.%s\n", name.c_str(), o.method.name().c_str(), out.bad ? NAN : out.worst,
               info->test_suite_name(), info->name());
   return out;
 }
@@ -239,7 +239,7 @@ TEST(Numerics, Sat4096) {
   cl::Buffer src = to_device(host);
   cl::Buffer table(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
-  enqueue_sat(runtime(), Storage::F32, src, table, bands, shape).last.wait();
+  enqueue_sat(runtime(), Storage::F32, {}, {}, shape, src, table, bands).wait();
   const auto t = from_device(table, L.table_floats);
   auto S = [&](int x, int y) { return double(t[L.at(0, false, x, y)]) + double(t[L.at(0, true, x, y)]); };
   struct Box {

@@ -1,4 +1,4 @@
-// The on-disk program cache cannot hurt (host/src/program_cache.hpp): an entry that does not
+// The on-disk program cache cannot hurt (host/src/runtime/program_cache.hpp): an entry that does not
 // verify (truncated, zeroed, of another build, swapped with another entry) is discarded with a
 // note and the program rebuilt, never loaded.
 #include <gtest/gtest.h>

@@ -31,7 +31,7 @@ std::vector<ref::Planes> device_chain(const ref::Planes& in, Reduce op) {
   const MipLayout L = mip_layout(in.width, in.height, in.channels);
   cl::Buffer level0 = to_device(to_float(in));
   cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(L.chain_values, 1) * sizeof(float));
-  enqueue_pyramid(runtime(), op, Storage::F32, level0, chain, {in.width, in.height, in.channels, 4}).last.wait();
+  enqueue_pyramid(runtime(), op, Storage::F32, {}, {in.width, in.height, in.channels, 4}, level0, chain).wait();
   const auto host = from_device(chain, std::max<size_t>(L.chain_values, 1));
   std::vector<ref::Planes> out{in};
   for (int k = 1; k <= L.top(); ++k) {
@@ -120,9 +120,9 @@ TEST_P(PyramidStorage, EveryLevelMatchesTheReference) {
   for (int op : {0, 1, 2}) {
     cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE,
                      std::max<size_t>(L.chain_values, 1) * storage_bytes(storage));
-    enqueue_pyramid(runtime(), static_cast<Reduce>(op), storage, stored_buffer(img), chain,
-                    {s.w, s.h, s.channels, storage_bytes(storage)})
-        .last.wait();
+    enqueue_pyramid(runtime(), static_cast<Reduce>(op), storage, {}, {s.w, s.h, s.channels, storage_bytes(storage)},
+                    stored_buffer(img), chain)
+        .wait();
     const auto got = read_stored(chain, std::max<size_t>(L.chain_values, 1), storage);
     const auto want = ref::mip_chain(in, op);
     ASSERT_EQ(int(want.size()) - 1, L.top());

@@ -202,7 +202,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       separate.kind = Lookup::Mips;
       separate.footprint = f;
       separate.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(chain_values, 1) * vb);
-      enqueue_pyramid(runtime(), Reduce::Mean, storage, level0, separate.chain, shape).last.wait();
+      enqueue_pyramid(runtime(), Reduce::Mean, storage, {}, shape, level0, separate.chain).wait();
       const size_t off = (shape.bytes() + align - 1) / align * align;
       cl::Buffer joined(runtime().context(), CL_MEM_READ_WRITE, off + (chain_values + 1) * vb);
       q.enqueueCopyBuffer(level0, joined, 0, 0, shape.bytes());
@@ -217,8 +217,8 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
       if (w * h > 1) {  // a table of another chain's size is refused
         LookupBuffers wrong = one;
         wrong.level_offsets = cl::Buffer(runtime().context(), CL_MEM_READ_ONLY, sizeof(cl_int));
-        EXPECT_THROW(enqueue_reconstruct_points(runtime(), find_method(method), opt, joined, w, h, u, v, d, u,
-                                                rx.u.size(), nullptr, &wrong),
+        EXPECT_THROW(enqueue_reconstruct_points(runtime(), *sf::method(method), opt, w, h, rx.u.size(), 0, joined,
+                                                &wrong, u, v, d, u),
                      InputError);
       }
       DeviceReceivers drx;
@@ -230,9 +230,9 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
         opt.schedule.reconstruct_vector_width = width;
         cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4),
             b(runtime().context(), CL_MEM_READ_WRITE, rx.u.size() * 4);
-        const MethodDesc& m = find_method(method);
-        enqueue_reconstruct_points(runtime(), m, opt, level0, w, h, u, v, d, a, rx.u.size(), nullptr, &separate);
-        enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, b, rx.u.size(), nullptr, &one);
+        const MethodDesc& m = *sf::method(method);
+        enqueue_reconstruct_points(runtime(), m, opt, w, h, rx.u.size(), 0, level0, &separate, u, v, d, a);
+        enqueue_reconstruct_points(runtime(), m, opt, w, h, rx.u.size(), 0, joined, &one, u, v, d, b);
         const auto va = from_device(a, rx.u.size()), vj = from_device(b, rx.u.size());
         auto same_bits = [&](const std::vector<float>& got, const char* path) {
           for (size_t i = 0; i < got.size(); ++i) {
@@ -242,7 +242,7 @@ TEST(ReconstructWidth, JoinedMipLayoutMatchesSeparate) {
                             << " width " << width << " receiver " << i << ": " << got[i] << " vs " << vj[i];
           }
         };
-        enqueue_reconstruct_points(runtime(), m, opt, joined, w, h, u, v, d, a, rx.u.size(), nullptr, &prebuilt);
+        enqueue_reconstruct_points(runtime(), m, opt, w, h, rx.u.size(), 0, joined, &prebuilt, u, v, d, a);
         same_bits(from_device(a, rx.u.size()), "prebuilt table");
         if (width == pipe.options().schedule.reconstruct_vector_width) {
           pipe.reconstruct(drx, a).wait();

@@ -25,8 +25,7 @@ DeviceSat device_sat(const cl::Buffer& src, const ImageShape& shape, Storage sto
   s.layout = sat_layout(shape);
   s.table = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, s.layout.table_floats * sizeof(float));
   cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, s.layout.band_floats * sizeof(float));
-  for (int i = 0; i < builds; ++i)
-    enqueue_sat(runtime(), storage, src, s.table, bands, shape, nullptr, build).last.wait();
+  for (int i = 0; i < builds; ++i) enqueue_sat(runtime(), storage, build, {}, shape, src, s.table, bands).wait();
   return s;
 }
 
@@ -203,7 +202,7 @@ void expect_box_means_within_bound(int n, int boxes, const char* label) {
   lk.sat = sat.table;
   lk.footprint = to_device(f);
   cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, boxes * sizeof(float));
-  enqueue_lookup_points(runtime(), Storage::F32, lk, img, shape, to_device(u), to_device(v), out, boxes).wait();
+  enqueue_lookup_points(runtime(), Storage::F32, shape, boxes, lk, img, to_device(u), to_device(v), out).wait();
   const auto got = from_device(out, boxes);
 
   ref::Planes plane(n, n, 1);  // the reference reads the same float values
@@ -279,7 +278,7 @@ TEST(SatStorage, BoxMeansOfStoredBasesMatchBruteForce) {
     lk.sat = sat.table;
     lk.footprint = to_device(f);
     cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, boxes * sizeof(float));
-    enqueue_lookup_points(runtime(), storage, lk, level0, shape, to_device(u), to_device(v), out, boxes).wait();
+    enqueue_lookup_points(runtime(), storage, shape, boxes, lk, level0, to_device(u), to_device(v), out).wait();
     const auto got = from_device(out, boxes);
     ref::Planes plane(n, n, 1);
     for (size_t i = 0; i < img.values.size(); ++i) plane.data[i] = img.values[i];

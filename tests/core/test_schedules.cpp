@@ -1,4 +1,4 @@
-// The launch-shape families (docs/gpu.md, "Launch shapes"; host/src/schedule_defaults.cpp): the
+// The launch-shape families (docs/gpu.md, "Launch shapes"; host/src/runtime/schedule_defaults.cpp): the
 // Gpu family's blur, SAT and pyramid forced on the test device (PoCL, a CPU) against the scalar
 // reference with the tolerances of the Cpu family's tests (test_kernels.cpp, test_sat.cpp,
 // test_pyramid.cpp), on sizes that are not multiples of the work-groups (partial groups), and
@@ -93,8 +93,7 @@ TEST_P(GpuBlur, MatchesReferenceAndTheCpuFamily) {
   cl::Buffer gpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
   const BlurOptions blur{bc.radius, 0.0f};
-  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), src, tmp, gpu, shape, nullptr, bc.storage)
-      .cols.wait();
+  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), bc.storage, shape, src, tmp, gpu).wait();
   const auto got = read_stored(gpu, n, bc.storage);
   const auto want = ref::blur(in, bc.radius, 0.0);
   const double e = 1.2e-7 * (bc.radius + 2) * maxabs;
@@ -113,12 +112,11 @@ TEST_P(GpuBlur, MatchesReferenceAndTheCpuFamily) {
     // the same codes (BlurStorage.SchedulesAreBitIdentical).
     ScheduleOptions cpu_sched = family(ScheduleFamily::Cpu);
     cpu_sched.blur_rows = 16;
-    enqueue_blur(runtime(), blur, cpu_sched, src, tmp, cpu, shape, nullptr, bc.storage).cols.wait();
+    enqueue_blur(runtime(), blur, cpu_sched, bc.storage, shape, src, tmp, cpu).wait();
     EXPECT_EQ(raw_from(gpu, shape.bytes()), raw_from(cpu, shape.bytes())) << "Gpu and Cpu families differ";
   }
   cl::Buffer a = stored_buffer(img);
-  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), a, tmp, a, shape, nullptr, bc.storage)
-      .cols.wait();
+  enqueue_blur(runtime(), blur, family(ScheduleFamily::Gpu, bc.work_group), bc.storage, shape, a, tmp, a).wait();
   EXPECT_EQ(raw_from(a, shape.bytes()), raw_from(gpu, shape.bytes())) << "in place";
 }
 
@@ -177,9 +175,8 @@ TEST_P(GpuSat, TableMatchesTheReference) {
   build.accumulator = sc.accumulator;
   cl::Buffer src = stored_buffer(img);
   for (int i = 0; i < 2; ++i)
-    enqueue_sat(runtime(), sc.storage, src, table, bands, shape, nullptr, build,
-                family(ScheduleFamily::Gpu, sc.work_group))
-        .last.wait();
+    enqueue_sat(runtime(), sc.storage, build, family(ScheduleFamily::Gpu, sc.work_group), shape, src, table, bands)
+        .wait();
   // The table's entries (not the rows' padding, which no build writes).
   auto entries = [&](const cl::Buffer& t) {
     const auto all = from_device(t, L.table_floats);
@@ -203,9 +200,8 @@ TEST_P(GpuSat, TableMatchesTheReference) {
   expl.accumulator = sc.accumulator;
   expl.schedule = SatSchedule::WorkGroupScan;
   cl::Buffer table2(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
-  enqueue_sat(runtime(), sc.storage, src, table2, bands, shape, nullptr, expl,
-              family(ScheduleFamily::Auto, sc.work_group))
-      .last.wait();
+  enqueue_sat(runtime(), sc.storage, expl, family(ScheduleFamily::Auto, sc.work_group), shape, src, table2, bands)
+      .wait();
   EXPECT_EQ(entries(table2), got);
 }
 
@@ -256,9 +252,9 @@ TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
   for (int op : {0, 1, 2}) {
     if (!(pc.ops >> op & 1)) continue;
     cl::Buffer chain(runtime().context(), CL_MEM_READ_WRITE, values * storage_bytes(pc.storage));
-    enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, chain, shape, nullptr,
-                    family(ScheduleFamily::Gpu, pc.work_group))
-        .last.wait();
+    enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, family(ScheduleFamily::Gpu, pc.work_group), shape,
+                    level0, chain)
+        .wait();
     const auto got = read_stored(chain, values, pc.storage);
     const auto want = ref::mip_chain(in, op);
     ASSERT_EQ(int(want.size()) - 1, L.top());
@@ -277,9 +273,8 @@ TEST_P(GpuPyramid, EveryLevelMatchesTheReference) {
       }
     if (pc.storage == Storage::F32 && L.top() > 0) {
       cl::Buffer cpu(runtime().context(), CL_MEM_READ_WRITE, values * sizeof(float));
-      enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, level0, cpu, shape, nullptr,
-                      family(ScheduleFamily::Cpu))
-          .last.wait();
+      enqueue_pyramid(runtime(), static_cast<Reduce>(op), pc.storage, family(ScheduleFamily::Cpu), shape, level0, cpu)
+          .wait();
       EXPECT_EQ(from_device(cpu, values), got) << "op " << op << ": Gpu and Cpu families differ";
     }
   }

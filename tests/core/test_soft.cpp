@@ -1,4 +1,4 @@
-// Soft shadows (kernels/soft/*.cl, host/src/soft_filter.cpp; docs/soft.md): kernels against the
+// Soft shadows (kernels/soft/*.cl, host/src/soft/soft_filter.cpp; docs/soft.md): kernels against the
 // scalar reference, cssm's average blocker depth against the brute-force mean, and the
 // parallel-planes penumbra width of every method.
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 #include "scene_generate.hpp"
 #include "scene_render.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
 #include "shadowfilter/soft.hpp"
 #include "soft_reference.hpp"
 
@@ -73,9 +74,13 @@ std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, cons
   cl::Buffer fp = rx.has_footprint ? to_device(rx.f) : cl::Buffer();
   cl::Buffer out = to_device(std::vector<float>(rx.d.size(), -1.0f));
   cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
-  cl::Event e = f.prepare(dz);
+  cl::Event e = f.prefilter(dz);
   EventList after{e};
-  f.run(u, v, d, fp, out, rx.d.size(), &after, zavg ? &za : nullptr);
+  const DeviceReceivers points{false, rx.d.size(), u, v, d, fp};
+  if (zavg)
+    f.reconstruct(points, out, za, &after);
+  else
+    f.reconstruct(points, out, &after);
   if (zavg) *zavg = from_device(za, rx.d.size());
   return from_device(out, rx.d.size());
 }
@@ -120,8 +125,8 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
     o.light.far_plane = 6.0;
     o.light.fov_degrees = 60.0;
   }
-  o.cssm_lookup = c.lookup;
-  o.cssm_order = c.order;
+  o.cssm.lookup = c.lookup;
+  o.cssm.order = c.order;
   const std::vector<float> got = run_device(o, depth, rx);
   const ref::Planes P = planes_of(depth);
   std::vector<ref::Planes> chain;
@@ -199,8 +204,8 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
       sub.has_footprint = rx.has_footprint;
       const double size = 0.2, extent = 8.56;  // the bundled maps are ~8.5 units wide
       SoftOptions o = ortho_options(SoftMethod::Cssm, size, extent);
-      o.cssm_order = M;
-      o.cssm_lookup = Lookup::Sat;
+      o.cssm.order = M;
+      o.cssm.lookup = Lookup::Sat;
       o.bias = 0.0f;
       std::vector<float> zavg;
       run_device(o, depth, sub, &zavg);
@@ -291,8 +296,8 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
   const Receivers rx = receivers_of(rximg);
   SoftOptions o;
   o.method = c.method;
-  o.cssm_lookup = c.lookup;
-  o.cssm_order = 16;
+  o.cssm.lookup = c.lookup;
+  o.cssm.order = 16;
   o.light.size = L;
   o.light.perspective = c.perspective;
   o.light.near_plane = setup.light.near_plane;
@@ -399,8 +404,8 @@ TEST(SoftCssm, PerspectiveSceneAgainstRayTracedReference) {
     SoftOptions o;
     o.method = m;
     o.receiver_plane.enabled = plane;
-    o.cssm_order = order;
-    o.cssm_lookup = lookup;
+    o.cssm.order = order;
+    o.cssm.lookup = lookup;
     o.light = light;
     const std::vector<float> vis = run_device(o, depth, rx);
     std::vector<double> err;
@@ -461,6 +466,33 @@ TEST(SoftLights, WeightedCombination) {
     differ += std::abs(ra.visibility.data[i] - rb.visibility.data[i]) > 0.01;
   }
   EXPECT_GT(differ, 20u) << "the two lights must give different shadows";
+}
+
+// A technique is selected by value; its name is looked up once, at the boundary, and an unknown
+// name is refused with the known ones.
+TEST(SoftOptionsApi, MethodNamesRoundTripAndUnknownIsRefused) {
+  for (SoftMethod m : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved})
+    EXPECT_EQ(find_soft_method(soft_method_name(m)), m);
+  try {
+    find_soft_method("cssm2");
+    FAIL() << "an unknown soft method must throw";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "unknown soft method 'cssm2' (known: pcss, cssm, ssmm, ssmm-improved)");
+  }
+  // The one receivers type: SoftFilter reads its map part as points; grid receivers are refused.
+  SoftFilter filter(runtime_ptr(), SoftOptions{}, 8, 8);
+  DeviceReceivers grid;
+  grid.grid = true;
+  grid.count = 64;
+  grid.d = to_device(std::vector<float>(64, 0.5f));
+  EXPECT_THROW(filter.reconstruct(grid, grid.d), InputError);
+  SoftOptions o;
+  o.method = SoftMethod::Cssm;
+  o.cssm.order = 33;
+  EXPECT_THROW(validate(o), InputError);
+  o.cssm.order = 4;
+  o.ssmm.n = 0;
+  EXPECT_THROW(validate(o), InputError);
 }
 
 // Degenerate input: every texel at the receiver depth (1 - s_f = 0 for cssm up to ringing), a

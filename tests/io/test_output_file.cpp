@@ -1,4 +1,4 @@
-// The one writer (host/io/output_file.hpp, host/src/atomic_file.hpp): outputs appear whole or not
+// The one writer (host/io/output_file.hpp, host/src/runtime/atomic_file.hpp): outputs appear whole or not
 // at all, a failed write names the file and the reason and leaves the earlier file, and no output
 // replaces an input, whatever path names it; every command goes through it.
 #include <gtest/gtest.h>

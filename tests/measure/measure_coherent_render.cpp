@@ -53,7 +53,7 @@ TEST(CoherentRender, Figures) {
   const double converged_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%dx%d, %zu pixels on the object, stack %dx%d views M=%d; converged: Embree %d samples, %.1f s\n", size,
               size, g.hits, l.views_theta, l.views_phi, l.resolution, s.samples, converged_s);
-  render_csm(runtime(), file.stack, g, env, s);  // builds the program once, outside the timings
+  render_coherent(runtime(), file.stack, g, env, s);  // builds the program once, outside the timings
   std::printf(
       "| samples | CSM s | CSM M samples/s | Embree s | Embree M samples/s | speed-up | "
       "RMSE CSM | RMSE Embree (same samples) | RMSE CSM vs Embree |\n|---|---|---|---|---|---|---|---|---|\n");
@@ -64,7 +64,7 @@ TEST(CoherentRender, Figures) {
     HostImage csm, traced;
     for (int run = 0; run < 3; ++run) {  // interleaved: both see the same machine load
       double k = 0.0;
-      csm = render_csm(runtime(), file.stack, g, env, s, &k);
+      csm = render_coherent(runtime(), file.stack, g, env, s, &k);
       tc.push_back(k);
       const auto t1 = std::chrono::steady_clock::now();
       traced = render_traced(tracer, g, env, s);

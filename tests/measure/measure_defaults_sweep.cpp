@@ -160,8 +160,8 @@ std::vector<SoftSetting> soft_sweep(SoftMethod m) {
     // out by soft_candidates(). Each cssm candidate builds its own basis and SAT, the costliest
     // step of the sweep at 2048, so the grid is kept small.
     return cross(axis<O>("offset", {d.offset, 1.5 * d.offset, 2 * d.offset, 3 * d.offset},
-                         [](O& o, double v) { o.cssm_offset = float(v); }),
-                 axis<O>("scale", {1.25, 1.5, 2, 3, 4}, [](O& o, double v) { o.cssm_scale = float(v); }));
+                         [](O& o, double v) { o.cssm.offset = float(v); }),
+                 axis<O>("scale", {1.25, 1.5, 2, 3, 4}, [](O& o, double v) { o.cssm.scale = float(v); }));
   }
   // pcss, ssmm: against the receiver's plane with a constant and the slope-scaled bias, or
   // against d with a constant bias alone.
@@ -184,7 +184,7 @@ std::vector<SoftSetting> soft_sweep(SoftMethod m) {
 std::string fingerprint(const FilterOptions& o) {
   std::ostringstream s;
   s.precision(9);
-  for (const MethodParameter& p : find_method(o.method).parameter_values(o)) s << p.key << '=' << p.value << ' ';
+  for (const MethodParameter& p : o.method->parameter_values(o)) s << p.key << '=' << p.value << ' ';
   s << "bias=" << depth_bias(o) << " plane=" << o.receiver_plane.enabled << ',' << o.receiver_plane.max_slope << ','
     << o.receiver_plane.slope_bias << " classify=" << int(classify_mode(o)) << ',' << o.esm_classify.zmax_offset << ','
     << o.esm_classify.threshold_eps << " storage=" << int(o.storage) << " blur=" << o.blur.radius << ',' << o.blur.sigma
@@ -198,9 +198,9 @@ std::string fingerprint(const SoftOptions& o) {
   const CssmParams c = cssm_params(o);
   s << soft_method_name(o.method) << " bias=" << o.bias << " plane=" << o.receiver_plane.enabled << ','
     << o.receiver_plane.max_slope << ',' << o.receiver_plane.slope_bias << " max_width=" << o.max_width
-    << " ssmm_n=" << o.ssmm_n << " cssm=" << o.cssm_order << ',' << int(o.cssm_lookup) << ',' << c.offset << ','
+    << " ssmm_n=" << o.ssmm.n << " cssm=" << o.cssm.order << ',' << int(o.cssm.lookup) << ',' << c.offset << ','
     << c.z_offset << ',' << c.scale << ',' << c.width_scale << ',' << c.sharpen_a << ',' << c.sharpen_b << ','
-    << o.cssm_normalise << ',' << o.cssm_min_den << ',' << o.cssm_contact;
+    << o.cssm.normalise << ',' << o.cssm.min_den << ',' << o.cssm.contact;
   return s.str();
 }
 
@@ -377,8 +377,8 @@ void run_group(const DeviceScene& ds, const MethodDesc& m, const std::vector<Fil
   take(group.front(), ds.read(pipe.reconstruct(ds.rx, ds.visibility, &after)));
   const LookupBuffers lookup = pipe.lookup_tables();
   for (size_t k = 1; k < group.size(); ++k) {
-    const cl::Event done = enqueue_reconstruct_points(runtime(), m, group[k].options, pipe.basis(), w, h, ds.u, ds.v,
-                                                      ds.d, ds.visibility, ds.rx.count, &after, &lookup, ds.rx.row);
+    const cl::Event done = enqueue_reconstruct_points(runtime(), m, group[k].options, w, h, ds.rx.count, ds.rx.row,
+                                                      pipe.basis(), &lookup, ds.u, ds.v, ds.d, ds.visibility, &after);
     take(group[k], ds.read(done));
   }
 }
@@ -386,9 +386,11 @@ void run_group(const DeviceScene& ds, const MethodDesc& m, const std::vector<Fil
 std::vector<float> run_soft(const DeviceScene& ds, SoftOptions o) {
   o.light = ds.light;
   SoftFilter filter(runtime_ptr(), o, ds.scene.depth.width, ds.scene.depth.height);
-  const EventList after{filter.prepare(ds.depth)};
+  const EventList after{filter.prefilter(ds.depth)};
   // The receiver image's rows give each receiver's plane, as soft_filter() passes them.
-  return ds.read(filter.run(ds.u, ds.v, ds.d, ds.f, ds.visibility, ds.rx.count, &after, nullptr, ds.rx.row));
+  DeviceReceivers rx = ds.rx;
+  rx.f = ds.f;
+  return ds.read(filter.reconstruct(rx, ds.visibility, &after));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

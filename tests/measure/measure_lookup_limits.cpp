@@ -83,22 +83,22 @@ Receivers limit_receivers(const HostImage& m, int n, unsigned seed) {
 // reconstruction (radius 0), to measure past the limit.
 std::vector<float> sat_unchecked(const FilterOptions& o, const HostImage& m, const Receivers& rx) {
   Runtime& rt = runtime();
-  const MethodDesc& method = find_method(o.method);
+  const MethodDesc& method = *o.method;
   const ImageShape shape{m.width, m.height, method.channels(o), storage_bytes(o.storage)};
   cl::Buffer depth = to_device(m.data);
   cl::Buffer basis(rt.context(), CL_MEM_READ_WRITE, shape.bytes());
-  enqueue_transform(rt, method, o, depth, m.width, m.height, basis).wait();
+  enqueue_transform(rt, method, o, m.width, m.height, depth, basis).wait();
   const SatLayout L = sat_layout(shape);
   LookupBuffers lk;
   lk.kind = Lookup::Sat;
   lk.sat = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, L.table_floats * sizeof(float));
   cl::Buffer bands(rt.context(), CL_MEM_READ_WRITE, L.band_floats * sizeof(float));
-  enqueue_sat(rt, o.storage, basis, lk.sat, bands, shape).last.wait();
+  enqueue_sat(rt, o.storage, {}, {}, shape, basis, lk.sat, bands).wait();
   lk.footprint = to_device(rx.f);
   const size_t n = rx.count();
   cl::Buffer vis(rt.context(), CL_MEM_READ_WRITE, n * sizeof(float));
-  enqueue_reconstruct_points(rt, method, o, basis, m.width, m.height, to_device(rx.u), to_device(rx.v), to_device(rx.d),
-                             vis, n, nullptr, &lk)
+  enqueue_reconstruct_points(rt, method, o, m.width, m.height, n, 0, basis, &lk, to_device(rx.u), to_device(rx.v),
+                             to_device(rx.d), vis)
       .wait();
   return from_device(vis, n);
 }
@@ -275,7 +275,8 @@ TEST(LookupLimits, EveryCombination) {
   // SF_LIMITS_METHODS="msm csm" measures only those methods.
   const char* only = std::getenv("SF_LIMITS_METHODS");
   for (const Variant& var : variants) {
-    if (only && (" " + std::string(only) + " ").find(" " + var.options.method + " ") == std::string::npos) continue;
+    if (only && (" " + std::string(only) + " ").find(" " + var.options.method.name() + " ") == std::string::npos)
+      continue;
     for (Lookup kind : {Lookup::Bilinear, Lookup::Mips, Lookup::Sat}) {
       FilterOptions o = var.options;
       o.lookup.kind = kind;
@@ -301,8 +302,8 @@ TEST(LookupLimits, EveryCombination) {
             if (!wide && best_hi >= 0) break;
           }
           if (best_hi < 0) {
-            std::printf("LIMITS|table|%s|%s|%s|%s|refused at every range: %s\n", o.method.c_str(), var.label.c_str(),
-                        lookup_name(kind), shape, why.c_str());
+            std::printf("LIMITS|table|%s|%s|%s|%s|refused at every range: %s\n", o.method.name().c_str(),
+                        var.label.c_str(), lookup_name(kind), shape, why.c_str());
             continue;
           }
           lo = best_lo;
@@ -316,19 +317,19 @@ TEST(LookupLimits, EveryCombination) {
         const std::vector<float> got = filter(runtime_ptr(), o, m, rx).visibility.data;
         const Errors twin = errors(got, ref::filter(o, m, rx));
         // sm is the unfiltered test: its s_ref has the bilinear weights alone.
-        const bool filtered = find_method(o.method).filtered;
+        const bool filtered = o.method->filtered;
         const Errors sref =
             errors(got, ref::s_ref(m, filtered ? o.blur : BlurOptions{}, filtered ? kind : Lookup::Bilinear, rx));
         std::string back = "-";
-        if (!find_method(o.method).raw_depth) {
+        if (!o.method->raw_depth) {
           const Backward b = backward(o, m, rx, got, 4.0);
           char t[96];
           std::snprintf(t, sizeof t, "outside %.2f%% by <= %.2e", 100.0 * b.outside, b.worst);
           back = t;
         }
         std::printf("LIMITS|table|%s|%s|%s|%s%s|twin worst %.2e p99 %.2e|backward %s|s_ref worst %.3f p99 %.3f\n",
-                    o.method.c_str(), var.label.c_str(), lookup_name(kind), shape, note.c_str(), twin.worst, twin.p99,
-                    back.c_str(), sref.worst, sref.p99);
+                    o.method.name().c_str(), var.label.c_str(), lookup_name(kind), shape, note.c_str(), twin.worst,
+                    twin.p99, back.c_str(), sref.worst, sref.p99);
         std::fflush(stdout);
       }
     }

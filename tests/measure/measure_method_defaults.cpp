@@ -6,7 +6,7 @@ namespace sf::test {
 using namespace csm_scenes;
 namespace {
 
-// The measurement behind the defaults in host/src/methods.cpp (docs/methods.md). Per order and
+// The measurement behind the defaults in host/src/methods/ (docs/methods.md). Per order and
 // scale, the least offset (on a grid) that keeps every lit receiver of both scenes
 // >= 1 - 1/255 (more offset only lights more of the shadow), with its RMSE / p99 / mean error per
 // scene. The defaults are one of these pairs per order, chosen jointly (docs/methods.md): the

@@ -42,6 +42,12 @@ Scene load(const std::string& dir) {
 struct Device {
   cl::Buffer depth, u, v, d, f, out;
   size_t n = 0;
+  DeviceReceivers rx() const {
+    DeviceReceivers r;
+    r.count = n;
+    r.u = u, r.v = v, r.d = d, r.f = f;
+    return r;
+  }
 };
 Device upload(const Scene& s) {
   Device D;
@@ -60,9 +66,9 @@ double time_method(SoftFilter& F, const Device& D, int runs = 3) {
   std::vector<double> t;
   for (int r = 0; r <= runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    cl::Event e = F.prepare(D.depth);
+    cl::Event e = F.prefilter(D.depth);
     EventList after{e};
-    F.run(D.u, D.v, D.d, D.f, D.out, D.n, &after);
+    F.reconstruct(D.rx(), D.out, &after);
     runtime().queue().finish();
     if (r) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -108,15 +114,15 @@ TEST(SoftFigures, QualityAndTime) {
       if (const char* only = std::getenv("SF_SOFT_ONLY"); only && std::string(only) != V.label) continue;
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
-      if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm_offset = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm_scale = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_ZOFFSET")) o.cssm_z_offset = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm_width_scale = float(std::atof(e));
-      if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm_contact = std::atoi(e) != 0;
-      if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm_sharpen_a = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_OFFSET")) o.cssm.offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SCALE")) o.cssm.scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_ZOFFSET")) o.cssm.z_offset = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm.width_scale = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm.contact = std::atoi(e) != 0;
+      if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm.sharpen_a = float(std::atof(e));
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       const double sec = time_method(F, D, 1);
       const std::vector<float> vis = from_device(D.out, D.n);
@@ -172,16 +178,16 @@ TEST(SoftFigures, CssmSweep) {
       const Scene& s = scenes[k];
       SoftOptions o;
       o.method = SoftMethod::Cssm;
-      o.cssm_order = M;
-      o.cssm_lookup = lk == 's' ? Lookup::Sat : Lookup::Mips;
-      o.cssm_offset = off;
-      o.cssm_scale = sc;
-      o.cssm_z_offset = zo;
-      o.cssm_width_scale = ws;
-      o.cssm_contact = contact != 0;
-      o.cssm_sharpen_a = A;
-      o.cssm_sharpen_b = B;
-      o.cssm_normalise = norm != 0;
+      o.cssm.order = M;
+      o.cssm.lookup = lk == 's' ? Lookup::Sat : Lookup::Mips;
+      o.cssm.offset = off;
+      o.cssm.scale = sc;
+      o.cssm.z_offset = zo;
+      o.cssm.width_scale = ws;
+      o.cssm.contact = contact != 0;
+      o.cssm.sharpen_a = A;
+      o.cssm.sharpen_b = B;
+      o.cssm.normalise = norm != 0;
       o.light = s.light;
       try {
         validate(o);
@@ -190,9 +196,9 @@ TEST(SoftFigures, CssmSweep) {
         break;
       }
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
-      cl::Event ev = F.prepare(dev[k].depth);
+      cl::Event ev = F.prefilter(dev[k].depth);
       EventList after{ev};
-      F.run(dev[k].u, dev[k].v, dev[k].d, dev[k].f, dev[k].out, dev[k].n, &after);
+      F.reconstruct(dev[k].rx(), dev[k].out, &after);
       const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
       std::vector<double> err;
       double se = 0;
@@ -231,8 +237,8 @@ TEST(SoftFigures, CostAgainstLightSize) {
     for (double L : {0.05, 0.1, 0.2, 0.4, 0.8}) {
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
       o.light.size = L;
       if (V.m == SoftMethod::Cssm && V.order == 16 && V.lookup == Lookup::Sat) continue;  // minutes
@@ -260,8 +266,8 @@ TEST(SoftFigures, LightCount) {
     for (int N : {1, 10, 20, 40}) {
       SoftOptions o;
       o.method = V.m;
-      o.cssm_order = V.order;
-      o.cssm_lookup = V.lookup;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
       o.light = s.light;
       std::vector<std::unique_ptr<SoftFilter>> F;
       std::vector<Device> D;
@@ -271,9 +277,9 @@ TEST(SoftFigures, LightCount) {
       }
       auto frame = [&] {
         for (int i = 0; i < N; ++i) {
-          cl::Event e = F[i]->prepare(D[i].depth);
+          cl::Event e = F[i]->prefilter(D[i].depth);
           EventList after{e};
-          F[i]->run(D[i].u, D[i].v, D[i].d, D[i].f, D[i].out, D[i].n, &after);
+          F[i]->reconstruct(D[i].rx(), D[i].out, &after);
         }
         runtime().queue().finish();
       };

@@ -204,10 +204,10 @@ Agreement agreement_with_embree(const std::string& object_name, size_t queries, 
     if (sf::scene::dot(snapped, hit->normal) <= 0.0) continue;
     const bool embree_lit = !tracer.occluded({p, snapped}, 1e-4 * l.radius, 4.0 * l.radius);
     const sf::scene::Vec3 q = p + (offset_texels * 2.0 * l.radius / l.resolution) * hit->normal;
-    const bool csm_lit = sf::ref::coherent::visibility(c, pos, {q.x, q.y, q.z}, {light.x, light.y, light.z}) > 0.5;
-    agree += embree_lit == csm_lit;
+    const bool maps_lit = sf::ref::coherent::visibility(c, pos, {q.x, q.y, q.z}, {light.x, light.y, light.z}) > 0.5;
+    agree += embree_lit == maps_lit;
     blocked += !embree_lit;
-    found += !embree_lit && !csm_lit;
+    found += !embree_lit && !maps_lit;
     ++total;
   }
   return {double(agree) / double(total), double(blocked) / double(total),

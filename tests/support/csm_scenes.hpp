@@ -127,7 +127,7 @@ struct CsmRun {
     FilterOptions o = opt;
     o.csm.offset = offset;
     o.csm.scale = scale;
-    enqueue_reconstruct_grid(runtime(), pipe->method(), o, pipe->basis(), scene.depth.width, scene.depth.height, d, vis)
+    enqueue_reconstruct_grid(runtime(), pipe->method(), o, scene.depth.width, scene.depth.height, pipe->basis(), d, vis)
         .wait();
     return from_device(vis, scene.rx.count());
   }

@@ -1,5 +1,5 @@
 // Direct lighting with coherent shadow maps (docs/coherent_render.md): the
-// environment map's sampling distribution, the white furnace, the CSM render against the
+// environment map's sampling distribution, the white furnace, the coherent maps render against the
 // ray-traced render of the same samples, convergence, and the command's refusals.
 #include <gtest/gtest.h>
 
@@ -31,7 +31,7 @@ namespace co = sf::coherent;
 constexpr double kPi = 3.14159265358979323846;
 
 // Two disjoint spheres, a small one floating over a big one: self-shadowing of the object that
-// the CSM must resolve (a single sphere only shadows itself below its tangent planes).
+// the coherent maps must resolve (a single sphere only shadows itself below its tangent planes).
 struct Ball {
   Vec3 c;
   double r;
@@ -229,7 +229,7 @@ TEST(CoherentRender, SyntheticSkyIsDeterministicAndBundled) {
 // Uniform env = 1, albedo 1, a convex object: every point sees radiance 1. Per sample the
 // estimate is 4 cos (or 0 below the horizon): sd 1.29 a sample, at 64 stratified samples at
 // most 0.16 a pixel. Bounds: the mean over the object within 0.01 of 1, ray-traced and with the
-// CSM (whose grazing samples snap to a view up to half a cell away and may read as blocked: a
+// coherent maps (whose grazing samples snap to a view up to half a cell away and may read as blocked: a
 // bias, measured 0.0005 for 32 x 32 views), every ray-traced pixel within 0.5.
 TEST(CoherentRender, WhiteFurnace) {
   SceneGeometry ball;
@@ -240,34 +240,34 @@ TEST(CoherentRender, WhiteFurnace) {
   RenderSettings s;
   s.samples = 64;
   const HostImage traced = render_traced(tracer, g, env, s);
-  const HostImage csm = render_csm(runtime(), ball_stack(), g, env, s);
+  const HostImage maps = render_coherent(runtime(), ball_stack(), g, env, s);
   double mean_t = 0.0, mean_c = 0.0, worst = 0.0;
   for (size_t i = 0; i < g.pixels(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(csm.data[3 * i + c]));
+      ASSERT_TRUE(std::isfinite(maps.data[3 * i + c]));
       if (g.position[4 * i + 3] == 0.0f) {  // background: the environment itself
         EXPECT_EQ(traced.data[3 * i + c], 1.0f);
-        EXPECT_EQ(csm.data[3 * i + c], 1.0f);
+        EXPECT_EQ(maps.data[3 * i + c], 1.0f);
       }
     }
     if (g.position[4 * i + 3] == 0.0f) continue;
     mean_t += traced.data[3 * i];
-    mean_c += csm.data[3 * i];
+    mean_c += maps.data[3 * i];
     worst = std::max(worst, std::fabs(traced.data[3 * i] - 1.0));
   }
   ASSERT_GT(g.hits, 200u);
   mean_t /= double(g.hits);
   mean_c /= double(g.hits);
-  std::printf("furnace: mean traced %.4f, csm %.4f, worst traced pixel %.3f off\n", mean_t, mean_c, worst);
+  std::printf("furnace: mean traced %.4f, coherent %.4f, worst traced pixel %.3f off\n", mean_t, mean_c, worst);
   EXPECT_NEAR(mean_t, 1.0, 0.01);
   EXPECT_LT(worst, 0.5);
   EXPECT_NEAR(mean_c, 1.0, 0.01);
 }
 
-// The CSM render against the ray-traced render of the same samples: they differ where a sample's
-// visibility does, at the CSM's discretisation (views 5.6 x 11 degrees, 64 x 64 texels). And the
-// kernel against its host twin with the scalar CSM lookup: the same samples, the same answers.
-TEST(CoherentRender, CsmMatchesTracedOnSameSamples) {
+// The coherent-map render against the ray-traced render of the same samples: they differ where a sample's
+// visibility does, at the coherent maps' discretisation (views 5.6 x 11 degrees, 64 x 64 texels). And the
+// kernel against its host twin with the scalar coherent-map lookup: the same samples, the same answers.
+TEST(CoherentRender, CoherentMatchesTracedOnSameSamples) {
   const SceneGeometry geometry = balls_geometry();
   const RayTracer tracer(geometry);
   const GBuffer g = render_gbuffer(tracer, test_camera(64), kBound, {0.8f, 0.8f, 0.8f});
@@ -275,7 +275,7 @@ TEST(CoherentRender, CsmMatchesTracedOnSameSamples) {
   s.samples = 16;
   s.lights.push_back({{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}});
   validate_area_light(s.lights[0], {0, 0, 0}, kBound);
-  const HostImage csm = render_csm(runtime(), stack(), g, sky_env(), s);
+  const HostImage maps = render_coherent(runtime(), stack(), g, sky_env(), s);
   const HostImage traced = render_traced(tracer, g, sky_env(), s);
   const std::vector<uint32_t> pos = co::sequence_positions(stack().layout);
   const HostImage twin = render_host(g, sky_env(), s, [&](const auto& p, const auto& d, float) {
@@ -288,21 +288,21 @@ TEST(CoherentRender, CsmMatchesTracedOnSameSamples) {
     if (g.position[4 * i + 3] == 0.0f) continue;
     bool t = true, w = true;
     for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(csm.data[3 * i + c]));
-      t &= same(csm.data[3 * i + c], traced.data[3 * i + c]);
-      w &= same(csm.data[3 * i + c], twin.data[3 * i + c]);
+      ASSERT_TRUE(std::isfinite(maps.data[3 * i + c]));
+      t &= same(maps.data[3 * i + c], traced.data[3 * i + c]);
+      w &= same(maps.data[3 * i + c], twin.data[3 * i + c]);
       mean += traced.data[3 * i + c];
     }
     exact_traced += t;
     exact_twin += w;
   }
   mean /= 3.0 * double(g.hits);
-  const double rmse = rmse_on_object(csm, traced, g);
+  const double rmse = rmse_on_object(maps, traced, g);
   std::printf("hits %zu, equal to traced %zu, to the host twin %zu; rmse %.4f (mean %.3f)\n", g.hits, exact_traced,
               exact_twin, rmse, mean);
   EXPECT_GE(double(exact_twin), 0.99 * double(g.hits));
   // The filtered lookup: fractional visibility, finite, closer to the ray-traced render.
-  const HostImage pcf = render_csm(runtime(), stack(), g, sky_env(), s, nullptr, true);
+  const HostImage pcf = render_coherent(runtime(), stack(), g, sky_env(), s, nullptr, true);
   for (float v : pcf.data) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f);
   const double rmse_pcf = rmse_on_object(pcf, traced, g);
   std::printf("pcf: rmse against traced %.4f\n", rmse_pcf);
@@ -313,7 +313,7 @@ TEST(CoherentRender, CsmMatchesTracedOnSameSamples) {
 
 // Error against a converged render (1024 samples, another seed) as samples grow: 4 -> 64 samples
 // is 16 times the samples, 4 times less noise (more where stratification helps); the ray-traced
-// render must gain at least 3x, the CSM's error is noise plus its discretisation bias.
+// render must gain at least 3x, the coherent maps' error is noise plus its discretisation bias.
 TEST(CoherentRender, ConvergesAsSamplesGrow) {
   const SceneGeometry geometry = balls_geometry();
   const RayTracer tracer(geometry);
@@ -329,7 +329,7 @@ TEST(CoherentRender, ConvergesAsSamplesGrow) {
   for (int k = 0; k < 2; ++k) {
     s.samples = counts[k];
     traced_err[k] = rmse_on_object(render_traced(tracer, g, sky_env(), s), converged, g);
-    csm_err[k] = rmse_on_object(render_csm(runtime(), stack(), g, sky_env(), s), converged, g);
+    csm_err[k] = rmse_on_object(render_coherent(runtime(), stack(), g, sky_env(), s), converged, g);
   }
   std::printf("rmse traced %.4f -> %.4f (x%.2f), csm %.4f -> %.4f (x%.2f)\n", traced_err[0], traced_err[1],
               traced_err[0] / traced_err[1], csm_err[0], csm_err[1], csm_err[0] / csm_err[1]);

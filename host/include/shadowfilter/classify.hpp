@@ -6,7 +6,8 @@
 // one itself on the pipeline's tables. Only methods the registry marks classifiable take it.
 #include <memory>
 
-#include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/device_types.hpp"
+#include "shadowfilter/pyramids.hpp"
 
 namespace sf {
 
@@ -21,8 +22,8 @@ class ClassifyStage {
   ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height, const BufferPlan& plan);
 
   // Before reconstruction: the z-max pyramid of the raw depth (zmax mode), after `wait`. Returns
-  // the pyramid's events (empty when the mode needs none). Keeps `depth` for classify().
-  PassEvents prepare(const cl::Buffer& depth, const EventList* wait);
+  // the pyramid's last event (an empty event when the mode needs none). Keeps `depth` for classify().
+  cl::Event prepare(const cl::Buffer& depth, const EventList* wait);
   // After the reconstruction's event in `wait`: flags the receivers and rewrites their
   // visibility; `basis` and `lookup` are the tables the reconstruction read.
   cl::Event classify(const cl::Buffer& basis, const LookupBuffers& lookup, const DeviceReceivers& receivers,
@@ -39,7 +40,7 @@ class ClassifyStage {
   int width_, height_;
   cl::Buffer zmax_chain_, depth_, flags_;
   size_t flags_count_ = 0;
-  PassEvents zmax_done_;
+  cl::Event zmax_first_, zmax_done_;
   cl::Event classify_done_;
 };
 

@@ -108,12 +108,12 @@ struct CompressedStack {
   size_t compressed_bytes() const { return offsets.size() * 4 + segments.size() * 4; }
 };
 
-// The layout as kernels take it (kernels/coherent/csm_query.clh, sf_csm_layout).
+// The layout as kernels take it (kernels/coherent/query.clh, sf_coherent_layout).
 struct DeviceLayout {
   float cx, cy, cz, radius;
   int32_t resolution, views_theta, views_phi, views;
 };
-static_assert(sizeof(DeviceLayout) == 32, "DeviceLayout must match sf_csm_layout");
+static_assert(sizeof(DeviceLayout) == 32, "DeviceLayout must match sf_coherent_layout");
 DeviceLayout device_layout(const StackLayout& layout);
 
 }  // namespace sf::coherent

@@ -1,22 +1,22 @@
 #pragma once
 // Coherent shadow maps on the device (methods.md sec. 5; docs/coherent_device.md): the
-// compression of a dual-depth stack (kernels/coherent/csm_compress.cl, byte for byte the scalar
+// compression of a dual-depth stack (kernels/coherent/compress.cl, byte for byte the scalar
 // reference's greedy fit) and the visibility queries of points (kernels/coherent/
-// csm_visibility.cl over csm_query.clh). Thin wrappers in the toolkit's style: buffers are the
-// caller's, every enqueue_* call enqueues after `wait` and returns its event. Bad sizes or empty
-// buffers throw InputError naming the field; OpenCL failures DeviceError.
+// coherent/visibility.cl over coherent/query.clh). Thin wrappers in the toolkit's style and argument order
+// (kernels.hpp): buffers are the caller's, every enqueue_* call enqueues after `wait` and returns
+// its last event. Bad sizes or empty buffers throw InputError naming the field; OpenCL failures
+// DeviceError.
 #include <cstddef>
 
 #include "shadowfilter/coherent.hpp"
 #include "shadowfilter/kernels.hpp"
-#include "shadowfilter/pyramids.hpp"  // PassEvents
 
 namespace sf::coherent {
 
 // A compressed stack in device memory: what the query kernels read.
 struct DeviceStack {
   StackLayout layout;
-  DeviceLayout device{};     // device_layout(layout): the kernels' sf_csm_layout
+  DeviceLayout device{};     // device_layout(layout): the kernels' sf_coherent_layout
   cl::Buffer offsets;        // uint, texels() + 1
   cl::Buffer segments;       // uint, segment_count: (z_avg << 16) | i_last
   cl::Buffer positions;      // uint, views(): sequence_positions(layout)
@@ -55,10 +55,10 @@ size_t compress_scratch_bytes(const StackLayout& layout);
 size_t compress_total_offset(const StackLayout& layout);  // bytes into scratch
 cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
                                  const cl::Buffer& offsets, const EventList* wait = nullptr);
-PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
-                                 const cl::Buffer& scratch, const EventList* wait = nullptr);
-cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
-                                 const cl::Buffer& offsets, const cl::Buffer& segments, size_t capacity,
+cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
+                                const cl::Buffer& scratch, cl::Event* first = nullptr, const EventList* wait = nullptr);
+cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
                                  const EventList* wait = nullptr);
 // The three passes with the total read in between (blocks until the stack is compressed).
 // Throws InputError when the stack holds more segments than 32-bit offsets address.
@@ -71,22 +71,22 @@ CompressedStack compress_on_device(Runtime& rt, const DualDepthStack& stack);
 // binary test (0 or 1; sf::ref::coherent::visibility). Pcf: generalized PCF, the 2x2 nearest
 // views x their 2x2 nearest texels, 16 tests weighted bilinearly (Ritschel 2007 sec. 4.5;
 // sf::ref::coherent::visibility_filtered), in [0, 1].
-enum class CsmFilter { Nearest = 0, Pcf = 1 };
+enum class CoherentFilter { Nearest = 0, Pcf = 1 };
 // What the second float4 of a query holds (w ignored in both): the direction toward a distant
 // light, or the position l of a light sample (semi-local light, direction l - p).
-enum class CsmToward { Direction = 0, Point = 1 };
+enum class CoherentToward { Direction = 0, Point = 1 };
 
 // Visibility of `count` points (float4, w ignored) toward `second` (float4: directions or light
 // positions) -> out (count floats). A point outside the view's map is lit. count 0 enqueues a
 // marker.
-cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
-                             const cl::Buffer& out, size_t count, CsmFilter filter = CsmFilter::Nearest,
-                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+cl::Event enqueue_visibility(Runtime& rt, CoherentFilter filter, CoherentToward toward, size_t count,
+                             const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
+                             const cl::Buffer& out, const EventList* wait = nullptr);
 // The uncompressed dual-depth test with the same projection (nearest view and texel): out = +1
 // lit (q <= z1, or outside the map), 0 blocked (q >= z2), -1 between the two surfaces, where
 // either answer is right (sf::ref::coherent::stack_test).
-cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl::Buffer& points,
-                             const cl::Buffer& second, const cl::Buffer& out, size_t count,
-                             const EventList* wait = nullptr, CsmToward toward = CsmToward::Direction);
+cl::Event enqueue_stack_test(Runtime& rt, CoherentToward toward, size_t count, const DeviceDualDepth& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait = nullptr);
 
 }  // namespace sf::coherent

@@ -22,22 +22,11 @@
 
 namespace sf {
 
-// Camera-view receivers on the device (ViewReceivers, host_image.hpp): `count` floats in each
-// buffer, world positions, view depth (NaN: background, lit) and the world offsets across the
-// pixel along the image's x and y.
-struct DeviceViewReceivers {
-  size_t count = 0;
-  // Receivers per row of the view image: the receiver plane's neighbours in each layer
-  // (DeviceReceivers::row); 0 = unstructured points.
-  int width = 0;
-  cl::Buffer x, y, z, depth;
-  cl::Buffer dxx, dxy, dxz, dyx, dyy, dyz;
-};
-
-// The view receivers in new device buffers (count and width set). With `events` the writes are
-// non-blocking and their events are appended to it; without, they block. InputError when an
-// array's length differs from view.count().
-DeviceViewReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events = nullptr);
+// The view receivers in new device buffers: DeviceReceivers (device_types.hpp) with count, row
+// (the view's width: the receiver plane's neighbours in each layer) and the view part set. With
+// `events` the writes are non-blocking and their events are appended to it; without, they block.
+// InputError when an array's length differs from view.count().
+DeviceReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events = nullptr);
 
 // The world size of a layer's texel where the blur is matched: layer_texel_size at the world
 // point of its map centre, (u, v, d) = (1/2, 1/2, 1/2). A warped layer's texels vary across its
@@ -55,14 +44,6 @@ double layer_reference_texel(const CascadeSet& set, int layer);
 constexpr float kWarpedSlopeBias = 0.5f;
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
 
-// Device seconds of the last prefilter and reconstruct (0 on non-profiling queues).
-struct LayeredTimes {
-  std::vector<StageTimes> layer;  // each layer's pipeline
-  StageTimes sum;                 // their sum, stage by stage
-  double project = 0, blend = 0;  // sf_cascade_project, sf_cascade_blend
-  double total() const;           // every stage of every layer, projection and blend
-};
-
 class LayeredPipeline {
  public:
   // Validates the set (sf::validate) and the options per layer, and builds one Pipeline of the
@@ -75,10 +56,11 @@ class LayeredPipeline {
   cl::Event prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait = nullptr);
   // Pipeline::set_depth_range for each layer (one range per layer).
   void set_depth_ranges(const std::vector<MapRange>& ranges);
-  // Visibility of every receiver into `visibility` (rx.count floats): the projection kernel,
-  // each layer's reconstruction over all receivers (those it does not serve cost a test and a
-  // write), then the blend.
-  cl::Event reconstruct(const DeviceViewReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
+  // Visibility of every receiver into `visibility` (rx.count floats) from the view part of `rx`
+  // (InputError when it is empty; the map part is ignored): the projection kernel, each layer's
+  // reconstruction over all receivers (those it does not serve cost a test and a write), then
+  // the blend.
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
 
   // What the projection of the last reconstruct() wrote (valid after its event): per receiver
   // `layers` (cl_char2: first, second layer, -1 = none) and `weight` (the second layer's), and
@@ -99,8 +81,9 @@ class LayeredPipeline {
   // Bytes reconstruct() allocates per receiver for K layers: u, v, d, f and a visibility per
   // layer, the choice and weight.
   static size_t bytes_per_receiver(int layers);
-  // Times of the last prefilter/reconstruct (waits for their events).
-  LayeredTimes times() const;
+  // Device seconds of the last prefilter/reconstruct (waits for their events): every layer's
+  // stages summed stage by stage (layer(k).times() has one layer's), the projection and the blend.
+  StageTimes times() const;
 
  private:
   void allocate(size_t count);
@@ -118,16 +101,11 @@ class LayeredPipeline {
 // Host convenience (what the CLI uses), the layered twin of filter(): uploads the maps (one per
 // layer, the set's size) and the view, runs, downloads. Where a lookup's limit depends on the
 // depth range (sat with esm, evsm), each map's range comes from its host copy.
-struct LayeredResult {
-  HostImage visibility;  // view.width x view.height
-  LayeredTimes times;
-  double upload = 0, download = 0;
+struct LayeredResult : VisibilityResult {
+  // visibility: view.width x view.height; background: non-finite view depth; outside: no layer
+  // serves them; times: LayeredPipeline::times() with the transfers.
   std::vector<size_t> per_layer;  // receivers reading layer k (a blended one counts in both)
   size_t blended = 0;             // receivers mixing two layers
-  size_t background = 0;          // non-finite view depth (output 1)
-  size_t outside = 0;             // no layer serves them (output 1)
-  size_t facing_away = 0;         // ndl <= 0 (output 0 under FilterOptions::facing_away_shadowed)
-  size_t device_bytes = 0;
 };
 LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
                              const std::vector<HostImage>& maps, const ViewReceivers& view);

@@ -10,7 +10,7 @@
 namespace sf {
 
 struct MethodCase {
-  std::string method;
+  Method method;
   Storage storage = Storage::F32;
   int csm_order = 8;
   FilterOptions options() const {
@@ -18,11 +18,11 @@ struct MethodCase {
     o.method = method;
     o.storage = storage;
     o.csm.order = csm_order;
-    return find_method(method).fitted(o);  // within the storage's limits (esm f16: c = 20)
+    return method->fitted(o);  // within the storage's limits (esm f16: c = 20)
   }
   std::string label() const {
-    std::string s = method + "_" + storage_name(storage);
-    if (find_method(method).order_sets_channels) s += "_M" + std::to_string(csm_order);
+    std::string s = method.name() + "_" + storage_name(storage);
+    if (method->order_sets_channels) s += "_M" + std::to_string(csm_order);
     for (char& c : s)
       if (c == '-') c = '_';
     return s;
@@ -38,10 +38,10 @@ inline std::vector<MethodCase> method_storage_cases(const std::vector<int>& csm_
     for (Storage s : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
       if (!m.accepts(s)) continue;
       if (!m.order_sets_channels) {  // a fixed channel count: one case
-        out.push_back({m.name, s, 8});
+        out.push_back({m, s, 8});
         continue;
       }
-      for (int order : csm_orders) out.push_back({m.name, s, order});
+      for (int order : csm_orders) out.push_back({m, s, order});
     }
   }
   return out;

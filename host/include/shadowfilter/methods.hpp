@@ -3,16 +3,18 @@
 // (kernels/methods/NAME.clh, defining SF_CHANNELS, sf_method_params, sf_basis and
 // sf_visibility) and one registration (host/src/methods/NAME.cpp): its channel count, its
 // storages and their limits, its parameters with their defaults, its double-precision twin
-// (the scalar reference's half of the method), the variants evaluate and --auto try, its cost
-// coefficients and its labels. Filters, lookups, the pipeline, the reference, evaluate and the
-// CLI ask this record and never test a method's name.
-#include <array>
+// (the scalar reference's half of the method). Filters, lookups, the pipeline, the reference,
+// evaluate and the CLI ask this record and never test a method's name. What evaluate and --auto
+// know of a method (plot colour, row labels, grid variants, cost model) is evaluate's catalogue
+// (host/eval/method_catalogue.hpp), not the core's.
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "shadowfilter/options.hpp"
+#include "shadowfilter/parameters.hpp"
 #include "shadowfilter/sat_precision.hpp"
 
 namespace sf {
@@ -35,19 +37,6 @@ struct StorageLimit {
   std::function<void(FilterOptions&)> fit;
 };
 
-// Which parameter variants a caller wants: evaluate's grids, and --auto's candidates.
-enum class GridSize { Quick, Default, Wide, Auto };
-
-// --auto's cost estimate in nanoseconds (coefficients measured on PoCL, docs/results.md
-// "cost model"): per map texel, transform_per_channel x channels; per receiver, reconstruct +
-// reconstruct_per_channel x channels + per_support_texel x (2R + 2)^2.
-struct CostModel {
-  double transform_per_channel = 0.5;
-  double reconstruct = 9.0;
-  double reconstruct_per_channel = 0.0;
-  double per_support_texel = 0.0;
-};
-
 // One named parameter value, as summaries and result files show it ("c" 80).
 struct MethodParameter {
   std::string key;
@@ -57,7 +46,10 @@ struct MethodParameter {
 struct MethodDesc {
   std::string name;
   std::string summary;
-  std::string header;  // embedded kernel file ("" for raw-depth methods)
+  std::string header;  // kernel file ("" for raw-depth methods): embedded (kernels/), or header_source
+  // The header's OpenCL source where the method brings its own (sf::register_method from outside
+  // the library); "" for the embedded headers. Runtime::program() finds it by `header`.
+  std::string header_source;
   // Basis planes for these options (csm: 2M); raw-depth methods: 1, the depth itself.
   std::function<int(const FilterOptions&)> channel_count;
   int channels(const FilterOptions& o) const { return channel_count(o); }
@@ -65,7 +57,12 @@ struct MethodDesc {
   // Whether the channel count follows the method's order (FilterOptions::csm.order): test and
   // bench cases walk the orders, --auto notes when smaller orders miss the bound.
   bool order_sets_channels = false;
-  std::string parameters;  // one line: CLI parameters and their defaults
+  // The method's own parameters, each declared once (parameters.hpp). A parameter several methods
+  // share (vsm's and evsm's --lbr) is the same declaration in each.
+  std::vector<Parameter> parameters;
+  // The FilterOptions-wide knobs (filter_parameters()) the method also reads, by field, for
+  // `shadowfilter methods` ("FilterOptions::depth_test.bias").
+  std::vector<std::string> reads;
   std::vector<StorageLimit> storages;
   // sm and pcf test the depth map itself (kernels/pcf.cl): no basis transform and no prefilter;
   // the reconstruction evaluates H(z - d + b) per texel under the lookup's weights.
@@ -93,13 +90,6 @@ struct MethodDesc {
   std::function<ScalarMethod(const FilterOptions&)> scalar;
   // Every parameter in effect, defaults resolved (summaries, result files).
   std::function<std::vector<MethodParameter>(const FilterOptions&)> parameter_values;
-  // The short label of evaluate's rows: the parameters a grid varies (" c=80").
-  std::function<std::string(const FilterOptions&)> label;
-  // Parameter variants of `base` for a grid (each then crossed with radii, lookups, storages).
-  std::function<std::vector<FilterOptions>(const FilterOptions& base, GridSize)> variants;
-  bool quick_footprints = false;  // the quick grid also tries the footprint lookups
-  CostModel cost;
-  std::array<float, 3> colour{0.3f, 0.3f, 0.3f};  // plot colour (fixed: every plot reads the same)
 
   bool accepts(Storage s) const;
   std::string storage_list() const;                    // "f32 f16"
@@ -108,7 +98,27 @@ struct MethodDesc {
   FilterOptions fitted(FilterOptions o) const;
 };
 
-const std::vector<MethodDesc>& methods();
+// The registered methods in registration order: the library's own, then those added by
+// register_method (a deque: a registration's address never changes, handles stay valid).
+const std::deque<MethodDesc>& methods();
+
+// Adds a method to the registry and returns its handle. For methods defined outside the library
+// (a renderer's own, a test's): `header_source` holds its OpenCL header (SF_CHANNELS,
+// sf_method_params, sf_basis, sf_basisv, sf_visibility; kernels/methods/*.clh are the models)
+// and its parameters keep their values in FilterOptions::parameters (Parameter::stored). Throws
+// InputError for a name already registered, a header that is neither embedded nor given, a
+// missing function (channel_count, validate, pack_params, scalar, parameter_values), or a
+// parameter whose field or flag another declaration uses differently. Register before any
+// other thread reads the registry (the registry is not locked against concurrent readers).
+Method register_method(MethodDesc desc);
+
+// The method of this name (the boundary: CLI, files, bindings); InputError listing the known
+// names for any other.
+Method method(const std::string& name);
+
+// Every check of `o` a plan makes, once: finite fields (require_finite_options), the method's
+// declared parameter ranges (check_parameters) and the method's own validation.
+void validate_options(const FilterOptions& o);
 // The method's sat_limit for these options on `map` ("" when the lookup is not sat or the
 // method has no limit there).
 std::string sat_refusal(const FilterOptions& o, const SatMap& map);
@@ -125,8 +135,5 @@ struct CsmParameters {
   float alpha = 0, offset = 0, scale = 1;
 };
 CsmParameters csm_parameters(const FilterOptions& o);
-
-// Throws InputError listing the known names.
-const MethodDesc& find_method(const std::string& name);
 
 }  // namespace sf

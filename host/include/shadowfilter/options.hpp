@@ -1,12 +1,42 @@
 #pragma once
 // Every knob of a filtering run, with its default and why (in the spirit of Filament's
 // shadow Options.h). Method-specific structs sit beside the generic ones.
+#include <iosfwd>
+#include <map>
 #include <optional>
 #include <string>
 
 #include "shadowfilter/map_range.hpp"
 
 namespace sf {
+
+struct MethodDesc;  // methods.hpp
+
+// A registered method: a handle to its registration (methods.hpp), esm by default. Options carry
+// the handle, so the library never looks a method up by name once the options exist.
+//
+// A name converts implicitly and is resolved at once (an unknown name throws InputError naming
+// the known methods, right where it is written): C++ callers and tests write o.method = "vsm" as
+// they would write a literal, and the conversion is the boundary where the name is parsed. The
+// CLI, files and bindings parse names explicitly with sf::method(name). The library itself only
+// holds, compares and dereferences handles.
+class Method {
+ public:
+  Method() = default;  // esm
+  Method(const MethodDesc& desc) : desc_(&desc) {}
+  Method(const std::string& name);
+  Method(const char* name);
+  const MethodDesc& desc() const;
+  const MethodDesc& operator*() const { return desc(); }
+  const MethodDesc* operator->() const { return &desc(); }
+  const std::string& name() const;
+  friend bool operator==(const Method& a, const Method& b) { return &a.desc() == &b.desc(); }
+  friend bool operator!=(const Method& a, const Method& b) { return !(a == b); }
+
+ private:
+  const MethodDesc* desc_ = nullptr;  // nullptr: esm
+};
+std::ostream& operator<<(std::ostream& out, const Method& m);  // its name
 
 struct EsmOptions {
   // Exponent c of exp(c z). Larger: sharper, less light leaking, but a wider failure band near
@@ -126,7 +156,7 @@ struct EsmClassifyOptions {
 // shapes"). Cpu: one work-item per long strip or band (work-groups of one item, SIMD inside it:
 // tuned for PoCL). Gpu: work-groups of 64-256 items, one item per output texel, local-memory
 // tiles. Auto: the defaults table by device type (CPU devices take Cpu, GPUs and accelerators
-// take Gpu; host/src/schedule_defaults.cpp). Forcing Gpu on a CPU device is how the GPU shapes
+// take Gpu; host/src/runtime/schedule_defaults.cpp). Forcing Gpu on a CPU device is how the GPU shapes
 // are tested on PoCL and Oclgrind.
 enum class ScheduleFamily { Auto = 0, Cpu = 1, Gpu = 2 };
 const char* schedule_family_name(ScheduleFamily f);        // "auto", "cpu", "gpu"
@@ -157,7 +187,7 @@ struct ScheduleOptions {
 };
 
 struct FilterOptions {
-  std::string method = "esm";  // see `shadowfilter methods`
+  Method method;  // esm; see `shadowfilter methods`
   EsmOptions esm;
   DepthTestOptions depth_test;
   ReceiverPlaneOptions receiver_plane;
@@ -179,10 +209,16 @@ struct FilterOptions {
   // measures each map on the device first (a blocking reduction, depth_range.hpp). sf::filter
   // sets it from the host map.
   std::optional<MapRange> depth_range;
+  // The parameters of methods registered without a field of their own (sf::register_method with
+  // Parameter::stored, parameters.hpp), keyed by the parameter's key; absent = its default. A key
+  // that no registered method declares is refused.
+  std::map<std::string, double> parameters;
 };
 
 // Throws InputError naming the first floating-point field of `o` that is not finite (every
-// field, whether the method reads it or not: a NaN is never a default).
+// field, whether the method reads it or not: a NaN is never a default), or a key of
+// FilterOptions::parameters that no registered method declares. The fields checked are the
+// declared ones (parameters.hpp: the FilterOptions-wide knobs and every method's parameters).
 void require_finite_options(const FilterOptions& o);
 
 }  // namespace sf

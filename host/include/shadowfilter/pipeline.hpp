@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/device_types.hpp"
 #include "shadowfilter/host_image.hpp"
 #include "shadowfilter/kernels.hpp"
 #include "shadowfilter/pyramids.hpp"
@@ -38,37 +39,6 @@
 namespace sf {
 
 class ClassifyStage;
-
-struct StageTimes {  // device seconds from profiling events (0 on non-profiling queues)
-  double transform = 0, blur = 0, reconstruct = 0, upload = 0, download = 0;
-  double pyramid = 0, sat = 0, zmax = 0, classify = 0;  // footprint lookups, ESM classification
-};
-
-// Receivers on the device. Grid mode (one receiver per shadow-map texel) needs d only.
-struct DeviceReceivers {
-  bool grid = false;
-  size_t count = 0;
-  cl::Buffer u, v, d;
-  cl::Buffer f;  // footprints in level-0 texels (points mode); empty = 1 for every receiver
-  // Points mode: receivers per row of the receiver image, whose neighbours give each receiver's
-  // plane (FilterOptions::receiver_plane); 0 = unstructured points.
-  int row = 0;
-};
-
-// The device buffers a Pipeline allocates for one set of options and map size.
-struct BufferPlan {
-  struct Buffer {
-    std::string name;  // "basis", "basis+mips", "mip level offsets", "blur scratch", "sat",
-                       // "sat bands", "zmax chain"
-    size_t bytes = 0;
-  };
-  ImageShape shape;               // the basis images: width x height x channels of value_bytes
-  std::vector<Buffer> buffers;    // allocated by the constructor, in this order
-  size_t bytes_per_receiver = 0;  // allocated by reconstruct() per receiver (ESM flags: 1)
-  size_t total() const;
-  size_t largest() const;
-  size_t bytes(const std::string& name) const;  // 0 when the plan has no such buffer
-};
 
 class Pipeline {
  public:
@@ -119,14 +89,14 @@ class Pipeline {
   ImageShape shape_;
   cl::Buffer basis_, scratch_;
   cl::Event transform_done_;
-  BlurEvents blur_done_;
+  cl::Event blur_first_, blur_done_;  // first and last command of each multi-command stage
   cl::Event reconstruct_done_;
   // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
   BufferPlan plan_;
   cl::Buffer mips_;           // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_;
-  PassEvents pyramid_done_, sat_done_;
+  cl::Event pyramid_first_, pyramid_done_, sat_first_, sat_done_;
   // The optional stage after the reconstruction (classify.hpp), when the options ask for it.
   std::shared_ptr<ClassifyStage> classify_;
 };
@@ -137,17 +107,11 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
 // Convenience for host data (what the CLI uses): uploads, runs, downloads. The map's depth range
 // (FilterOptions::depth_range, when unset) comes from the host copy, so a lookup that cannot
 // hold it is refused before anything runs.
-struct FilterResult {
-  HostImage visibility;  // receivers.width x receivers.height, 1 channel
-  StageTimes times;
-  size_t background = 0;   // receivers with non-finite depth (output 1)
-  size_t outside = 0;      // receivers outside the light frustum (output 1)
-  size_t facing_away = 0;  // receivers whose ndl <= 0 (output 0 under FilterOptions::facing_away_shadowed)
+struct FilterResult : VisibilityResult {
   // ESM classification (when asked): the mask (1 = flagged, receivers' size) and its count.
   bool classified = false;
   HostImage flags;
   size_t flagged = 0;
-  size_t device_bytes = 0;
 };
 FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
                     const Receivers& receivers);

@@ -1,7 +1,7 @@
 #pragma once
 // Pyramids, summed-area tables, footprint lookups and ESM failure classification
-// (methods.md sec. 2-3; docs/lookups.md). Thin typed wrappers like kernels.hpp: buffers are the
-// caller's, every call enqueues after `wait` and returns its events.
+// (methods.md sec. 2-3; docs/lookups.md). Thin typed wrappers like kernels.hpp, in its argument
+// order: buffers are the caller's, every call enqueues after `wait` and returns its last event.
 #include <vector>
 
 #include "shadowfilter/kernels.hpp"
@@ -27,10 +27,6 @@ MipLayout mip_layout(int width, int height, int channels);
 // of the raw depth (conservative: every texel bounds the level-0 texels it covers).
 enum class Reduce { Mean = 0, Max = 1, Min = 2 };
 
-struct PassEvents {
-  cl::Event first, last;  // first and last command of a multi-launch build
-};
-
 // Builds levels 1 .. top of `level0` (shape.channels planes in `storage`) into `chain` (at least
 // mip_layout(...).chain_values values, never less than one). Two launches at most for maps up
 // to 4096x4096 (32x32 tiles make five levels per launch; one work-item per channel finishes
@@ -41,9 +37,9 @@ struct PassEvents {
 // level, five levels per launch through local memory; Auto: by device type. The family and the
 // items per Gpu group are ScheduleOptions::family and gpu_work_group (0: the table's 256; a power
 // of two: the square below it, 8x8 for 64 or 128), as the blur and the SAT take them.
-PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
-                           const ImageShape& shape, const EventList* wait = nullptr,
-                           const ScheduleOptions& schedule = {});
+cl::Event enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const ScheduleOptions& schedule,
+                          const ImageShape& shape, const cl::Buffer& level0, const cl::Buffer& chain,
+                          cl::Event* first = nullptr, const EventList* wait = nullptr);
 
 // --- summed-area tables -------------------------------------------------------
 // Float-float table (hi + lo planes per channel) of (W+1) x (H+1) entries with zero first row
@@ -91,9 +87,9 @@ struct SatBuild {
 };
 // schedule: which family Auto takes (family) and WorkGroupScan's items per group
 // (gpu_work_group: 0 for the table's 256; a power of two; smaller where the device allows fewer).
-PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
-                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait = nullptr,
-                       const SatBuild& build = {}, const ScheduleOptions& schedule = {});
+cl::Event enqueue_sat(Runtime& rt, Storage storage, const SatBuild& build, const ScheduleOptions& schedule,
+                      const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& table,
+                      const cl::Buffer& band_scratch, cl::Event* first = nullptr, const EventList* wait = nullptr);
 
 // --- lookups ------------------------------------------------------------------
 // What a footprint lookup reads besides level 0 (empty buffers where not needed).
@@ -106,9 +102,9 @@ struct LookupBuffers {
 };
 // The shape.channels filtered values of `count` receivers (method-agnostic): out holds
 // shape.channels planes of count floats. Used by tests and by callers with their own methods.
-cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup, const cl::Buffer& level0,
-                                const ImageShape& shape, const cl::Buffer& u, const cl::Buffer& v,
-                                const cl::Buffer& out, size_t count, const EventList* wait = nullptr);
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const ImageShape& shape, size_t count,
+                                const LookupBuffers& lookup, const cl::Buffer& level0, const cl::Buffer& u,
+                                const cl::Buffer& v, const cl::Buffer& out, const EventList* wait = nullptr);
 
 // --- ESM failure classification (Annen 2008 ch. 7.3) ---------------------------
 // Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
@@ -123,10 +119,10 @@ struct ClassifyInputs {
   LookupBuffers lookup;
   int width = 0, height = 0;
 };
-cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
-                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                      const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
-                                      const EventList* wait = nullptr, int receiver_row = 0);
+cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, size_t count, int receiver_row,
+                                      const ClassifyInputs& in, const cl::Buffer& u, const cl::Buffer& v,
+                                      const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                      const EventList* wait = nullptr);
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                     const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
                                     const EventList* wait = nullptr);

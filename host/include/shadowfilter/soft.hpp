@@ -11,9 +11,12 @@
 
 namespace sf {
 
+// A technique is selected by a resolved value in the options (SoftOptions::method here, the
+// method of FilterOptions for hard shadows); names are looked up only at the boundary (CLI,
+// files, bindings) by a find_* function that throws InputError naming the known ones.
 enum class SoftMethod { Pcss, Cssm, Ssmm, SsmmImproved };
-const char* soft_method_name(SoftMethod m);                   // "pcss", "cssm", "ssmm", "ssmm-improved"
-bool parse_soft_method(const std::string& s, SoftMethod* m);  // false for other names
+const char* soft_method_name(SoftMethod m);            // "pcss", "cssm", "ssmm", "ssmm-improved"
+SoftMethod find_soft_method(const std::string& name);  // InputError for other names
 
 // The light (scene generator conventions, docs/scenes.md). Depth d in [0,1] is the linear light
 // depth; view depth = near + d (far - near).
@@ -31,6 +34,31 @@ struct SoftLight {
 // L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis.
 double soft_width(const SoftLight& light, double d, double z);
 
+// cssm (convolution soft shadows, Annen 2008 ch. 8). Defaults chosen on the bundled scenes
+// (docs/soft.md "cssm defaults"; the offset and scale by the defaults sweep, docs/results.md).
+// Negative values select the default, which depends on M.
+struct CssmOptions {
+  int order = 4;                // M: 4M + 1 basis planes
+  Lookup lookup = Lookup::Sat;  // mips or sat
+  float offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.2 / M
+  float scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 1.5
+  float width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
+  bool normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
+  float sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off
+  float sharpen_b = -1.0f;      // default 10 M
+  float min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
+  float z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
+  bool contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
+};
+
+// ssmm and ssmm-improved (soft shadow mip-maps, Shen 2016).
+struct SsmmOptions {
+  int n = 4;  // n x n texels per layer (Shen 2016 eq. 3.4)
+};
+
+// Every knob of a soft-shadow run: the generic ones, then one struct per technique (as
+// FilterOptions holds esm, vsm, ...); `method` selects the technique, the other structs are
+// ignored. pcss has no knob of its own.
 struct SoftOptions {
   SoftMethod method = SoftMethod::Pcss;
   SoftLight light;
@@ -42,22 +70,8 @@ struct SoftOptions {
   ReceiverPlaneOptions receiver_plane{true, 0.1f, 0.25f};
   bool facing_away_shadowed = true;  // receivers with ndl <= 0: 0 (sf::shadow_facing_away)
   float max_width = 256.0f;          // cap of every kernel width, level-0 texels
-  // cssm (defaults chosen on the bundled scenes, docs/soft.md "cssm defaults"; the offset and
-  // scale by the defaults sweep, docs/results.md). Negative values select the default, which
-  // depends on M.
-  int cssm_order = 4;                // M: 4M + 1 basis planes
-  Lookup cssm_lookup = Lookup::Sat;  // mips or sat
-  float cssm_offset = -1.0f;         // stage 2 reads the series at d' = d - offset; default 0.2 / M
-  float cssm_scale = -1.0f;          // v = clamp(0.5 + scale (s_f - 0.5), 0, 1); default 1.5
-  float cssm_width_scale = -1.0f;    // stage-2 kernel width multiplier; default scale lit (keeps penumbrae)
-  bool cssm_normalise = false;       // use s_f / lit (lit = the series of a lit texel, z = d, at d')
-  float cssm_sharpen_a = 30.0f;      // eq. 8.9: p = 1 + A exp(-B (d - z_avg)); A = 0: off
-  float cssm_sharpen_b = -1.0f;      // default 10 M
-  float cssm_min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
-  float cssm_z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
-  bool cssm_contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
-  // ssmm
-  int ssmm_n = 4;  // n x n texels per layer (Shen 2016 eq. 3.4)
+  CssmOptions cssm;
+  SsmmOptions ssmm;
 };
 void validate(const SoftOptions& opt);  // throws InputError
 // cssm's parameters in effect (defaults resolved).
@@ -70,43 +84,41 @@ CssmParams cssm_params(const SoftOptions& opt);
 double cssm_series(int order, double x);
 float cssm_z_offset(const SoftOptions& opt);  // offset of the z_avg stage in effect
 
-struct SoftTimes {  // device seconds (profiling queues), 0 otherwise
-  double transform = 0, pyramid = 0, sat = 0, reconstruct = 0;
-  double total() const { return transform + pyramid + sat + reconstruct; }
-};
-
-// One light's shadow map on the device. prepare() builds what the method reads (cssm: basis +
-// mips or SAT; ssmm: min-depth pyramid); run() writes visibility of `count` receivers.
+// One light's shadow map on the device, in the shape of Pipeline (pipeline.hpp; ownership,
+// queues, events and threads as it says): prefilter() builds what the method reads (cssm: basis
+// + mips or SAT; ssmm: min-depth pyramid), reconstruct() writes the visibility of the receivers.
 class SoftFilter {
  public:
   SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, int height);
-  cl::Event prepare(const cl::Buffer& depth, const EventList* wait = nullptr);
-  // f may be an empty buffer (footprint 1); zavg (cssm only, may be empty): z_avg per receiver
-  // (NaN where no blocker was found).
-  // receiver_row: receivers per row of the receiver image, whose neighbours give each receiver's
-  // plane (DeviceReceivers::row); 0 = unstructured points.
-  cl::Event run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
-                const cl::Buffer& visibility, size_t count, const EventList* wait = nullptr,
-                const cl::Buffer* zavg = nullptr, int receiver_row = 0);
-  SoftTimes times() const;
+  cl::Event prefilter(const cl::Buffer& depth, const EventList* wait = nullptr);
+  // Visibility of the receivers' map part (u, v, d, f; DeviceReceivers, device_types.hpp: f
+  // empty = footprint 1, row as there; grid receivers are not taken) into `visibility`
+  // (rx.count floats), after prefilter()'s event in `wait`.
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait = nullptr);
+  // The same, cssm only, also writing z_avg per receiver into `zavg` (NaN where no blocker was
+  // found).
+  cl::Event reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                        const EventList* wait = nullptr);
+  // Device seconds of the last prefilter/reconstruct (the stages of the method; waits for their events).
+  StageTimes times() const;
+  // Bytes of the buffers this filter allocated.
+  size_t device_bytes() const { return device_bytes_; }
   const SoftOptions& options() const { return opt_; }
 
  private:
   std::shared_ptr<Runtime> rt_;
   SoftOptions opt_;
   int W_, H_;
+  size_t device_bytes_ = 0;
   cl::Buffer depth_, basis_, chain_, sat_, bands_, packed_;  // packed_: cssm's interleaved SAT
   cl::Event transform_done_, run_done_, pack_done_;
-  PassEvents pyr_done_, sat_done_;
+  cl::Event pyr_first_, pyr_done_, sat_first_, sat_done_;
   bool have_pyr_ = false, have_sat_ = false, have_transform_ = false;
 };
 
 // Host convenience: one light.
-struct SoftResult {
-  HostImage visibility;
-  SoftTimes times;
-  size_t background = 0, outside = 0;
-};
+// The counts are the first light's receivers'; times and device bytes are summed over the lights.
+struct SoftResult : VisibilityResult {};
 SoftResult soft_filter(std::shared_ptr<Runtime> rt, const SoftOptions& opt, const HostImage& depth,
                        const Receivers& receivers);
 

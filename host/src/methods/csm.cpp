@@ -2,6 +2,7 @@
 // truncated expansion of the step with a per-order offset and scale.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "registration.hpp"
 
@@ -50,20 +51,34 @@ MethodDesc csm_method() {
   m.channel_count = [](const FilterOptions& o) { return 2 * o.csm.order; };
   m.channels_note = "2M";
   m.order_sets_channels = true;
-  m.parameters =
-      "--csm-order M (1..32, default 8), --csm-alpha A (default 0), --csm-offset O and "
-      "--csm-scale S (default: measured per order, docs/methods.md)";
+  const double inf = std::numeric_limits<double>::infinity();
+  m.parameters = {
+      Parameter::integer("FilterOptions::csm.order", "--csm-order", "M", "CSM order M (2M basis planes)")
+          .with_default(CsmOptions{}.order)
+          .within({1, double(kMaxOrder)})
+          .on(&FilterOptions::csm, &CsmOptions::order),
+      Parameter::real("FilterOptions::csm.alpha", "--csm-alpha", "A",
+                      "CSM ringing attenuation alpha: g_k = exp(-alpha (k/M)^2)")
+          .with_default(CsmOptions{}.alpha)
+          .within({0, inf})
+          .on(&FilterOptions::csm, &CsmOptions::alpha),
+      Parameter::real("FilterOptions::csm.offset", "--csm-offset", "O", "CSM depth offset of the reconstruction")
+          .resolved_by_method("measured per order, docs/methods.md")
+          .within({0, 1})
+          .unset_when(ParameterUnset::Negative)
+          .on(&FilterOptions::csm, &CsmOptions::offset),
+      Parameter::real("FilterOptions::csm.scale", "--csm-scale", "S", "CSM scale of the reconstruction")
+          .resolved_by_method("measured per order, docs/methods.md")
+          .within({0, inf})
+          .unset_when(ParameterUnset::Negative)
+          .on(&FilterOptions::csm, &CsmOptions::scale),
+  };
   m.storages = plain_storages({Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8});
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o, "");
-    if (o.csm.order < 1 || o.csm.order > kMaxOrder)
-      throw InputError("FilterOptions::csm.order must be in 1.." + std::to_string(kMaxOrder) + ", got " +
-                       std::to_string(o.csm.order));
     require_finite(o.csm.alpha, "FilterOptions::csm.alpha");
     require_finite(o.csm.offset, "FilterOptions::csm.offset");
     require_finite(o.csm.scale, "FilterOptions::csm.scale");
-    if (o.csm.alpha < 0) throw InputError("FilterOptions::csm.alpha must be >= 0");
-    if (o.csm.offset > 1.0f) throw InputError("FilterOptions::csm.offset must be at most 1 (negative = default)");
   };
   m.pack_params = [](const FilterOptions& o) {
     const CsmParameters c = csm_parameters(o);
@@ -104,17 +119,6 @@ MethodDesc csm_method() {
     return std::vector<MethodParameter>{
         {"M", double(o.csm.order)}, {"alpha", p.alpha}, {"offset", p.offset}, {"scale", p.scale}};
   };
-  m.label = [](const FilterOptions& o) { return " M=" + std::to_string(o.csm.order); };
-  m.variants = [](const FilterOptions& base, GridSize g) {
-    const std::vector<int> orders = g == GridSize::Quick                         ? std::vector<int>{4, 8}
-                                    : g == GridSize::Wide || g == GridSize::Auto ? std::vector<int>{1, 2, 4, 8, 16, 32}
-                                                                                 : std::vector<int>{2, 4, 8, 16};
-    return variants_of(base, orders, [](FilterOptions& o, int M) { o.csm.order = M; });
-  };
-  m.quick_footprints = true;
-  // One sin/cos pair per channel pair at the transform; a term per channel at the lookup.
-  m.cost = CostModel{1.0, 0.0, 6.0, 0.0};
-  m.colour = {0.6f, 0.1f, 0.75f};
   return m;
 }
 

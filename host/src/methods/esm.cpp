@@ -1,6 +1,7 @@
 // ESM (kernels/methods/esm.clh): B = exp(c (z - 1/2)), v = exp(-c (d - 1/2)) bar(B).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "registration.hpp"
 
@@ -26,13 +27,17 @@ MethodDesc esm_method() {
   m.header = "methods/esm.clh";
   m.classifiable = true;
   m.channel_count = [](const FilterOptions&) { return 1; };
-  m.parameters = "--esm-c C (default 120; limit 174 in f32, 22 in f16), --esm-classify (default zmax)";
+  m.parameters = {Parameter::real("FilterOptions::esm.c", "--esm-c", "C",
+                                  "ESM exponent c of exp(c z): sharper and less leaking when larger, up to the "
+                                  "storage's limit")
+                      .with_default(EsmOptions{}.c)
+                      .within({0, std::numeric_limits<double>::infinity(), true})
+                      .on(&FilterOptions::esm, &EsmOptions::c)};
+  m.reads = {"FilterOptions::esm_classify.mode"};
   m.storages = {{Storage::F32, "c <= 174", {}},
                 {Storage::F16, "c <= 22", [](FilterOptions& o) { o.esm.c = std::min(o.esm.c, kFloat16GridC); }}};
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o, "exp(c z) is unbounded, so unorm cannot hold it");
-    if (!std::isfinite(o.esm.c) || o.esm.c <= 0.0f)
-      throw InputError("FilterOptions::esm.c must be a positive number, got " + std::to_string(o.esm.c));
     const bool half = o.storage == Storage::F16;
     const float limit = half ? kMaxCFloat16 : kMaxCFloat32;
     if (o.esm.c > limit) {
@@ -63,27 +68,6 @@ MethodDesc esm_method() {
     return s;
   };
   m.parameter_values = [](const FilterOptions& o) { return std::vector<MethodParameter>{{"c", o.esm.c}}; };
-  m.label = [](const FilterOptions& o) { return " c=" + num(o.esm.c); };
-  m.variants = [](const FilterOptions& base, GridSize g) {
-    if (g == GridSize::Auto) {
-      std::vector<FilterOptions> out;
-      for (float c : {20.0f, 40.0f, 80.0f, 160.0f})
-        for (EsmClassify k : {EsmClassify::None, EsmClassify::Threshold, EsmClassify::ZMax}) {
-          FilterOptions o = base;
-          o.esm.c = c;
-          o.esm_classify.mode = k;
-          out.push_back(o);
-        }
-      return out;
-    }
-    const std::vector<float> cs = g == GridSize::Quick  ? std::vector<float>{40, 80}
-                                  : g == GridSize::Wide ? std::vector<float>{20, 40, 80, 120, 160}
-                                                        : std::vector<float>{40, 80, 160};
-    return variants_of(base, cs, [](FilterOptions& o, float c) { o.esm.c = c; });
-  };
-  m.quick_footprints = true;
-  m.cost.reconstruct = 25.0;  // the exponential in log space
-  m.colour = {0.85f, 0.1f, 0.1f};
   return m;
 }
 

@@ -104,10 +104,24 @@ constexpr float kMomentBiasF32 = 1e-4f;
 constexpr float kHausdorffMomentBiasF32 = 1e-3f;
 constexpr float kHausdorffDepthBiasF32 = 3e-4f;
 
-float moment_bias(const FilterOptions& o) {
+// Peters & Klein 2015's moment bias for the optimised 16-bit quantisation.
+constexpr float kMomentBiasUnorm16 = 6e-5f;
+
+float moment_bias(const FilterOptions& o, bool hausdorff) {
   if (o.msm.moment_bias >= 0) return o.msm.moment_bias;
-  if (o.storage != Storage::F32) return 6e-5f;
-  return o.method == "msm-hausdorff" ? kHausdorffMomentBiasF32 : kMomentBiasF32;
+  if (o.storage != Storage::F32) return kMomentBiasUnorm16;
+  return hausdorff ? kHausdorffMomentBiasF32 : kMomentBiasF32;
+}
+
+// msm's and msm-hausdorff's one parameter, declared once.
+Parameter moment_bias_parameter() {
+  return Parameter::real("FilterOptions::msm.moment_bias", "--msm-bias", "A",
+                         "MSM moment bias a: b = (1 - a) bar(B) + a (1/2, ...)")
+      .resolved_by_method("msm " + num(kMomentBiasF32) + ", msm-hausdorff " + num(kHausdorffMomentBiasF32) +
+                          " in f32; " + num(kMomentBiasUnorm16) + " in unorm16")
+      .within({0, 1})
+      .unset_when(ParameterUnset::Negative)
+      .on(&FilterOptions::msm, &MsmOptions::moment_bias);
 }
 
 }  // namespace
@@ -119,9 +133,8 @@ MethodDesc msm_method(bool hausdorff) {
                         : "moment shadow maps, 4 moments, Hamburger (Peters & Klein 2015)";
   m.header = "methods/msm.clh";
   m.channel_count = [](const FilterOptions&) { return 4; };
-  m.parameters =
-      "--msm-bias A (default f32 1e-4, msm-hausdorff 1e-3; unorm16 6e-5), --bias B (default f32 0, "
-      "msm-hausdorff 3e-4; measured for unorm16)";
+  m.parameters = {moment_bias_parameter()};
+  m.reads = {"FilterOptions::depth_test.bias"};
   m.storages = {{Storage::F32, "", {}}, {Storage::Unorm16, "optimised moment quantisation", {}}};
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o,
@@ -129,16 +142,17 @@ MethodDesc msm_method(bool hausdorff) {
                   "f16 on [0,1]; 8 bits are far too coarse for 4 moments");
     require_finite(o.msm.moment_bias, "FilterOptions::msm.moment_bias");
     require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
-    if (o.msm.moment_bias > 1.0f) throw InputError("FilterOptions::msm.moment_bias must be at most 1");
   };
   m.default_depth_bias = [hausdorff](const FilterOptions& o) {
     if (o.storage == Storage::Unorm16) return kUnorm16DepthBias;
     return hausdorff ? kHausdorffDepthBiasF32 : 0.0f;
   };
-  m.pack_params = [](const FilterOptions& o) { return bytes_of(sf_msm_params{moment_bias(o), depth_bias(o)}); };
+  m.pack_params = [hausdorff](const FilterOptions& o) {
+    return bytes_of(sf_msm_params{moment_bias(o, hausdorff), depth_bias(o)});
+  };
   m.defines = [](const FilterOptions&) { return std::string(); };
   m.scalar = [hausdorff](const FilterOptions& o) {
-    const double a = moment_bias(o), bias = depth_bias(o);
+    const double a = moment_bias(o, hausdorff), bias = depth_bias(o);
     const bool optimised = o.storage == Storage::Unorm16 || o.storage == Storage::Unorm8;
     ScalarMethod s;
     s.channels = 4;
@@ -163,13 +177,9 @@ MethodDesc msm_method(bool hausdorff) {
     };
     return s;
   };
-  m.parameter_values = [](const FilterOptions& o) {
-    return std::vector<MethodParameter>{{"bias", depth_bias(o)}, {"moment_bias", moment_bias(o)}};
+  m.parameter_values = [hausdorff](const FilterOptions& o) {
+    return std::vector<MethodParameter>{{"bias", depth_bias(o)}, {"moment_bias", moment_bias(o, hausdorff)}};
   };
-  m.label = [](const FilterOptions&) { return std::string(); };
-  m.variants = [](const FilterOptions& base, GridSize) { return std::vector<FilterOptions>{base}; };
-  m.cost.reconstruct = hausdorff ? 50.0 : 60.0;  // Cholesky + cubic (+ the Hausdorff bound)
-  m.colour = hausdorff ? std::array<float, 3>{0.6f, 0.3f, 0.0f} : std::array<float, 3>{0.9f, 0.5f, 0.0f};
   return m;
 }
 

@@ -22,9 +22,8 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
   m.raw_depth = true;
   m.filtered = filtered;
   m.channel_count = [](const FilterOptions&) { return 1; };
-  m.parameters =
-      "--bias B (default 0.003 with the receiver plane, 0 without), --receiver-plane on|off (default on), "
-      "--slope-bias K (texels of the plane's slope, default 0)";
+  m.reads = {"FilterOptions::depth_test.bias", "FilterOptions::receiver_plane.enabled",
+             "FilterOptions::receiver_plane.slope_bias"};
   m.storages = plain_storages({Storage::F32});
   m.validate = [m](const FilterOptions& o) {
     require_finite(depth_bias(o), "FilterOptions::depth_test.bias");
@@ -39,11 +38,6 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
     return std::vector<MethodParameter>{{"bias", depth_bias(o)},
                                         {"slope_bias", o.receiver_plane.enabled ? o.receiver_plane.slope_bias : 0.0f}};
   };
-  m.label = [](const FilterOptions&) { return std::string(); };
-  m.variants = [](const FilterOptions& base, GridSize) { return std::vector<FilterOptions>{base}; };
-  // sm: one fetch and test per bilinear tap; pcf: every texel of the (2R + 2)^2 support.
-  m.cost = filtered ? CostModel{0.0, 8.0, 0.0, 1.2} : CostModel{0.0, 9.0, 0.0, 0.0};
-  m.colour = filtered ? std::array<float, 3>{0.55f, 0.55f, 0.55f} : std::array<float, 3>{0.0f, 0.0f, 0.0f};
   return m;
 }
 

@@ -1,9 +1,12 @@
-// The registry's list, lookups by name and storage, and the storage formats.
+// The registry's list and its registrations, method handles, lookups by name and storage, and
+// the storage formats.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <ostream>
 #include <sstream>
 
+#include "embedded_kernels.hpp"
 #include "registration.hpp"
 
 namespace sf {
@@ -129,29 +132,116 @@ std::vector<StorageLimit> plain_storages(std::initializer_list<Storage> list) {
   return out;
 }
 
+// The builders of the library's methods, one per file of host/src/methods/, listed in registry().
+MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered);
+MethodDesc esm_method();
+MethodDesc vsm_method();
+MethodDesc evsm_method(int channels);
+MethodDesc msm_method(bool hausdorff);
+MethodDesc csm_method();
+
 }  // namespace registration
 
-const std::vector<MethodDesc>& methods() {
-  using namespace registration;
-  static const std::vector<MethodDesc> all = {
-      raw_depth_method("sm", "plain shadow-map test H(z - d + b) under the bilinear weights", false),
-      raw_depth_method("pcf",
-                       "percentage-closer filtering: H(z - d + b) brute force under the "
-                       "prefilter's weights (Gaussian (x) bilinear), i.e. s_ref",
-                       true),
-      esm_method(),
-      vsm_method(),
-      evsm_method(2),
-      evsm_method(4),
-      msm_method(false),
-      msm_method(true),
-      csm_method(),
+namespace {
+
+// The registry's checks on a registration, and its validation with the declared ranges first.
+MethodDesc checked(MethodDesc d, const std::deque<MethodDesc>& registered) {
+  auto refuse = [&d](const std::string& why) { throw InputError("register_method(" + d.name + "): " + why); };
+  if (d.name.empty()) throw InputError("register_method: a method needs a name");
+  for (const MethodDesc& m : registered)
+    if (m.name == d.name) refuse("a method of this name is registered");
+  if (!d.channel_count || !d.validate || !d.pack_params || !d.parameter_values)
+    refuse("channel_count, validate, pack_params and parameter_values are required");
+  if (!d.raw_depth) {
+    if (!d.scalar) refuse("a basis method needs its double-precision twin (scalar)");
+    if (d.header.empty()) refuse("a basis method needs its kernel header");
+    if (d.header_source.empty() && !detail::has_embedded_kernel(d.header))
+      refuse("header '" + d.header + "' is not embedded and no header_source is given");
+    if (!d.header_source.empty() && detail::has_embedded_kernel(d.header))
+      refuse("header '" + d.header + "' would replace the embedded file of that name");
+  }
+  if (!d.defines) d.defines = [](const FilterOptions&) { return std::string(); };
+  // One declaration per field and per flag, whoever declares it.
+  std::vector<const Parameter*> others;
+  for (const Parameter& p : filter_parameters()) others.push_back(&p);
+  for (const MethodDesc& m : registered)
+    for (const Parameter& p : m.parameters) others.push_back(&p);
+  for (const Parameter& p : d.parameters) {
+    if (p.field.empty() || p.flag.empty() || !p.get || !p.set) refuse("parameter '" + p.field + "' is incomplete");
+    for (const Parameter* q : others)
+      if ((q->field == p.field) != (q->flag == p.flag))
+        refuse("parameter " + p.field + " (" + p.flag + ") clashes with " + q->field + " (" + q->flag + ")");
+  }
+  d.validate = [params = d.parameters, own = d.validate](const FilterOptions& o) {
+    check_parameters(params, o);
+    own(o);
   };
+  return d;
+}
+
+std::deque<MethodDesc>& registry() {
+  static std::deque<MethodDesc> all = [] {
+    using namespace registration;
+    std::deque<MethodDesc> d;
+    for (MethodDesc m : {
+             raw_depth_method("sm", "plain shadow-map test H(z - d + b) under the bilinear weights", false),
+             raw_depth_method("pcf",
+                              "percentage-closer filtering: H(z - d + b) brute force under the "
+                              "prefilter's weights (Gaussian (x) bilinear), i.e. s_ref",
+                              true),
+             esm_method(),
+             vsm_method(),
+             evsm_method(2),
+             evsm_method(4),
+             msm_method(false),
+             msm_method(true),
+             csm_method(),
+         })
+      d.push_back(checked(std::move(m), d));
+    return d;
+  }();
   return all;
 }
 
+const MethodDesc& named(const std::string& name) {
+  for (const auto& m : methods())
+    if (m.name == name) return m;
+  std::string known;
+  for (const auto& m : methods()) known += (known.empty() ? "" : ", ") + m.name;
+  throw InputError("unknown method '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace
+
+const std::deque<MethodDesc>& methods() { return registry(); }
+
+Method register_method(MethodDesc desc) {
+  std::deque<MethodDesc>& all = registry();
+  all.push_back(checked(std::move(desc), all));
+  return Method(all.back());
+}
+
+Method method(const std::string& name) { return Method(named(name)); }
+
+Method::Method(const std::string& name) : desc_(&named(name)) {}
+Method::Method(const char* name) : desc_(&named(name)) {}
+
+const MethodDesc& Method::desc() const {
+  static const MethodDesc& esm = named("esm");
+  return desc_ ? *desc_ : esm;
+}
+
+const std::string& Method::name() const { return desc().name; }
+
+std::ostream& operator<<(std::ostream& out, const Method& m) { return out << m.name(); }
+
+void validate_options(const FilterOptions& o) {
+  require_finite_options(o);
+  o.method->validate(o);
+}
+
 std::string sat_refusal(const FilterOptions& o, const SatMap& map) {
-  const MethodDesc& m = find_method(o.method);
+  const MethodDesc& m = *o.method;
   if (m.raw_depth || o.lookup.kind != Lookup::Sat || !m.sat_limit) return {};
   return m.sat_limit(o, map);
 }
@@ -162,20 +252,12 @@ size_t basis_bytes_per_texel(const MethodDesc& m, const FilterOptions& o) {
 
 EsmClassify classify_mode(const FilterOptions& o) {
   if (o.esm_classify.mode != EsmClassify::Auto) return o.esm_classify.mode;
-  return find_method(o.method).classifiable ? EsmClassify::ZMax : EsmClassify::None;
+  return o.method->classifiable ? EsmClassify::ZMax : EsmClassify::None;
 }
 
 float depth_bias(const FilterOptions& o) {
   if (o.depth_test.bias) return *o.depth_test.bias;
-  return find_method(o.method).default_depth_bias(o);
-}
-
-const MethodDesc& find_method(const std::string& name) {
-  for (const auto& m : methods())
-    if (m.name == name) return m;
-  std::string known;
-  for (const auto& m : methods()) known += (known.empty() ? "" : ", ") + m.name;
-  throw InputError("unknown method '" + name + "' (known: " + known + ")");
+  return o.method->default_depth_bias(o);
 }
 
 }  // namespace sf

@@ -2,6 +2,7 @@
 // and the one-sided Chebyshev bound with light-bleeding reduction.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "registration.hpp"
 
@@ -30,9 +31,7 @@ constexpr float kVsmMinVarianceF32 = 1e-6f, kVsmMinVariance16 = 2e-5f;
 constexpr float kEvsm2Pos = 5.0f, kEvsm4Pos = 10.0f, kEvsm4Neg = 5.0f;
 constexpr float kEvsmMinVarianceF32 = 1e-3f, kEvsmMinVarianceF16 = 2e-3f;
 
-float evsm_pos(const FilterOptions& o) {
-  return o.evsm.pos > 0 ? o.evsm.pos : o.method == "evsm4" ? kEvsm4Pos : kEvsm2Pos;
-}
+float evsm_pos(const FilterOptions& o, bool four) { return o.evsm.pos > 0 ? o.evsm.pos : four ? kEvsm4Pos : kEvsm2Pos; }
 float evsm_neg(const FilterOptions& o) { return o.evsm.neg > 0 ? o.evsm.neg : kEvsm4Neg; }
 
 double chebyshev(double mu, double m2, double t, double vmin) {
@@ -43,12 +42,47 @@ double chebyshev(double mu, double m2, double t, double vmin) {
 
 double reduce_bleeding(double p, double a) { return std::clamp((p - a) / (1.0 - a), 0.0, 1.0); }
 
-void validate_vsm_common(const FilterOptions& o) {
-  require_finite(o.vsm.min_variance, "FilterOptions::vsm.min_variance");
-  if (o.vsm.min_variance == 0.0f)
-    throw InputError("FilterOptions::vsm.min_variance must be positive (negative = the default)");
-  if (!(o.vsm.lbr >= 0.0f && o.vsm.lbr < 1.0f))
-    throw InputError("FilterOptions::vsm.lbr must be in [0, 1), got " + num(o.vsm.lbr));
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The parameters vsm, evsm2 and evsm4 share, and evsm's warps: each declared once here.
+Parameter min_variance_parameter() {
+  return Parameter::real("FilterOptions::vsm.min_variance", "--vsm-min-variance", "V",
+                         "Minimum variance (vsm: absolute floor of bar(z^2) - bar(z)^2; evsm: relative, the floor per "
+                         "side is (V c |warped d|)^2)")
+      .resolved_by_method("vsm " + num(kVsmMinVarianceF32) + " in f32, " + num(kVsmMinVariance16) +
+                          " in f16 and unorm16; evsm " + num(kEvsmMinVarianceF32) + " in f32, " +
+                          num(kEvsmMinVarianceF16) + " in f16")
+      .within({0, kInf, true})
+      .unset_when(ParameterUnset::Negative)
+      .on(&FilterOptions::vsm, &VsmOptions::min_variance);
+}
+
+Parameter lbr_parameter() {
+  return Parameter::real("FilterOptions::vsm.lbr", "--lbr", "A",
+                         "Light-bleeding reduction a: v = clamp((p - a) / (1 - a), 0, 1)")
+      .with_default(VsmOptions{}.lbr)
+      .within({0, 1, false, true})
+      .on(&FilterOptions::vsm, &VsmOptions::lbr);
+}
+
+Parameter evsm_pos_parameter() {
+  return Parameter::real("FilterOptions::evsm.pos", "--evsm-pos", "C+",
+                         "EVSM positive warp exponent (clamped to the storage's limit: " + num(kEvsmMaxFloat32) +
+                             " in f32, " + num(kEvsmMaxFloat16) + " in f16)")
+      .resolved_by_method("evsm2 " + num(kEvsm2Pos) + ", evsm4 " + num(kEvsm4Pos))
+      .within({0, kInf, true})
+      .unset_when(ParameterUnset::Negative)
+      .on(&FilterOptions::evsm, &EvsmOptions::pos);
+}
+
+Parameter evsm_neg_parameter() {
+  return Parameter::real("FilterOptions::evsm.neg", "--evsm-neg", "C-",
+                         "EVSM negative warp exponent (clamped to the storage's limit: " + num(kEvsmMaxFloat32) +
+                             " in f32, " + num(kEvsmMaxFloat16) + " in f16)")
+      .resolved_by_method(num(kEvsm4Neg))
+      .within({0, kInf, true})
+      .unset_when(ParameterUnset::Negative)
+      .on(&FilterOptions::evsm, &EvsmOptions::neg);
 }
 
 sf_vsm_params vsm_params(const FilterOptions& o) {
@@ -57,14 +91,12 @@ sf_vsm_params vsm_params(const FilterOptions& o) {
           o.vsm.lbr};
 }
 
-sf_evsm_params evsm_params(const FilterOptions& o) {
+sf_evsm_params evsm_params(const FilterOptions& o, bool four) {
   const float limit = evsm_limit(o.storage);
   const float vmin = o.vsm.min_variance > 0 ? o.vsm.min_variance
                                             : (o.storage == Storage::F16 ? kEvsmMinVarianceF16 : kEvsmMinVarianceF32);
-  return {std::min(evsm_pos(o), limit), std::min(evsm_neg(o), limit), vmin, o.vsm.lbr};
+  return {std::min(evsm_pos(o, four), limit), std::min(evsm_neg(o), limit), vmin, o.vsm.lbr};
 }
-
-std::string lbr_label(const FilterOptions& o) { return o.vsm.lbr > 0 ? " lbr=" + num(o.vsm.lbr) : ""; }
 
 }  // namespace
 
@@ -74,11 +106,10 @@ MethodDesc vsm_method() {
   m.summary = "variance shadow maps: B = (z, z^2), one-sided Chebyshev bound";
   m.header = "methods/vsm.clh";
   m.channel_count = [](const FilterOptions&) { return 2; };
-  m.parameters = "--vsm-min-variance V (default 1e-6 f32, 2e-5 f16 and unorm16), --lbr A (default 0)";
+  m.parameters = {min_variance_parameter(), lbr_parameter()};
   m.storages = plain_storages({Storage::F32, Storage::F16, Storage::Unorm16});
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o, "8-bit steps of z^2 (1/255) are larger than the variances it needs");
-    validate_vsm_common(o);
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(vsm_params(o)); };
   m.defines = [](const FilterOptions&) { return std::string(); };
@@ -99,13 +130,6 @@ MethodDesc vsm_method() {
   m.parameter_values = [](const FilterOptions& o) {
     return std::vector<MethodParameter>{{"lbr", o.vsm.lbr}, {"min_variance", vsm_params(o).min_variance}};
   };
-  m.label = lbr_label;
-  m.variants = [](const FilterOptions& base, GridSize g) {
-    const std::vector<float> a =
-        g == GridSize::Quick ? std::vector<float>{0.0f, 0.2f} : std::vector<float>{0.0f, 0.2f, 0.4f};
-    return variants_of(base, a, [](FilterOptions& o, float v) { o.vsm.lbr = v; });
-  };
-  m.colour = {0.1f, 0.35f, 0.9f};
   return m;
 }
 
@@ -117,16 +141,11 @@ MethodDesc evsm_method(int channels) {
                    : "exponential variance shadow maps, positive warp only";
   m.header = "methods/evsm.clh";
   m.channel_count = [channels](const FilterOptions&) { return channels; };
-  m.parameters = std::string("--evsm-pos C+ (default ") + (four ? "10), --evsm-neg C- (default 5" : "5") +
-                 "; clamped to 42 in f32, 5.54 in f16), --vsm-min-variance V (default 1e-3 f32, "
-                 "2e-3 f16), --lbr A (default 0)";
+  m.parameters = {evsm_pos_parameter(), min_variance_parameter(), lbr_parameter()};
+  if (four) m.parameters.insert(m.parameters.begin() + 1, evsm_neg_parameter());
   m.storages = {{Storage::F32, "warps clamped to 42", {}}, {Storage::F16, "warps clamped to 5.54", {}}};
   m.validate = [m](const FilterOptions& o) {
     check_storage(m, o, "exp(c w) spans e^-c..e^c, which unorm cannot resolve");
-    validate_vsm_common(o);
-    if (o.evsm.pos == 0.0f || !std::isfinite(o.evsm.pos) || o.evsm.neg == 0.0f || !std::isfinite(o.evsm.neg))
-      throw InputError(
-          "FilterOptions::evsm.pos and FilterOptions::evsm.neg must be positive numbers (negative = the default)");
   };
   // The Chebyshev bound amplifies relative errors of the moments by up to 1 / (v_min c)^2 (the
   // variance floor, relative to t^2): float32 lookups already carry a few ulps, and that is what
@@ -134,7 +153,7 @@ MethodDesc evsm_method(int channels) {
   // kSatRelativeError. With w = 2z - 1 over [wmin, wmax], the positive moments exp(c w), exp(2 c w)
   // and the negative ones' magnitudes exp(-c w), exp(-2 c w).
   m.sat_limit = [four](const FilterOptions& o, const SatMap& map) {
-    const sf_evsm_params p = evsm_params(o);
+    const sf_evsm_params p = evsm_params(o, four);
     const double wmin = 2.0 * map.range.min - 1.0, wmax = 2.0 * map.range.max - 1.0;
     auto positive = [=](double c) { return std::vector<LogRange>{{c * wmin, c * wmax}, {2 * c * wmin, 2 * c * wmax}}; };
     auto negative = [=](double c) {
@@ -147,10 +166,10 @@ MethodDesc evsm_method(int channels) {
       why = sat_exponential_refusal(name, "FilterOptions::evsm.neg", p.neg, negative, map, kSatRelativeError, keeps);
     return why;
   };
-  m.pack_params = [](const FilterOptions& o) { return bytes_of(evsm_params(o)); };
+  m.pack_params = [four](const FilterOptions& o) { return bytes_of(evsm_params(o, four)); };
   m.defines = [](const FilterOptions&) { return std::string(); };
   m.scalar = [four](const FilterOptions& o) {
-    const sf_evsm_params p = evsm_params(o);
+    const sf_evsm_params p = evsm_params(o, four);
     const double pos = p.pos, neg = p.neg, vmin = p.min_variance, lbr = p.lbr;
     ScalarMethod s;
     s.channels = four ? 4 : 2;
@@ -176,18 +195,11 @@ MethodDesc evsm_method(int channels) {
     return s;
   };
   m.parameter_values = [four](const FilterOptions& o) {
-    std::vector<MethodParameter> p{{"lbr", o.vsm.lbr}, {"c+", evsm_pos(o)}};
+    std::vector<MethodParameter> p{{"lbr", o.vsm.lbr}, {"c+", evsm_pos(o, four)}};
     if (four) p.push_back({"c-", evsm_neg(o)});
-    p.push_back({"min_variance", evsm_params(o).min_variance});
+    p.push_back({"min_variance", evsm_params(o, four).min_variance});
     return p;
   };
-  m.label = [](const FilterOptions& o) { return lbr_label(o) + " c+=" + num(evsm_pos(o)); };
-  m.variants = [](const FilterOptions& base, GridSize g) {
-    if (g != GridSize::Wide && g != GridSize::Auto) return std::vector<FilterOptions>{base};
-    return variants_of(base, std::vector<float>{20.0f, 40.0f}, [](FilterOptions& o, float c) { o.evsm.pos = c; });
-  };
-  m.cost.reconstruct = four ? 40.0 : 9.0;  // two Chebyshev bounds / one
-  m.colour = four ? std::array<float, 3>{0.1f, 0.6f, 0.1f} : std::array<float, 3>{0.0f, 0.65f, 0.65f};
   return m;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cl_errors.hpp"
+#include "planned_scope.hpp"
 #include "method_build.hpp"
 #include "plane_params.hpp"
 #include "shadowfilter/classify.hpp"
@@ -17,11 +18,11 @@ namespace {
 using ClassifyParams = sf_classify_params;  // shared_types.clh
 
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {
-  const MethodDesc& m = find_method(opt.method);
+  const MethodDesc& m = *opt.method;
   if (!m.classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
-                     opt.method);
-  m.validate(opt);
+                     opt.method.name());
+  detail::validate_unless_planned(m, opt);
   detail::validate(opt.receiver_plane, "FilterOptions::receiver_plane");
   detail::BuildOptions b;
   detail::add_method_options(b, m, opt).lookup(opt.lookup.kind);
@@ -65,10 +66,10 @@ double esm_threshold_eps(const FilterOptions& opt) {
   return std::exp(double(opt.esm.c) * opt.esm_classify.zmax_offset) * (1 + 1e-5) - 1;
 }
 
-cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
-                                      const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                                      const cl::Buffer& visibility, const cl::Buffer& flags, size_t count,
-                                      const EventList* wait, int receiver_row) try {
+cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, size_t count, int receiver_row,
+                                      const ClassifyInputs& in, const cl::Buffer& u, const cl::Buffer& v,
+                                      const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                      const EventList* wait) try {
   check(opt, in);
   cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
   common_args(k, in)
@@ -80,7 +81,7 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, con
       .buffer(flags)
       .value(static_cast<int>(count))
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt))
+      .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, receiver_row));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
@@ -99,7 +100,7 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
       .buffer(visibility)
       .buffer(flags)
       .value(params(opt))
-      .bytes(find_method(opt.method).pack_params(opt))
+      .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, 0));
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(in.width, in.height), cl::NullRange, wait, &e);
@@ -114,9 +115,9 @@ namespace sf {
 
 void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan) {
   if (classify_mode(options) == EsmClassify::None) return;
-  if (!find_method(options.method).classifiable)
+  if (!options.method->classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
-                     options.method);
+                     options.method.name());
   if (classify_mode(options) == EsmClassify::ZMax)
     plan.buffers.push_back(
         {"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
@@ -142,13 +143,12 @@ ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions opt
   detail::throw_device_error("ClassifyStage::ClassifyStage", e);
 }
 
-PassEvents ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait) try {
+cl::Event ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait) try {
   depth_ = depth;
-  zmax_done_ = PassEvents{};
-  classify_done_ = cl::Event();
+  zmax_first_ = zmax_done_ = classify_done_ = cl::Event();
   if (zmax_chain_())
-    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, depth, zmax_chain_, {width_, height_, 1, 4}, wait,
-                                 options_.schedule);
+    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, options_.schedule, {width_, height_, 1, 4}, depth,
+                                 zmax_chain_, &zmax_first_, wait);
   return zmax_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::prepare", e);
@@ -168,15 +168,15 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
   in.width = width_;
   in.height = height_;
   classify_done_ = rx.grid ? enqueue_esm_classify_grid(*rt_, options_, in, rx.d, visibility, flags_, wait)
-                           : enqueue_esm_classify_points(*rt_, options_, in, rx.u, rx.v, rx.d, visibility, flags_,
-                                                         rx.count, wait, rx.row);
+                           : enqueue_esm_classify_points(*rt_, options_, rx.count, rx.row, in, rx.u, rx.v, rx.d,
+                                                         visibility, flags_, wait);
   return classify_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::classify", e);
 }
 
 void ClassifyStage::add_times(StageTimes& t) const try {
-  if (zmax_done_.first()) t.zmax = event_seconds(zmax_done_.first, zmax_done_.last);
+  if (zmax_done_()) t.zmax = event_seconds(zmax_first_, zmax_done_);
   if (classify_done_()) t.classify = event_seconds(classify_done_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::add_times", e);

@@ -6,6 +6,7 @@
 #include "cl_errors.hpp"
 #include "launch.hpp"
 #include "plane_params.hpp"
+#include "planned_scope.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/kernels.hpp"
 
@@ -23,9 +24,9 @@ struct PcfSetup {
 };
 
 PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear) {
-  const MethodDesc& m = find_method(opt.method);
-  if (!m.raw_depth) throw InputError("method " + opt.method + " does not read the depth map itself");
-  m.validate(opt);
+  const MethodDesc& m = *opt.method;
+  if (!m.raw_depth) throw InputError("method " + opt.method.name() + " does not read the depth map itself");
+  detail::validate_unless_planned(m, opt);
   PcfSetup s;
   // Footprint lookups reuse lookup.clh's level-of-detail rule (one float channel).
   const cl::Program p =
@@ -44,12 +45,12 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
 
 }  // namespace
 
-cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
-                             const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d,
-                             const cl::Buffer& visibility, size_t count, const EventList* wait,
-                             const cl::Buffer* footprint, int receiver_row) try {
+cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, int width, int height, size_t count,
+                             int receiver_row, const cl::Buffer& depth, const cl::Buffer& u, const cl::Buffer& v,
+                             const cl::Buffer& d, const cl::Buffer& footprint, const cl::Buffer& visibility,
+                             const EventList* wait) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
-  const Lookup lookup = find_method(opt.method).filtered ? opt.lookup.kind : Lookup::Bilinear;
+  const Lookup lookup = opt.method->filtered ? opt.lookup.kind : Lookup::Bilinear;
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
                                           : pcf_setup(rt, opt, "sf_pcf_points_footprint", lookup);
   detail::KernelArgs args(s.kernel);
@@ -64,7 +65,7 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
       .value(s.bias)
       .value(s.radius)
       .value(s.weights);
-  if (lookup != Lookup::Bilinear) args.optional(footprint ? *footprint : cl::Buffer());
+  if (lookup != Lookup::Bilinear) args.optional(footprint);
   s.plane.row = receiver_row;
   args.value(s.plane);
   cl::Kernel& k = s.kernel;
@@ -75,7 +76,7 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, const cl::Bu
   detail::throw_device_error("enqueue_pcf_points", e);
 }
 
-cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, const cl::Buffer& depth, int width, int height,
+cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, int width, int height, const cl::Buffer& depth,
                            const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait) try {
   PcfSetup s = pcf_setup(rt, opt, "sf_pcf_grid");
   cl::Kernel& k = s.kernel;

@@ -45,8 +45,7 @@ struct FrameFilter::Buffers {
 FrameFilter::FrameFilter(std::shared_ptr<Runtime> runtime, FilterOptions options, HostMemory memory)
     : rt_(std::move(runtime)), options_(std::move(options)) {
   // The options are checked as the pipeline will check them, before any frame is read.
-  require_finite_options(options_);
-  find_method(options_.method).validate(options_);
+  validate_options(options_);
   zero_copy_ = memory == HostMemory::ZeroCopy || (memory == HostMemory::Auto && shares_host_memory(*rt_));
 }
 

@@ -52,16 +52,17 @@ FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSe
   return o;
 }
 
-DeviceViewReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events) {
+DeviceReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events) {
   const size_t count = view.count();
   const std::vector<float>* host[] = {&view.x,   &view.y,   &view.z,   &view.depth, &view.dxx,
                                       &view.dxy, &view.dxz, &view.dyx, &view.dyy,   &view.dyz};
   for (const auto* a : host)
     if (a->size() != count) throw InputError("the view receivers' data does not match their size");
-  DeviceViewReceivers rx;
+  DeviceReceivers rx;
   rx.count = count;
-  rx.width = view.width;
-  cl::Buffer* device[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
+  rx.row = view.width;
+  DeviceReceivers::View& w = rx.view;
+  cl::Buffer* device[] = {&w.x, &w.y, &w.z, &w.depth, &w.dxx, &w.dxy, &w.dxz, &w.dyx, &w.dyy, &w.dyz};
   try {
     for (int n = 0; n < 10; ++n) {
       *device[n] = cl::Buffer(runtime.context(), CL_MEM_READ_ONLY, std::max<size_t>(count, 1) * sizeof(float));
@@ -75,11 +76,6 @@ DeviceViewReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers&
     detail::throw_device_error("upload_view_receivers", e);
   }
   return rx;
-}
-
-double LayeredTimes::total() const {
-  const StageTimes& s = sum;
-  return s.transform + s.blur + s.pyramid + s.sat + s.zmax + s.reconstruct + s.classify + project + blend;
 }
 
 namespace {
@@ -103,12 +99,6 @@ sf_cascade_params cascade_params(const CascadeSet& set) {
 // counts, kernels/cascade.cl).
 cl::Kernel cascade_kernel(Runtime& rt, const char* name, int layers) {
   return cl::Kernel(rt.program({"cascade.cl"}, detail::BuildOptions().define("SF_CASCADES", layers).str()), name);
-}
-
-void add(StageTimes& s, const StageTimes& t) {
-  s.transform += t.transform, s.blur += t.blur, s.reconstruct += t.reconstruct;
-  s.upload += t.upload, s.download += t.download, s.pyramid += t.pyramid;
-  s.sat += t.sat, s.zmax += t.zmax, s.classify += t.classify;
 }
 
 }  // namespace
@@ -190,16 +180,17 @@ void LayeredPipeline::set_depth_ranges(const std::vector<MapRange>& ranges) {
   for (size_t k = 0; k < pipes_.size(); ++k) pipes_[k]->set_depth_range(ranges[k]);
 }
 
-cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::Buffer& visibility,
+cl::Event LayeredPipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility,
                                        const EventList* wait) try {
-  const cl::Buffer* inputs[] = {&rx.x, &rx.y, &rx.z, &rx.depth, &rx.dxx, &rx.dxy, &rx.dxz, &rx.dyx, &rx.dyy, &rx.dyz};
+  const DeviceReceivers::View& w = rx.view;
+  const cl::Buffer* inputs[] = {&w.x, &w.y, &w.z, &w.depth, &w.dxx, &w.dxy, &w.dxz, &w.dyx, &w.dyy, &w.dyz};
   const char* names[] = {"x", "y", "z", "depth", "dxx", "dxy", "dxz", "dyx", "dyy", "dyz"};
   for (int n = 0; n < 10; ++n)
     if (rx.count > 0 && !(*inputs[n])())
-      throw InputError(std::string("DeviceViewReceivers::") + names[n] + " is an empty buffer");
+      throw InputError(std::string("DeviceReceivers::view.") + names[n] + " is an empty buffer");
   if (!visibility()) throw InputError("LayeredPipeline::reconstruct: the visibility buffer is empty");
-  if (rx.count > size_t(INT_MAX)) throw InputError("DeviceViewReceivers::count exceeds 2^31 - 1");
-  if (rx.width < 0) throw InputError("DeviceViewReceivers::width must not be negative");
+  if (rx.count > size_t(INT_MAX)) throw InputError("DeviceReceivers::count exceeds 2^31 - 1");
+  if (rx.row < 0) throw InputError("DeviceReceivers::row must not be negative");
   if (rx.count == 0) {
     cl::Event none;
     rt_->queue().enqueueMarkerWithWaitList(wait, &none);
@@ -222,7 +213,7 @@ cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::
   EventList projected{project_done_}, layers_done;
   for (size_t k = 0; k < pipes_.size(); ++k) {
     DeviceReceivers layer_rx = layer_rx_[k];
-    layer_rx.row = rx.width;
+    layer_rx.row = rx.row;
     if (pipes_[k]->options().lookup.kind == Lookup::Bilinear) layer_rx.f = cl::Buffer();
     layers_done.push_back(pipes_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
   }
@@ -242,12 +233,9 @@ cl::Event LayeredPipeline::reconstruct(const DeviceViewReceivers& rx, const cl::
   detail::throw_device_error("LayeredPipeline::reconstruct", e);
 }
 
-LayeredTimes LayeredPipeline::times() const try {
-  LayeredTimes t;
-  for (const auto& p : pipes_) {
-    t.layer.push_back(p->times());
-    add(t.sum, t.layer.back());
-  }
+StageTimes LayeredPipeline::times() const try {
+  StageTimes t;
+  for (const auto& p : pipes_) t += p->times();
   if (project_done_()) t.project = event_seconds(project_done_);
   if (blend_done_()) t.blend = event_seconds(blend_done_);
   return t;
@@ -299,7 +287,7 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
   };
   std::vector<cl::Buffer> depth;
   for (const HostImage& m : maps) depth.push_back(upload(m.data));
-  const DeviceViewReceivers rx = upload_view_receivers(rt, view, &uploads);
+  const DeviceReceivers rx = upload_view_receivers(rt, view, &uploads);
   cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, std::max<size_t>(count, 1) * sizeof(float));
 
   EventList filtered{pipe.prefilter(depth, uploads.empty() ? nullptr : &uploads)};
@@ -329,8 +317,8 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
     }
   }
   result.times = pipe.times();
-  if (!uploads.empty()) result.upload = event_seconds(uploads.front(), uploads.back());
-  if (download()) result.download = event_seconds(download);
+  if (!uploads.empty()) result.times.upload = event_seconds(uploads.front(), uploads.back());
+  if (download()) result.times.download = event_seconds(download);
   result.device_bytes = pipe.device_bytes() + input_bytes;
   return result;
 } catch (const cl::Error& e) {

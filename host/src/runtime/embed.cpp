@@ -11,7 +11,7 @@
 namespace sf {
 
 KernelPrelude kernel_prelude(const FilterOptions& options) {
-  const MethodDesc& m = find_method(options.method);
+  const MethodDesc& m = *options.method;
   if (m.raw_depth)
     throw InputError("FilterOptions::method " + m.name +
                      " tests the depth map itself and has no basis to reconstruct from");

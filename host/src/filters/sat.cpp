@@ -6,11 +6,13 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "pass_events.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf {
+using detail::PassEvents;
 namespace {
 constexpr int kStrip = 256;  // columns per work-item of sf_sat_bands (SF_SAT_STRIP)
 // A chained band's stored rows, read twice, the second time from L2/L3: at 2048^2 bands of
@@ -101,9 +103,11 @@ PassEvents enqueue_sat_scan(Runtime& rt, const detail::BuildOptions& options, co
 
 }  // namespace
 
-PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
-                       const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
-                       const SatBuild& build, const ScheduleOptions& sched) try {
+namespace {
+
+PassEvents sat_passes(Runtime& rt, Storage storage, const cl::Buffer& src, const cl::Buffer& table,
+                      const cl::Buffer& band_scratch, const ImageShape& shape, const EventList* wait,
+                      const SatBuild& build, const ScheduleOptions& sched) try {
   SatLayout L = sat_layout(shape);
   const SatAccumulator accumulator = build.accumulator;
   SatSchedule schedule = build.schedule;
@@ -158,6 +162,16 @@ PassEvents enqueue_sat(Runtime& rt, Storage storage, const cl::Buffer& src, cons
   return ev;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_sat", e);
+}
+
+}  // namespace
+
+cl::Event enqueue_sat(Runtime& rt, Storage storage, const SatBuild& build, const ScheduleOptions& schedule,
+                      const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& table,
+                      const cl::Buffer& band_scratch, cl::Event* first, const EventList* wait) {
+  const PassEvents ev = sat_passes(rt, storage, src, table, band_scratch, shape, wait, build, schedule);
+  if (first) *first = ev.first;
+  return ev.last;
 }
 
 }  // namespace sf

@@ -1,13 +1,13 @@
 // Direct lighting with coherent shadow maps (Ritschel 2007 sec. 5 and 5.1; docs/coherent_render.md):
 // one work-item per pixel of a G-buffer, S stratified samples of a lat-long environment map drawn
 // from its luminance distribution (plain light sampling, the seed's choice for diffuse surfaces)
-// and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the CSM
-// (csm_query.clh, concatenated before this file): sf_csm_visibility (nearest view and texel,
-// 0 or 1) or with filter = 1 sf_csm_visibility_filtered (generalized PCF, in [0, 1]). Host twin, with the same
+// and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the coherent maps
+// (coherent/query.clh, concatenated before this file): sf_coherent_visibility (nearest view and texel,
+// 0 or 1) or with filter = 1 sf_coherent_visibility_filtered (generalized PCF, in [0, 1]). Host twin, with the same
 // random numbers and float arithmetic: host/scene/coherent_render.cpp (render_host).
 //
 // Contraction into fma is off: the host twin rounds every operation on its own, and equal
-// directions on both sides make the CSM and the ray-traced renders differ by visibility only.
+// directions on both sides make the coherent maps and the ray-traced renders differ by visibility only.
 #pragma OPENCL FP_CONTRACT OFF
 
 // lowbias32 (Wellons): a counter-based RNG, so a pixel's numbers do not depend on work-group size,
@@ -95,9 +95,9 @@ inline float3 sf_env_lookup(const sf_env E, float3 d) {
   const float n = length(d);
   const float t = acos(clamp(d.y / n, -1.0f, 1.0f));
   float p = atan2(d.z, d.x);
-  if (p < 0.0f) p += 2.0f * SF_CSM_PI;
-  const int y = clamp((int)(t / SF_CSM_PI * (float)E.height), 0, E.height - 1);
-  const int x = clamp((int)(p / (2.0f * SF_CSM_PI) * (float)E.width), 0, E.width - 1);
+  if (p < 0.0f) p += 2.0f * SF_COHERENT_PI;
+  const int y = clamp((int)(t / SF_COHERENT_PI * (float)E.height), 0, E.height - 1);
+  const int x = clamp((int)(p / (2.0f * SF_COHERENT_PI) * (float)E.width), 0, E.width - 1);
   return E.rgb[y * E.width + x].xyz;
 }
 
@@ -106,8 +106,8 @@ inline float3 sf_env_lookup(const sf_env E, float3 d) {
 // direction; galbedo: diffuse albedo. lights: 4 float4 per light (corner, edge a, edge b,
 // radiance), two-sided rectangles outside the object's bounding sphere (semi-local, sec. 4.3).
 // out: linear RGB radiance, w = 1.
-__kernel void sf_csm_render(const int n, __global const float4* gpos, __global const float4* gnormal,
-                            __global const float4* galbedo, const sf_csm_layout L, __global const uint* offsets,
+__kernel void sf_coherent_render(const int n, __global const float4* gpos, __global const float4* gnormal,
+                            __global const float4* galbedo, const sf_coherent_layout L, __global const uint* offsets,
                             __global const uint* segments, __global const uint* positions, const int env_width,
                             const int env_height, const int env_sampled, __global const float4* env_rgb,
                             __global const float* env_marginal, __global const float* env_conditional,
@@ -140,8 +140,8 @@ __kernel void sf_csm_render(const int n, __global const float4* gpos, __global c
       const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
       const float c = dot(N, w);
       if (c > 0.0f) {
-        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, w)
-                               : sf_csm_visibility(L, offsets, segments, positions, p, w);
+        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, segments, positions, p, w)
+                               : sf_coherent_visibility(L, offsets, segments, positions, p, w);
         if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
       }
     }
@@ -159,8 +159,8 @@ __kernel void sf_csm_render(const int n, __global const float4* gpos, __global c
       const float cl = fabs(dot(nl, w)) / area;
       // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
       if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
-        const float v = filter ? sf_csm_visibility_filtered(L, offsets, segments, positions, p, d)
-                               : sf_csm_visibility(L, offsets, segments, positions, p, d);
+        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, segments, positions, p, d)
+                               : sf_coherent_visibility(L, offsets, segments, positions, p, d);
         if (v > 0.0f) sum += radiance * (v * (c * cl * area / dist2));
       }
     }

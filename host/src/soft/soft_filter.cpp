@@ -42,12 +42,12 @@ const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "loo
                                                "soft/soft_common.clh"};
 
 cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
-  const int M = o.cssm_order;
+  const int M = o.cssm.order;
   std::vector<std::string> files = kSoftHeaders;
   files.push_back("soft/cssm.cl");
   return rt.program(
       files,
-      detail::BuildOptions().define("SF_CSSM_ORDER", M).define("SF_CHANNELS", 4 * M + 1).lookup(o.cssm_lookup).str());
+      detail::BuildOptions().define("SF_CSSM_ORDER", M).define("SF_CHANNELS", 4 * M + 1).lookup(o.cssm.lookup).str());
 }
 
 }  // namespace
@@ -66,13 +66,13 @@ const char* soft_method_name(SoftMethod m) {
   return "?";
 }
 
-bool parse_soft_method(const std::string& s, SoftMethod* m) {
-  for (SoftMethod x : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved})
-    if (s == soft_method_name(x)) {
-      if (m) *m = x;
-      return true;
-    }
-  return false;
+SoftMethod find_soft_method(const std::string& name) {
+  std::string known;
+  for (SoftMethod m : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved}) {
+    if (name == soft_method_name(m)) return m;
+    known += (known.empty() ? "" : ", ") + std::string(soft_method_name(m));
+  }
+  throw InputError("unknown soft method '" + name + "' (known: " + known + ")");
 }
 
 double soft_width(const SoftLight& L, double d, double z) {
@@ -96,27 +96,27 @@ double cssm_series(int M, double x) {
 }
 
 CssmParams cssm_params(const SoftOptions& o) {
-  const float M = float(std::max(o.cssm_order, 1));
+  const float M = float(std::max(o.cssm.order, 1));
   CssmParams p;
-  p.offset = o.cssm_offset >= 0.0f ? o.cssm_offset : 0.2f / M;
+  p.offset = o.cssm.offset >= 0.0f ? o.cssm.offset : 0.2f / M;
   p.z_offset = cssm_z_offset(o);
-  p.scale = o.cssm_scale > 0.0f ? o.cssm_scale : 1.5f;
-  p.lit = float(cssm_series(o.cssm_order, p.offset));
+  p.scale = o.cssm.scale > 0.0f ? o.cssm.scale : 1.5f;
+  p.lit = float(cssm_series(o.cssm.order, p.offset));
   // A straight edge's filtered lit fraction q gives v = 0.5 + scale (q lit - 0.5) (q / 1 when
   // normalised): the ramp is steeper by scale lit, so the kernel widens by that to keep the width.
-  const float gain = o.cssm_normalise ? p.scale : p.scale * p.lit;
-  p.width_scale = o.cssm_width_scale > 0.0f ? o.cssm_width_scale : std::max(gain, 1.0f);
-  p.sharpen_a = o.cssm_sharpen_a;
-  p.sharpen_b = o.cssm_sharpen_b >= 0.0f ? o.cssm_sharpen_b : 10.0f * M;
+  const float gain = o.cssm.normalise ? p.scale : p.scale * p.lit;
+  p.width_scale = o.cssm.width_scale > 0.0f ? o.cssm.width_scale : std::max(gain, 1.0f);
+  p.sharpen_a = o.cssm.sharpen_a;
+  p.sharpen_b = o.cssm.sharpen_b >= 0.0f ? o.cssm.sharpen_b : 10.0f * M;
   return p;
 }
 
 float cssm_z_offset(const SoftOptions& o) {
-  if (o.cssm_z_offset >= 0.0f) return o.cssm_z_offset;
+  if (o.cssm.z_offset >= 0.0f) return o.cssm.z_offset;
   // Default: the smallest x > 0 where the series reaches 1 (~0.306 / M): a lit texel (z = d) then
   // has blocker weight 1 - f = 0 and does not pull z_avg (at 0.5 / M its negative weight pushed
   // z_avg away from d and widened the penumbra: docs/soft.md).
-  const int M = std::max(o.cssm_order, 1);
+  const int M = std::max(o.cssm.order, 1);
   double lo = 0.0, hi = 0.5 / M;  // f(0) = 0.5, f(0.5 / M) ~ 1.09
   for (int i = 0; i < 50; ++i) (cssm_series(M, 0.5 * (lo + hi)) < 1.0 ? lo : hi) = 0.5 * (lo + hi);
   return float(hi);
@@ -137,33 +137,33 @@ void validate(const SoftOptions& o) {
   if (!(L.weight >= 0.0) || !std::isfinite(L.weight)) throw InputError("light weights must be >= 0");
   if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("SoftOptions::bias must be in [0, 1)");
   if (!(o.max_width >= 1.0f && o.max_width <= 4096.0f)) throw InputError("SoftOptions::max_width must be in [1, 4096]");
-  if (o.cssm_order < 1 || o.cssm_order > 32) throw InputError("SoftOptions::cssm_order must be 1..32");
-  if (o.cssm_lookup != Lookup::Mips && o.cssm_lookup != Lookup::Sat)
-    throw InputError("cssm needs SoftOptions::cssm_lookup mips or sat");
-  if (!std::isfinite(o.cssm_offset) || o.cssm_offset >= 1.0f) throw InputError("SoftOptions::cssm_offset must be < 1");
-  if (!std::isfinite(o.cssm_scale) || o.cssm_scale == 0.0f || o.cssm_scale > 64.0f)
-    throw InputError("SoftOptions::cssm_scale must be in (0, 64] (< 0: default)");
-  if (!(o.cssm_sharpen_a >= 0.0f) || !std::isfinite(o.cssm_sharpen_a) || !std::isfinite(o.cssm_sharpen_b))
+  if (o.cssm.order < 1 || o.cssm.order > 32) throw InputError("SoftOptions::cssm.order must be 1..32");
+  if (o.cssm.lookup != Lookup::Mips && o.cssm.lookup != Lookup::Sat)
+    throw InputError("cssm needs SoftOptions::cssm.lookup mips or sat");
+  if (!std::isfinite(o.cssm.offset) || o.cssm.offset >= 1.0f) throw InputError("SoftOptions::cssm.offset must be < 1");
+  if (!std::isfinite(o.cssm.scale) || o.cssm.scale == 0.0f || o.cssm.scale > 64.0f)
+    throw InputError("SoftOptions::cssm.scale must be in (0, 64] (< 0: default)");
+  if (!(o.cssm.sharpen_a >= 0.0f) || !std::isfinite(o.cssm.sharpen_a) || !std::isfinite(o.cssm.sharpen_b))
     throw InputError(
-        "SoftOptions::cssm_sharpen_a must be >= 0 (0: off) and SoftOptions::cssm_sharpen_b finite (< 0: default 10 M)");
-  if (!(o.cssm_min_den > 0.0f && o.cssm_min_den < 1.0f))
-    throw InputError("SoftOptions::cssm_min_den must be in (0, 1)");
-  if (!std::isfinite(o.cssm_z_offset) || o.cssm_z_offset >= 1.0f)
-    throw InputError("SoftOptions::cssm_z_offset must be < 1");
-  if (!std::isfinite(o.cssm_width_scale) || o.cssm_width_scale == 0.0f || o.cssm_width_scale > 64.0f)
-    throw InputError("SoftOptions::cssm_width_scale must be in (0, 64] (< 0: the scale)");
-  if (!(cssm_series(o.cssm_order, cssm_params(o).offset) > 0.05))
-    throw InputError("SoftOptions::cssm_offset too small to normalise by (the series of a lit texel must exceed 0.05)");
+        "SoftOptions::cssm.sharpen_a must be >= 0 (0: off) and SoftOptions::cssm.sharpen_b finite (< 0: default 10 M)");
+  if (!(o.cssm.min_den > 0.0f && o.cssm.min_den < 1.0f))
+    throw InputError("SoftOptions::cssm.min_den must be in (0, 1)");
+  if (!std::isfinite(o.cssm.z_offset) || o.cssm.z_offset >= 1.0f)
+    throw InputError("SoftOptions::cssm.z_offset must be < 1");
+  if (!std::isfinite(o.cssm.width_scale) || o.cssm.width_scale == 0.0f || o.cssm.width_scale > 64.0f)
+    throw InputError("SoftOptions::cssm.width_scale must be in (0, 64] (< 0: the scale)");
+  if (!(cssm_series(o.cssm.order, cssm_params(o).offset) > 0.05))
+    throw InputError("SoftOptions::cssm.offset too small to normalise by (the series of a lit texel must exceed 0.05)");
   if (const CssmParams c = cssm_params(o); c.sharpen_a > 0.0f) {
     // Sharpening raises v to the power 1 + A at contact: a lit receiver must reconstruct to 1.
-    const double lit = 0.5 + c.scale * ((o.cssm_normalise ? 1.0 : c.lit) - 0.5);
+    const double lit = 0.5 + c.scale * ((o.cssm.normalise ? 1.0 : c.lit) - 0.5);
     if (lit < 0.999)
       throw InputError("cssm: a lit receiver reconstructs to " + std::to_string(lit).substr(0, 5) +
-                       " < 1 with this SoftOptions::cssm_offset / SoftOptions::cssm_scale, which "
-                       "SoftOptions::cssm_sharpen_a would darken; "
-                       "raise the offset or the scale, or give SoftOptions::cssm_sharpen_a = 0");
+                       " < 1 with this SoftOptions::cssm.offset / SoftOptions::cssm.scale, which "
+                       "SoftOptions::cssm.sharpen_a would darken; "
+                       "raise the offset or the scale, or give SoftOptions::cssm.sharpen_a = 0");
   }
-  if (o.ssmm_n < 1 || o.ssmm_n > 64) throw InputError("SoftOptions::ssmm_n must be 1..64");
+  if (o.ssmm.n < 1 || o.ssmm.n > 64) throw InputError("SoftOptions::ssmm.n must be 1..64");
   detail::validate(o.receiver_plane, "SoftOptions::receiver_plane");
 }
 
@@ -173,13 +173,14 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   if (W_ <= 0 || H_ <= 0) throw InputError("empty shadow map");
   auto alloc = [this](size_t bytes) {
     bytes = std::max<size_t>(bytes, 4);
-    check_fits_device(*rt_, bytes, bytes, "the soft-shadow buffers");
+    check_fits_device(*rt_, bytes, device_bytes_ + bytes, "the soft-shadow buffers");
+    device_bytes_ += bytes;
     return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   };
   if (opt_.method == SoftMethod::Cssm) {
-    ImageShape s{W_, H_, 4 * opt_.cssm_order + 1, 4};
+    ImageShape s{W_, H_, 4 * opt_.cssm.order + 1, 4};
     basis_ = alloc(s.bytes());
-    if (opt_.cssm_lookup == Lookup::Mips) {
+    if (opt_.cssm.lookup == Lookup::Mips) {
       chain_ = alloc(mip_layout(W_, H_, s.channels).chain_values * sizeof(float));
     } else {
       const SatLayout L = sat_layout(s);
@@ -194,11 +195,11 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   detail::throw_device_error("SoftFilter::SoftFilter", e);
 }
 
-cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) try {
+cl::Event SoftFilter::prefilter(const cl::Buffer& depth, const EventList* wait) try {
   depth_ = depth;
   have_pyr_ = have_sat_ = have_transform_ = false;
   if (opt_.method == SoftMethod::Cssm) {
-    const int M = opt_.cssm_order;
+    const int M = opt_.cssm.order;
     cl::Kernel k(cssm_program(*rt_, opt_), "sf_cssm_basis");
     const int texels = W_ * H_;
     detail::KernelArgs(k).buffer(depth).buffer(basis_).value(texels);
@@ -207,36 +208,46 @@ cl::Event SoftFilter::prepare(const cl::Buffer& depth, const EventList* wait) tr
     have_transform_ = true;
     EventList after{transform_done_};
     ImageShape s{W_, H_, 4 * M + 1, 4};
-    if (opt_.cssm_lookup == Lookup::Mips) {
-      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, basis_, chain_, s, &after);
+    if (opt_.cssm.lookup == Lookup::Mips) {
+      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, {}, s, basis_, chain_, &pyr_first_, &after);
       have_pyr_ = true;
-      return pyr_done_.last;
+      return pyr_done_;
     }
-    sat_done_ = enqueue_sat(*rt_, Storage::F32, basis_, sat_, bands_, s, &after);
+    sat_done_ = enqueue_sat(*rt_, Storage::F32, {}, {}, s, basis_, sat_, bands_, &sat_first_, &after);
     have_sat_ = true;
     cl::Kernel pk(cssm_program(*rt_, opt_), "sf_cssm_sat_pack");
     const int entries = (W_ + 1) * (H_ + 1);
     detail::KernelArgs(pk).buffer(sat_).buffer(packed_).value(W_).value(H_);
-    EventList after_sat{sat_done_.last};
+    EventList after_sat{sat_done_};
     rt_->queue().enqueueNDRangeKernel(pk, cl::NullRange, cl::NDRange(size_t(entries)), cl::NullRange, &after_sat,
                                       &pack_done_);
     return pack_done_;
   }
   if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
-    pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, depth, chain_, ImageShape{W_, H_, 1, 4}, wait);
+    pyr_done_ = enqueue_pyramid(*rt_, Reduce::Min, Storage::F32, {}, ImageShape{W_, H_, 1, 4}, depth, chain_,
+                                &pyr_first_, wait);
     have_pyr_ = true;
-    return pyr_done_.last;
+    return pyr_done_;
   }
   cl::Event e;
   rt_->queue().enqueueMarkerWithWaitList(wait, &e);
   return e;
 } catch (const cl::Error& e) {
-  detail::throw_device_error("SoftFilter::prepare", e);
+  detail::throw_device_error("SoftFilter::prefilter", e);
 }
 
-cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& f,
-                          const cl::Buffer& visibility, size_t count, const EventList* wait, const cl::Buffer* zavg,
-                          int receiver_row) try {
+cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) {
+  return reconstruct(rx, visibility, cl::Buffer(), wait);
+}
+
+cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const cl::Buffer& zavg,
+                                  const EventList* wait) try {
+  if (rx.grid) throw InputError("SoftFilter::reconstruct takes points (DeviceReceivers::grid must be false)");
+  if (rx.count > 0 && (!rx.u() || !rx.v() || !rx.d()))
+    throw InputError("SoftFilter::reconstruct: DeviceReceivers::u, v and d must be buffers");
+  const cl::Buffer &u = rx.u, &v = rx.v, &d = rx.d, &f = rx.f;
+  const size_t count = rx.count;
+  const int receiver_row = rx.row;
   const ClSoftLight L = cl_light(opt_);
   // Every points kernel takes (its maps, W, H in its order), then (u, v, d, f, visibility
   // [, zavg], count, light [, its parameters]).
@@ -260,7 +271,7 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
   else
     args.optional(depth_).optional(chain_).value(W_).value(H_);
   args.optional(u).optional(v).optional(d).optional(f).optional(visibility);
-  if (opt_.method == SoftMethod::Cssm) args.optional(zavg ? *zavg : cl::Buffer());
+  if (opt_.method == SoftMethod::Cssm) args.optional(zavg);
   args.value(static_cast<int>(count)).value(L);
   if (opt_.method == SoftMethod::Cssm) {
     const CssmParams c = cssm_params(opt_);
@@ -268,28 +279,28 @@ cl::Event SoftFilter::run(const cl::Buffer& u, const cl::Buffer& v, const cl::Bu
                          c.scale,
                          c.sharpen_a,
                          c.sharpen_b,
-                         opt_.cssm_min_den,
+                         opt_.cssm.min_den,
                          c.z_offset,
                          c.width_scale,
-                         opt_.cssm_normalise ? 1.0f / c.lit : 1.0f,
-                         opt_.cssm_contact ? 1 : 0};
+                         opt_.cssm.normalise ? 1.0f / c.lit : 1.0f,
+                         opt_.cssm.contact ? 1 : 0};
     args.value(P);
   } else if (opt_.method != SoftMethod::Pcss) {
-    args.value(opt_.ssmm_n).value(opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
+    args.value(opt_.ssmm.n).value(opt_.method == SoftMethod::SsmmImproved ? 1 : 0);
   }
   if (opt_.method != SoftMethod::Cssm) args.value(detail::plane_params(opt_.receiver_plane, receiver_row));
   rt_->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait,
                                     &run_done_);
   return run_done_;
 } catch (const cl::Error& e) {
-  detail::throw_device_error("SoftFilter::run", e);
+  detail::throw_device_error("SoftFilter::reconstruct", e);
 }
 
-SoftTimes SoftFilter::times() const try {
-  SoftTimes t;
+StageTimes SoftFilter::times() const try {
+  StageTimes t;
   if (have_transform_) t.transform = event_seconds(transform_done_);
-  if (have_pyr_) t.pyramid = event_seconds(pyr_done_.first, pyr_done_.last);
-  if (have_sat_) t.sat = event_seconds(sat_done_.first, pack_done_() ? pack_done_ : sat_done_.last);
+  if (have_pyr_) t.pyramid = event_seconds(pyr_first_, pyr_done_);
+  if (have_sat_) t.sat = event_seconds(sat_first_, pack_done_() ? pack_done_ : sat_done_);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
   return t;
 } catch (const cl::Error& e) {
@@ -349,22 +360,26 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     SoftFilter sfl(rt, o, in.depth.width, in.depth.height);
     cl::Buffer depth = upload(*rt, in.depth.data);
     const HostPoints p = points_of(in.receivers, in.depth.width, in.depth.height);
-    cl::Buffer u = upload(*rt, p.u), v = upload(*rt, p.v), d = upload(*rt, p.d);
-    cl::Buffer f = p.has_f ? upload(*rt, p.f) : cl::Buffer();
-    const size_t n = in.receivers.count();
+    DeviceReceivers rx;
+    rx.count = in.receivers.count();
+    rx.row = in.receivers.width;
+    rx.u = upload(*rt, p.u);
+    rx.v = upload(*rt, p.v);
+    rx.d = upload(*rt, p.d);
+    if (p.has_f) rx.f = upload(*rt, p.f);
+    const size_t n = rx.count;
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
-    cl::Event prep = sfl.prepare(depth);
+    cl::Event prep = sfl.prefilter(depth);
     EventList after{prep};
     // out-of-order queues: wait on it
-    const EventList ran{sfl.run(u, v, d, f, out, n, &after, nullptr, in.receivers.width)};
+    const EventList ran{sfl.reconstruct(rx, out, &after)};
     std::vector<float> vis(n);
     if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
-    const SoftTimes t = sfl.times();
-    r.times.transform += t.transform;
-    r.times.pyramid += t.pyramid;
-    r.times.sat += t.sat;
-    r.times.reconstruct += t.reconstruct;
-    if (opt.facing_away_shadowed) shadow_facing_away(in.receivers, vis);  // each light's own ndl
+    r.times += sfl.times();
+    r.device_bytes += sfl.device_bytes() + (in.depth.data.size() + (p.has_f ? 5 : 4) * n) * sizeof(float);
+    size_t facing_away = 0;
+    if (opt.facing_away_shadowed) facing_away = shadow_facing_away(in.receivers, vis);  // each light's own ndl
+    if (&in == &lights.front()) r.facing_away = facing_away;
     for (size_t i = 0; i < n; ++i) acc[i] += in.light.weight * vis[i];
     wsum += in.light.weight;
     if (&in == &lights.front())

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "cl_errors.hpp"
+#include "planned_scope.hpp"
 #include "shadowfilter/classify.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
@@ -22,24 +23,6 @@ void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, c
       << mib(info.global_mem_bytes) << " in all";
     throw InputError(s.str());
   }
-}
-
-size_t BufferPlan::total() const {
-  size_t t = 0;
-  for (const auto& b : buffers) t += b.bytes;
-  return t;
-}
-
-size_t BufferPlan::largest() const {
-  size_t m = 0;
-  for (const auto& b : buffers) m = std::max(m, b.bytes);
-  return m;
-}
-
-size_t BufferPlan::bytes(const std::string& name) const {
-  for (const auto& b : buffers)
-    if (b.name == name) return b.bytes;
-  return 0;
 }
 
 namespace {
@@ -65,9 +48,8 @@ void require_sat_holds(const FilterOptions& options, const SatMap& map) {
 BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int width, int height) try {
   if (width <= 0 || height <= 0)
     throw InputError("shadow map size must be positive, got " + std::to_string(width) + "x" + std::to_string(height));
-  require_finite_options(options);
-  const MethodDesc& method = find_method(options.method);
-  method.validate(options);
+  validate_options(options);
+  const MethodDesc& method = *options.method;
   gaussian_weights(options.blur.radius, options.blur.sigma);  // validates the radius
   // A stated depth range is checked here, before anything is allocated; else prefilter() checks
   // each map's own.
@@ -101,7 +83,7 @@ BufferPlan Pipeline::plan(const Runtime& rt, const FilterOptions& options, int w
 }
 
 Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height) try
-    : rt_(std::move(runtime)), options_(std::move(options)), method_(&find_method(options_.method)) {
+    : rt_(std::move(runtime)), options_(std::move(options)), method_(&*options_.method) {
   plan_ = plan(*rt_, options_, width, height);
   shape_ = plan_.shape;
   check_fits_device(*rt_, plan_.largest(), plan_.total(), "the pipeline's buffers");
@@ -129,6 +111,7 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
+  const detail::PlannedScope planned;  // options_ were validated by the plan
   // Without a stated range, a lookup whose limit depends on it measures this map first
   // (blocking) and refuses it before anything is enqueued.
   if (sat_() && !options_.depth_range && method_->sat_limit) {
@@ -138,31 +121,30 @@ cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) tr
   // Raw-depth methods (sm, pcf) weight their tests at the lookup: nothing to prefilter.
   const bool blur = options_.blur.radius > 0 && !method_->raw_depth;
   transform_done_ =
-      enqueue_transform(*rt_, *method_, options_, depth, shape_.width, shape_.height, blur ? scratch_ : basis_, wait);
-  blur_done_ = BlurEvents{};
-  pyramid_done_ = sat_done_ = PassEvents{};
+      enqueue_transform(*rt_, *method_, options_, shape_.width, shape_.height, depth, blur ? scratch_ : basis_, wait);
+  blur_first_ = blur_done_ = pyramid_first_ = pyramid_done_ = sat_first_ = sat_done_ = cl::Event();
   cl::Event filtered = transform_done_;
   if (blur) {  // out of place, scratch_ -> basis_: no copy back
     EventList after{transform_done_};
-    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, scratch_, basis_, basis_, shape_, &after,
-                              options_.storage);
-    filtered = blur_done_.cols;
+    blur_done_ = enqueue_blur(*rt_, options_.blur, options_.schedule, options_.storage, shape_, scratch_, basis_,
+                              basis_, &blur_first_, &after);
+    filtered = blur_done_;
   }
   // The pyramid / SAT of the prefiltered basis, the z-max pyramid of the raw depth.
   EventList done{filtered}, after_filter{filtered};
   if (chain_()) {
-    pyramid_done_ =
-        enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, basis_, chain_, shape_, &after_filter, options_.schedule);
-    done.push_back(pyramid_done_.last);
+    pyramid_done_ = enqueue_pyramid(*rt_, Reduce::Mean, options_.storage, options_.schedule, shape_, basis_, chain_,
+                                    &pyramid_first_, &after_filter);
+    done.push_back(pyramid_done_);
   }
   if (sat_()) {
-    sat_done_ =
-        enqueue_sat(*rt_, options_.storage, basis_, sat_, sat_bands_, shape_, &after_filter, {}, options_.schedule);
-    done.push_back(sat_done_.last);
+    sat_done_ = enqueue_sat(*rt_, options_.storage, {}, options_.schedule, shape_, basis_, sat_, sat_bands_,
+                            &sat_first_, &after_filter);
+    done.push_back(sat_done_);
   }
   if (classify_) {  // the stage's own pass over the raw depth (z-max pyramid)
-    const PassEvents e = classify_->prepare(depth, wait);
-    if (e.last()) done.push_back(e.last);
+    const cl::Event e = classify_->prepare(depth, wait);
+    if (e()) done.push_back(e);
   }
   if (done.size() == 1) return filtered;
   cl::Event all;
@@ -178,6 +160,7 @@ void Pipeline::set_depth_range(const MapRange& range) {
 }
 
 cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& visibility, const EventList* wait) try {
+  const detail::PlannedScope planned;  // options_ were validated by the plan
   LookupBuffers lookup;
   lookup.kind = method_->raw_depth ? Lookup::Bilinear : options_.lookup.kind;
   // Mips: the joined buffer as the basis, chain_ its sub-buffer (kernels.cpp: SF_MIPS_JOINED).
@@ -188,10 +171,10 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
   lookup.footprint = rx.f;
   if (rx.grid) {  // footprint 1 at texel centres: every lookup reads the texel itself
     reconstruct_done_ =
-        enqueue_reconstruct_grid(*rt_, *method_, options_, basis_, shape_.width, shape_.height, rx.d, visibility, wait);
+        enqueue_reconstruct_grid(*rt_, *method_, options_, shape_.width, shape_.height, basis_, rx.d, visibility, wait);
   } else {
-    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, rx_basis, shape_.width, shape_.height,
-                                                   rx.u, rx.v, rx.d, visibility, rx.count, wait, &lookup, rx.row);
+    reconstruct_done_ = enqueue_reconstruct_points(*rt_, *method_, options_, shape_.width, shape_.height, rx.count,
+                                                   rx.row, rx_basis, &lookup, rx.u, rx.v, rx.d, visibility, wait);
   }
   if (!classify_) return reconstruct_done_;
   EventList after{reconstruct_done_};
@@ -217,10 +200,10 @@ LookupBuffers Pipeline::lookup_tables() const {
 StageTimes Pipeline::times() const try {
   StageTimes t;
   if (transform_done_()) t.transform = event_seconds(transform_done_);
-  if (blur_done_.rows()) t.blur = event_seconds(blur_done_.rows, blur_done_.cols);
+  if (blur_done_()) t.blur = event_seconds(blur_first_, blur_done_);
   if (reconstruct_done_()) t.reconstruct = event_seconds(reconstruct_done_);
-  if (pyramid_done_.first()) t.pyramid = event_seconds(pyramid_done_.first, pyramid_done_.last);
-  if (sat_done_.first()) t.sat = event_seconds(sat_done_.first, sat_done_.last);
+  if (pyramid_done_()) t.pyramid = event_seconds(pyramid_first_, pyramid_done_);
+  if (sat_done_()) t.sat = event_seconds(sat_first_, sat_done_);
   if (classify_) classify_->add_times(t);
   return t;
 } catch (const cl::Error& e) {

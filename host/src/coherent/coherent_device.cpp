@@ -1,5 +1,5 @@
-// Coherent shadow maps on the device: the compression passes (kernels/coherent/csm_compress.cl)
-// and the point queries (kernels/coherent/csm_visibility.cl over csm_query.clh).
+// Coherent shadow maps on the device: the compression passes (kernels/coherent/compress.cl)
+// and the point queries (kernels/coherent/visibility.cl over coherent/query.clh).
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -56,7 +56,7 @@ void need_queries(const char* fn, const cl::Buffer& points, const cl::Buffer& se
   need_bytes(fn, "out", out, count * sizeof(float), "count float");
 }
 
-// Texels per work-item of the count and write passes (csm_compress.cl SF_CSM_LANES): 256 on CPU
+// Texels per work-item of the count and write passes (coherent/compress.cl SF_COHERENT_LANES): 256 on CPU
 // devices (512 contiguous bytes of each map per step of a work-item's walk, which the
 // prefetcher follows; 32, 64 and 128 measured slower on PoCL, docs/coherent_device.md), 1
 // elsewhere (coalesced across work-items).
@@ -65,12 +65,12 @@ uint32_t compress_lanes(const Runtime& rt) {
 }
 
 cl::Program compress_program(Runtime& rt) {
-  return rt.program({"coherent/csm_compress.cl"},
-                    detail::BuildOptions().define("SF_CSM_LANES", int(compress_lanes(rt))).str());
+  return rt.program({"coherent/compress.cl"},
+                    detail::BuildOptions().define("SF_COHERENT_LANES", int(compress_lanes(rt))).str());
 }
 
 cl::Program query_program(Runtime& rt) {
-  return rt.program({"coherent/csm_query.clh", "coherent/csm_visibility.cl"}, detail::BuildOptions().str());
+  return rt.program({"coherent/query.clh", "coherent/visibility.cl"}, detail::BuildOptions().str());
 }
 
 cl::Event launch(Runtime& rt, cl::Kernel& k, size_t items, const EventList* wait) {
@@ -79,13 +79,13 @@ cl::Event launch(Runtime& rt, cl::Kernel& k, size_t items, const EventList* wait
   return e;
 }
 
-// The point-query kernels of csm_visibility.cl all take (layout, a, b, positions, points,
+// The point-query kernels of coherent/visibility.cl all take (layout, a, b, positions, points,
 // second, out, count, toward), a and b the stack's pair of buffers (offsets and segments, or z1
 // and z2). A count of 0 enqueues a marker.
 cl::Event launch_point_queries(Runtime& rt, const char* fn, const char* kernel, const StackLayout& l,
                                const cl::Buffer& a, const cl::Buffer& b, const cl::Buffer& positions,
                                const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out, size_t count,
-                               CsmToward toward, const EventList* wait) {
+                               CoherentToward toward, const EventList* wait) {
   cl::Event e;
   if (count == 0) {
     rt.queue().enqueueMarkerWithWaitList(wait, &e);
@@ -191,7 +191,7 @@ cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const c
                                  const cl::Buffer& offsets, const EventList* wait) try {
   need_stack_input("enqueue_compress_count", layout, z1, z2);
   need_offsets("enqueue_compress_count", layout, offsets);
-  cl::Kernel k(compress_program(rt), "sf_csm_count");
+  cl::Kernel k(compress_program(rt), "sf_coherent_count");
   detail::KernelArgs(k)
       .buffer(z1)
       .buffer(z2)
@@ -204,32 +204,31 @@ cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const c
   detail::throw_device_error("coherent::enqueue_compress_count", e);
 }
 
-PassEvents enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
-                                 const cl::Buffer& scratch, const EventList* wait) try {
+cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
+                                const cl::Buffer& scratch, cl::Event* first, const EventList* wait) try {
   validate(layout);
   need_offsets("enqueue_compress_scan", layout, offsets);
   need_bytes("enqueue_compress_scan", "scratch", scratch, compress_scratch_bytes(layout),
              "compress_scratch_bytes(layout)");
   const cl::Program p = compress_program(rt);
   const uint32_t texels = uint32_t(layout.texels()), blocks = uint32_t(scan_blocks(layout));
-  cl::Kernel a(p, "sf_csm_scan_blocks"), b(p, "sf_csm_scan_totals"), c(p, "sf_csm_scan_add");
+  cl::Kernel a(p, "sf_coherent_scan_blocks"), b(p, "sf_coherent_scan_totals"), c(p, "sf_coherent_scan_add");
   detail::KernelArgs(a).buffer(offsets).value(texels).value(kScanBlock).buffer(scratch).value(blocks);
   detail::KernelArgs(b).buffer(scratch).value(blocks).buffer(offsets).value(texels);
   detail::KernelArgs(c).buffer(offsets).value(texels).value(kScanBlock).buffer(scratch);
-  PassEvents ev;
-  ev.first = launch(rt, a, blocks, wait);
-  const EventList after_a{ev.first};
+  const cl::Event scanned = launch(rt, a, blocks, wait);
+  if (first) *first = scanned;
+  const EventList after_a{scanned};
   cl::Event totals;
   rt.queue().enqueueNDRangeKernel(b, cl::NullRange, cl::NDRange(1), cl::NullRange, &after_a, &totals);
   const EventList after_b{totals};
-  ev.last = launch(rt, c, texels, &after_b);
-  return ev;
+  return launch(rt, c, texels, &after_b);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_compress_scan", e);
 }
 
-cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
-                                 const cl::Buffer& offsets, const cl::Buffer& segments, size_t capacity,
+cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
                                  const EventList* wait) try {
   need_stack_input("enqueue_compress_write", layout, z1, z2);
   need_offsets("enqueue_compress_write", layout, offsets);
@@ -237,7 +236,7 @@ cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, const c
     throw InputError("coherent::enqueue_compress_write: capacity must be in [1, 2^32 - 1] words, got " +
                      std::to_string(capacity));
   need_bytes("enqueue_compress_write", "segments", segments, capacity * sizeof(uint32_t), "capacity uint");
-  cl::Kernel k(compress_program(rt), "sf_csm_write");
+  cl::Kernel k(compress_program(rt), "sf_coherent_write");
   detail::KernelArgs(k)
       .buffer(z1)
       .buffer(z2)
@@ -264,7 +263,7 @@ DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const 
   d.offsets = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, (l.texels() + 1) * sizeof(uint32_t));
   cl::Buffer scratch(rt.context(), CL_MEM_READ_WRITE, compress_scratch_bytes(l));
   const EventList counted{enqueue_compress_count(rt, l, s.z1, s.z2, d.offsets, wait)};
-  const EventList scanned{enqueue_compress_scan(rt, l, d.offsets, scratch, &counted).last};
+  const EventList scanned{enqueue_compress_scan(rt, l, d.offsets, scratch, nullptr, &counted)};
   uint64_t total = 0;
   rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), sizeof(total), &total, &scanned);
   if (total > std::numeric_limits<uint32_t>::max())
@@ -272,7 +271,7 @@ DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const 
                      " segments, more than 32-bit offsets address");
   d.segment_count = size_t(total);  // >= texels >= 1: every texel holds a segment
   d.segments = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, d.segment_count * sizeof(uint32_t));
-  enqueue_compress_write(rt, l, s.z1, s.z2, d.offsets, d.segments, d.segment_count, &scanned).wait();
+  enqueue_compress_write(rt, l, d.segment_count, s.z1, s.z2, d.offsets, d.segments, &scanned).wait();
   return d;
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::compress_on_device", e);
@@ -282,14 +281,14 @@ CompressedStack compress_on_device(Runtime& rt, const DualDepthStack& stack) {
   return download(rt, compress_on_device(rt, upload(rt, stack)));
 }
 
-cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
-                             const cl::Buffer& out, size_t count, CsmFilter filter, const EventList* wait,
-                             CsmToward toward) try {
+cl::Event enqueue_visibility(Runtime& rt, CoherentFilter filter, CoherentToward toward, size_t count,
+                             const DeviceStack& stack, const cl::Buffer& points, const cl::Buffer& second,
+                             const cl::Buffer& out, const EventList* wait) try {
   const StackLayout& l = stack.layout;
   validate(l);
-  if (filter != CsmFilter::Nearest && filter != CsmFilter::Pcf)
+  if (filter != CoherentFilter::Nearest && filter != CoherentFilter::Pcf)
     throw InputError("coherent::enqueue_visibility: unknown filter " + std::to_string(static_cast<int>(filter)));
-  if (toward != CsmToward::Direction && toward != CsmToward::Point)
+  if (toward != CoherentToward::Direction && toward != CoherentToward::Point)
     throw InputError("coherent::enqueue_visibility: unknown toward " + std::to_string(static_cast<int>(toward)));
   need_offsets("enqueue_visibility", l, stack.offsets);
   if (stack.segment_count < l.texels())
@@ -298,23 +297,24 @@ cl::Event enqueue_visibility(Runtime& rt, const DeviceStack& stack, const cl::Bu
   need_bytes("enqueue_visibility", "segments", stack.segments, stack.segment_count * sizeof(uint32_t),
              "segment_count uint");
   need_bytes("enqueue_visibility", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
-  return launch_point_queries(rt, "enqueue_visibility",
-                              filter == CsmFilter::Pcf ? "sf_csm_visibility_points_pcf" : "sf_csm_visibility_points", l,
-                              stack.offsets, stack.segments, stack.positions, points, second, out, count, toward, wait);
+  return launch_point_queries(
+      rt, "enqueue_visibility",
+      filter == CoherentFilter::Pcf ? "sf_coherent_visibility_points_pcf" : "sf_coherent_visibility_points", l,
+      stack.offsets, stack.segments, stack.positions, points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_visibility", e);
 }
 
-cl::Event enqueue_stack_test(Runtime& rt, const DeviceDualDepth& stack, const cl::Buffer& points,
-                             const cl::Buffer& second, const cl::Buffer& out, size_t count, const EventList* wait,
-                             CsmToward toward) try {
+cl::Event enqueue_stack_test(Runtime& rt, CoherentToward toward, size_t count, const DeviceDualDepth& stack,
+                             const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out,
+                             const EventList* wait) try {
   const StackLayout& l = stack.layout;
   need_stack_input("enqueue_stack_test", l, stack.z1, stack.z2);
   need_bytes("enqueue_stack_test", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
-  if (toward != CsmToward::Direction && toward != CsmToward::Point)
+  if (toward != CoherentToward::Direction && toward != CoherentToward::Point)
     throw InputError("coherent::enqueue_stack_test: unknown toward " + std::to_string(static_cast<int>(toward)));
-  return launch_point_queries(rt, "enqueue_stack_test", "sf_csm_stack_points", l, stack.z1, stack.z2, stack.positions,
-                              points, second, out, count, toward, wait);
+  return launch_point_queries(rt, "enqueue_stack_test", "sf_coherent_stack_points", l, stack.z1, stack.z2,
+                              stack.positions, points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_stack_test", e);
 }

@@ -1,6 +1,6 @@
 // Coherent shadow map compression on the device (methods.md sec. 5; Ritschel 2007 eq. (1)): per
 // texel the greedy piecewise-constant fit of sf::ref::coherent::compress, byte for byte. A
-// work-item walks the stack's N maps in sequence order for SF_CSM_LANES neighbouring texels;
+// work-item walks the stack's N maps in sequence order for SF_COHERENT_LANES neighbouring texels;
 // z1 and z2 are ushort [i * texels + t]. Lanes: 1 on GPUs (neighbouring work-items read
 // neighbouring words of every map, coalesced); 256 on CPUs, where a work-item runs alone and one
 // texel per item would read one word per cache line of every map: 256 texels read 512
@@ -8,29 +8,29 @@
 // Three passes: count (segments per texel into offsets[t]), an exclusive scan of the counts in
 // place (offsets[texels] = the total), write (the segments at offsets[t]).
 // Every kernel guards its index: any global size (rounded up to whole work-groups) is correct.
-#ifndef SF_CSM_LANES
-#define SF_CSM_LANES 1
+#ifndef SF_COHERENT_LANES
+#define SF_COHERENT_LANES 1
 #endif
 
 // z2 with kNoSurface (65535) read as +infinity (65536), as the reference does.
-inline uint sf_csm_upper(ushort z2) { return z2 == (ushort)65535 ? 65536u : (uint)z2; }
+inline uint sf_coherent_upper(ushort z2) { return z2 == (ushort)65535 ? 65536u : (uint)z2; }
 
 // The greedy walk of lanes 0 .. LN - 1 (texels t0 + l): extends each lane's run while
 // max z1 < min z2 stays true, and emits a segment (z_avg = floor((max z1 + min z2) / 2), i_last)
 // when the next map breaks it. Each map is read once: the map that breaks a run starts the next
 // one (the reference reads it again). The update is branch-free so that the lanes vectorise;
 // EMIT(cut, packed, l) stores lane l's k[l]-th segment where cut is 1. k[l] ends as the count.
-#define SF_CSM_WALK(LN, EMIT)                                                     \
-  uint lo[SF_CSM_LANES], hi[SF_CSM_LANES], k[SF_CSM_LANES];                       \
+#define SF_COHERENT_WALK(LN, EMIT)                                                     \
+  uint lo[SF_COHERENT_LANES], hi[SF_COHERENT_LANES], k[SF_COHERENT_LANES];                       \
   for (uint l = 0; l < (LN); ++l) {                                               \
     lo[l] = z1[t0 + l];                                                           \
-    hi[l] = sf_csm_upper(z2[t0 + l]);                                             \
+    hi[l] = sf_coherent_upper(z2[t0 + l]);                                             \
     k[l] = 0;                                                                     \
   }                                                                               \
   for (uint i = 1; i < n; ++i) {                                                  \
     const ulong at = (ulong)i * texels + t0;                                      \
     for (uint l = 0; l < (LN); ++l) {                                             \
-      const uint a = z1[at + l], b = sf_csm_upper(z2[at + l]);                   \
+      const uint a = z1[at + l], b = sf_coherent_upper(z2[at + l]);                   \
       const uint l2 = max(lo[l], a), h2 = min(hi[l], b);                          \
       const uint cut = l2 >= h2 ? 1u : 0u;                                        \
       EMIT(cut, (((lo[l] + hi[l]) >> 1) << 16) | (i - 1), l)                      \
@@ -44,20 +44,20 @@ inline uint sf_csm_upper(ushort z2) { return z2 == (ushort)65535 ? 65536u : (uin
     k[l] += 1;                                                                    \
   }
 
-#define SF_CSM_EMIT_NONE(cut, s, l)
+#define SF_COHERENT_EMIT_NONE(cut, s, l)
 
 // Pass 1: counts[t] = segments of texel t (counts is the offsets buffer, texels + 1 words).
 // Whole items take the constant lane count (vectorised), the last partial one the rest.
-__kernel void sf_csm_count(__global const ushort* restrict z1, __global const ushort* restrict z2, uint texels,
+__kernel void sf_coherent_count(__global const ushort* restrict z1, __global const ushort* restrict z2, uint texels,
                            uint n, __global uint* restrict counts) {
-  const uint t0 = get_global_id(0) * SF_CSM_LANES;
+  const uint t0 = get_global_id(0) * SF_COHERENT_LANES;
   if (t0 >= texels) return;
-  const uint lanes = min((uint)SF_CSM_LANES, texels - t0);
-  if (lanes == SF_CSM_LANES) {
-    SF_CSM_WALK(SF_CSM_LANES, SF_CSM_EMIT_NONE)
-    for (uint l = 0; l < SF_CSM_LANES; ++l) counts[t0 + l] = k[l];
+  const uint lanes = min((uint)SF_COHERENT_LANES, texels - t0);
+  if (lanes == SF_COHERENT_LANES) {
+    SF_COHERENT_WALK(SF_COHERENT_LANES, SF_COHERENT_EMIT_NONE)
+    for (uint l = 0; l < SF_COHERENT_LANES; ++l) counts[t0 + l] = k[l];
   } else {
-    SF_CSM_WALK(lanes, SF_CSM_EMIT_NONE)
+    SF_COHERENT_WALK(lanes, SF_COHERENT_EMIT_NONE)
     for (uint l = 0; l < lanes; ++l) counts[t0 + l] = k[l];
   }
 }
@@ -65,7 +65,7 @@ __kernel void sf_csm_count(__global const ushort* restrict z1, __global const us
 // Pass 2a: each work-item scans a block of `block` counts in place (exclusive, from 0) and
 // stores the block's total in sums[b] (ulong: a stack's total may pass 2^32, which the host
 // refuses after pass 2b rather than wrap).
-__kernel void sf_csm_scan_blocks(__global uint* restrict offsets, uint texels, uint block,
+__kernel void sf_coherent_scan_blocks(__global uint* restrict offsets, uint texels, uint block,
                                  __global ulong* restrict sums, uint blocks) {
   const uint b = get_global_id(0);
   if (b >= blocks) return;
@@ -81,7 +81,7 @@ __kernel void sf_csm_scan_blocks(__global uint* restrict offsets, uint texels, u
 
 // Pass 2b: one work-item scans the block totals (exclusive) and writes the grand total to
 // sums[blocks] and, cut to 32 bits, to offsets[texels].
-__kernel void sf_csm_scan_totals(__global ulong* restrict sums, uint blocks, __global uint* restrict offsets,
+__kernel void sf_coherent_scan_totals(__global ulong* restrict sums, uint blocks, __global uint* restrict offsets,
                                  uint texels) {
   if (get_global_id(0) != 0) return;
   ulong s = 0;
@@ -95,7 +95,7 @@ __kernel void sf_csm_scan_totals(__global ulong* restrict sums, uint blocks, __g
 }
 
 // Pass 2c: every count of block b gets the blocks before it.
-__kernel void sf_csm_scan_add(__global uint* restrict offsets, uint texels, uint block,
+__kernel void sf_coherent_scan_add(__global uint* restrict offsets, uint texels, uint block,
                               __global const ulong* restrict sums) {
   const uint t = get_global_id(0);
   if (t >= texels) return;
@@ -104,23 +104,23 @@ __kernel void sf_csm_scan_add(__global uint* restrict offsets, uint texels, uint
 
 // Pass 3: the segments of texel t at offsets[t] ..; writes past `capacity` words are dropped
 // (a caller's short buffer loses segments, never memory).
-#define SF_CSM_EMIT_STORE(cut, s, l)                   \
+#define SF_COHERENT_EMIT_STORE(cut, s, l)                   \
   if (cut) {                                           \
     const uint o = base[l] + k[l];                     \
     if (o < capacity) segments[o] = (s);               \
   }
 
-__kernel void sf_csm_write(__global const ushort* restrict z1, __global const ushort* restrict z2, uint texels,
+__kernel void sf_coherent_write(__global const ushort* restrict z1, __global const ushort* restrict z2, uint texels,
                            uint n, __global const uint* restrict offsets, __global uint* restrict segments,
                            uint capacity) {
-  const uint t0 = get_global_id(0) * SF_CSM_LANES;
+  const uint t0 = get_global_id(0) * SF_COHERENT_LANES;
   if (t0 >= texels) return;
-  const uint lanes = min((uint)SF_CSM_LANES, texels - t0);
-  uint base[SF_CSM_LANES];
+  const uint lanes = min((uint)SF_COHERENT_LANES, texels - t0);
+  uint base[SF_COHERENT_LANES];
   for (uint l = 0; l < lanes; ++l) base[l] = offsets[t0 + l];
-  if (lanes == SF_CSM_LANES) {
-    SF_CSM_WALK(SF_CSM_LANES, SF_CSM_EMIT_STORE)
+  if (lanes == SF_COHERENT_LANES) {
+    SF_COHERENT_WALK(SF_COHERENT_LANES, SF_COHERENT_EMIT_STORE)
   } else {
-    SF_CSM_WALK(lanes, SF_CSM_EMIT_STORE)
+    SF_COHERENT_WALK(lanes, SF_COHERENT_EMIT_STORE)
   }
 }

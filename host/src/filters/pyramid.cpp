@@ -4,11 +4,13 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "pass_events.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
 namespace sf {
+using detail::PassEvents;
 namespace {
 
 constexpr int kTile = 32;          // pyramid.cl SF_TILE
@@ -92,8 +94,10 @@ PassEvents enqueue_pyramid_groups(Runtime& rt, Reduce op, Storage storage, const
 
 }  // namespace
 
-PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
-                           const ImageShape& shape, const EventList* wait, const ScheduleOptions& schedule) try {
+namespace {
+
+PassEvents pyramid_passes(Runtime& rt, Reduce op, Storage storage, const cl::Buffer& level0, const cl::Buffer& chain,
+                          const ImageShape& shape, const EventList* wait, const ScheduleOptions& schedule) try {
   const MipLayout L = mip_layout(shape.width, shape.height, shape.channels);
   PassEvents ev;
   if (L.top() == 0) {  // 1x1: nothing to build
@@ -147,9 +151,21 @@ PassEvents enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const cl::Bu
   detail::throw_device_error("enqueue_pyramid", e);
 }
 
-cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const LookupBuffers& lookup, const cl::Buffer& level0,
-                                const ImageShape& shape, const cl::Buffer& u, const cl::Buffer& v,
-                                const cl::Buffer& out, size_t count, const EventList* wait) try {
+}  // namespace
+
+cl::Event enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const ScheduleOptions& schedule,
+                          const ImageShape& shape, const cl::Buffer& level0, const cl::Buffer& chain, cl::Event* first,
+                          const EventList* wait) try {
+  const PassEvents ev = pyramid_passes(rt, op, storage, level0, chain, shape, wait, schedule);
+  if (first) *first = ev.first;
+  return ev.last;
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_pyramid", e);
+}
+
+cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const ImageShape& shape, size_t count,
+                                const LookupBuffers& lookup, const cl::Buffer& level0, const cl::Buffer& u,
+                                const cl::Buffer& v, const cl::Buffer& out, const EventList* wait) try {
   cl::Program p = rt.program(
       {"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
       detail::BuildOptions().storage(storage).define("SF_CHANNELS", shape.channels).lookup(lookup.kind).str());

@@ -8,6 +8,7 @@
 
 #include "cl_errors.hpp"
 #include "embedded_kernels.hpp"
+#include "shadowfilter/methods.hpp"
 #include "program_cache.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -190,15 +191,29 @@ std::string Runtime::cache_dir() {
   return {};
 }
 
-const std::string& kernel_source(const std::string& file) {
+namespace {
+
+const std::map<std::string, std::string>& embedded_table() {
   static const std::map<std::string, std::string> table = [] {
     std::map<std::string, std::string> t;
     for (const auto& k : detail::embedded_kernels()) t.emplace(k.path, k.source);
     return t;
   }();
-  auto it = table.find(file);
-  if (it == table.end()) throw std::out_of_range("no embedded kernel file '" + file + "'");
-  return it->second;
+  return table;
+}
+
+}  // namespace
+
+bool detail::has_embedded_kernel(const std::string& path) { return embedded_table().count(path) > 0; }
+
+// The embedded files, then the headers that methods registered with their own source
+// (MethodDesc::header_source, sf::register_method).
+const std::string& kernel_source(const std::string& file) {
+  const auto& table = embedded_table();
+  if (auto it = table.find(file); it != table.end()) return it->second;
+  for (const MethodDesc& m : methods())
+    if (m.header == file && !m.header_source.empty()) return m.header_source;
+  throw std::out_of_range("no embedded kernel file '" + file + "'");
 }
 
 cl::Program Runtime::program(const std::vector<std::string>& files, const std::string& base_options) try {

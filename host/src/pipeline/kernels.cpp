@@ -8,6 +8,7 @@
 
 #include "cl_errors.hpp"
 #include "method_build.hpp"
+#include "planned_scope.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pyramids.hpp"
 
@@ -51,17 +52,17 @@ cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& 
 
 // The method's sf_method_params for these options, validated.
 std::vector<uint8_t> method_params(const MethodDesc& m, const FilterOptions& opt) {
-  m.validate(opt);
+  detail::validate_unless_planned(m, opt);
   return m.pack_params(opt);
 }
 
 }  // namespace
 
-cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, const cl::Buffer& depth,
-                            int width, int height, const cl::Buffer& basis, const EventList* wait) try {
+cl::Event enqueue_transform(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, int width, int height,
+                            const cl::Buffer& depth, const cl::Buffer& basis, const EventList* wait) try {
   const int texels = width * height;
   if (method.raw_depth) {  // sm, pcf: the "basis" is the depth map itself
-    method.validate(opt);
+    detail::validate_unless_planned(method, opt);
     cl::Event e;
     rt.queue().enqueueCopyBuffer(depth, basis, 0, 0, size_t(texels) * sizeof(float), wait, &e);
     return e;
@@ -129,14 +130,13 @@ cl::Buffer mip_level_offsets(Runtime& rt, Storage storage, const cl::Buffer& bas
   detail::throw_device_error("mip_level_offsets", e);
 }
 
-cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                     const cl::Buffer& basis, int width, int height, const cl::Buffer& u,
-                                     const cl::Buffer& v, const cl::Buffer& d, const cl::Buffer& visibility,
-                                     size_t count, const EventList* wait, const LookupBuffers* lookup,
-                                     int receiver_row) try {
+cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, int width,
+                                     int height, size_t count, int receiver_row, const cl::Buffer& basis,
+                                     const LookupBuffers* lookup, const cl::Buffer& u, const cl::Buffer& v,
+                                     const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait) try {
   if (method.raw_depth)
-    return enqueue_pcf_points(rt, opt, basis, width, height, u, v, d, visibility, count, wait,
-                              lookup ? &lookup->footprint : nullptr, receiver_row);
+    return enqueue_pcf_points(rt, opt, width, height, count, receiver_row, basis, u, v, d,
+                              lookup ? lookup->footprint : cl::Buffer(), visibility, wait);
   // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
   int vec = opt.schedule.reconstruct_vector_width;
@@ -192,10 +192,10 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   detail::throw_device_error("enqueue_reconstruct_points", e);
 }
 
-cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt,
-                                   const cl::Buffer& basis, int width, int height, const cl::Buffer& d,
+cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const FilterOptions& opt, int width,
+                                   int height, const cl::Buffer& basis, const cl::Buffer& d,
                                    const cl::Buffer& visibility, const EventList* wait) try {
-  if (method.raw_depth) return enqueue_pcf_grid(rt, opt, basis, width, height, d, visibility, wait);
+  if (method.raw_depth) return enqueue_pcf_grid(rt, opt, width, height, basis, d, visibility, wait);
   cl::Kernel k = method_kernel(rt, method, opt, "reconstruct.cl", "sf_reconstruct_grid");
   detail::KernelArgs(k)
       .buffer(basis)

@@ -8,4 +8,6 @@ struct EmbeddedKernel {
   const char* source;
 };
 const std::vector<EmbeddedKernel>& embedded_kernels();
+// Whether `path` is one of the embedded files (runtime.cpp).
+bool has_embedded_kernel(const std::string& path);
 }  // namespace sf::detail

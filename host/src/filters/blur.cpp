@@ -186,10 +186,17 @@ cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const Schedul
 
 }  // namespace
 
-BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, const cl::Buffer& src,
-                        const cl::Buffer& tmp, const cl::Buffer& dst, const ImageShape& shape, const EventList* wait,
-                        Storage storage) try {
-  BlurEvents ev;
+cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, Storage storage,
+                       const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
+                       cl::Event* first, const EventList* wait) try {
+  // rows: the first command, cols: the last.
+  struct {
+    cl::Event rows, cols;
+  } ev;
+  const auto done = [&] {
+    if (first) *first = ev.rows;
+    return ev.cols;
+  };
   if (blur.radius == 0) {
     if (src() != dst()) {
       rt.queue().enqueueCopyBuffer(src, dst, 0, 0, shape.bytes(), wait, &ev.rows);
@@ -197,7 +204,7 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
       rt.queue().enqueueMarkerWithWaitList(wait, &ev.rows);
     }
     ev.cols = ev.rows;
-    return ev;
+    return done();
   }
   const int vec = sched.blur_vector_width;
   if (vec != 4 && vec != 8 && vec != 16)
@@ -220,7 +227,7 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
     } else {
       ev.cols = ev.rows;
     }
-    return ev;
+    return done();
   }
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
   const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
@@ -234,7 +241,7 @@ BlurEvents enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOpti
   const cl::NDRange global(ceil_div(shape.width, s.strip * s.vec), ceil_div(shape.height, s.rows), shape.channels);
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
   ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
-  return ev;
+  return done();
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_blur", e);
 }

@@ -38,8 +38,9 @@ run: configure
 	    --method esm --blur-radius 3
 	@echo "output images: $(OUT)/spheres_esm.exr (camera view; to look at: $(OUT)/spheres_esm_shaded.png, the scene shaded by the light, and $(OUT)/spheres_esm.png, the visibility), $(OUT)/spheres_esm_planar.exr (planar receiver)"
 
-# The C++ suite and the Python package's (ctest runs pytest as Python.pytest, label python)
-# in one pass: the package's module is built in the same tree, against a virtual environment
+# The whole suite, C++ and Python (ctest runs pytest as Python.pytest, label python), in one
+# pass; one layer of it: cd build && ctest -L core (labels: core, reference, io, cli, tools,
+# package, python; docs/development.md, "Tests"): the package's module is built in the same tree, against a virtual environment
 # under the build directory (Debian's Python is externally managed).
 PYTHON ?= python3
 VENV = $(BUILD)/venv
@@ -63,7 +64,12 @@ test: python-env
 # exit code anyway, ASan and LSan also write their reports to $(SANITIZE_BUILD)/sanitizer-logs,
 # which must stay empty (UBSan, a second runtime next to ASan's, ignores log_path and reports on
 # stderr). The suppressions (scripts/sanitize/*.supp) name third-party libraries only.
-# CTEST_ARGS: more ctest arguments, e.g. CTEST_ARGS='-R ImageIo' for a part of the suite.
+# Every label of the suite but one test: Package.AddSubdirectory configures and builds a copy of
+# the core library of its own, without sanitizers, so that it checks nothing here that `make test`
+# does not (Package.InstallAndEmbed stays: it builds and runs the embedding example instrumented).
+# The tools and reference labels stay too: their code (evaluate, the scene generator, coherent
+# rendering, the references) is shadowfilter's own and this is the only pass that checks its
+# memory. CTEST_ARGS: more ctest arguments, e.g. CTEST_ARGS='-L io' for a part of the suite.
 SANITIZE_BUILD ?= build-sanitize
 SANITIZE_LOGS = $(abspath $(SANITIZE_BUILD))/sanitizer-logs
 SANITIZE_SUPP = $(CURDIR)/scripts/sanitize
@@ -78,7 +84,7 @@ sanitize: deps
 	    -DSF_WARNINGS_AS_ERRORS=$(WERROR) > $(SANITIZE_BUILD).configure.log 2>&1 || (cat $(SANITIZE_BUILD).configure.log; exit 1)
 	@rm -rf $(SANITIZE_LOGS) && mkdir -p $(SANITIZE_LOGS)
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
-	@rc=0; (cd $(SANITIZE_BUILD) && ctest --output-on-failure -j 2 $(CTEST_ARGS)) || rc=$$?; \
+	@rc=0; (cd $(SANITIZE_BUILD) && ctest --output-on-failure -j 2 -E '^Package[.]AddSubdirectory$$' $(CTEST_ARGS)) || rc=$$?; \
 	  n=$$(ls $(SANITIZE_LOGS) | wc -l); \
 	  for f in $(SANITIZE_LOGS)/*; do [ -f "$$f" ] && { echo "== $$f"; head -n 60 "$$f"; }; done; \
 	  echo "sanitize: ctest exit $$rc, $$n sanitizer report(s) in $(SANITIZE_LOGS)"; \
@@ -166,7 +172,7 @@ mesh-scenes: meshes
 	  $(BUILD)/shadowfilter scene $(BUILD)/meshes/$$m.off -o $(OUT)/mesh-scenes/$$m $(MESH_ARGS) || exit 1; \
 	done
 
-# Seed 002's Table 1 (coherent shadow maps): compression of the scanned meshes at 32x32 and
+# Ritschel 2007's Table 1 (coherent shadow maps): compression of the scanned meshes at 32x32 and
 # 128x128 views, M = 128, scan-line and Hilbert (docs/coherent.md; ~15 minutes on 2 cores).
 coherent-table: meshes
 	@scripts/coherent_table.sh $(BUILD)

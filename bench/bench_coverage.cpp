@@ -1,4 +1,4 @@
-// 8. What issue 6 asks beyond the per-kernel suites: every reconstruction (each method x each
+// 8. Beyond the per-kernel suites: every reconstruction (each method x each
 // lookup: bilinear, trilinear mips, SAT box), the z-min pyramid and the ESM failure
 // classification (zmax, threshold) at 512, 2048 and 4096 maps (smoke mode: 512), and the scalar
 // double reference of the transform, the mip chain, the SAT and s_ref in the same binary.

@@ -1,4 +1,4 @@
-// 6. Every method's kernels (issue 3): the basis transform of every basis method x storage it
+// 6. Every method's kernels: the basis transform of every basis method x storage it
 // accepts (csm at M = 4, 8, 16; the case list of shadowfilter/method_cases.hpp, shared with the
 // method tests) at 2048^2 and every transform vector width (1 = one texel per work-item,
 // 4/8/16 = sf_transformv), and at 512^2 and 4096^2 with the default width 16 (csm at M = 4 only

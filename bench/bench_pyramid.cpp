@@ -1,4 +1,4 @@
-// 6. Footprint lookups (issue 4): the mip chain and the summed-area table of a 2048x2048 basis
+// 6. Footprint lookups: the mip chain and the summed-area table of a 2048x2048 basis
 // with 1 and 4 channels, and trilinear / box vs bilinear ESM reconstruction of 1920x1080 random
 // receivers on a 2048x2048 map. Smoke mode: sizes() of each list, smoke_size(2048) and screen().
 // Bytes: mips = level 0 read + every level written (4 * N * (W H + chain)); sat = the image read

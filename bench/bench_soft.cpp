@@ -1,11 +1,11 @@
-// 7. Soft shadows (issue 7; docs/soft.md): time per receiver of pcss, cssm (M = 4, 16; mips and
+// 7. Soft shadows (docs/soft.md): time per receiver of pcss, cssm (M = 4, 16; mips and
 // SAT), ssmm and ssmm-improved against the light size, on a 512x512 map (floor at z = 0.9 under
 // rectangular occluders at 0.3..0.7) with 160x120 random receivers on the floor. Reconstruction only
 // (the per-map prepare step does not depend on the receivers), device time. BM_SoftMapSize: the
 // prepare step and the reconstruction of each at 512, 2048 and 4096 maps.
 // Self-registering (at static initialisation): no entry in bench_main.cpp. Smoke mode: the map
 // sizes above 512 are left out; everything else runs at its size (512, 160x120 receivers).
-// BM_SoftConstantCost asserts the claim of seed 000 ch. 8 for every cssm variant (M = 4, 16; mips
+// BM_SoftConstantCost asserts the claim of Annen 2008 ch. 8 for every cssm variant (M = 4, 16; mips
 // and SAT): the time per receiver at L = 0.2 is below 1.3x that at L = 0.0125 (fails with
 // SkipWithError), and reports the others' ratios (pcss grows ~L^2, ssmm-improved ~log L). It
 // also reports the fraction of receivers whose stage 1 finds a blocker (blocked_small/large):
@@ -183,7 +183,7 @@ void BM_SoftConstantCost(benchmark::State& state) {
     state.SkipWithError("constant cost violated: cssm's time per receiver grows with the light size");
 }
 
-// Map sizes (issue 6: 512, 2048, 4096): the per-map prepare step (cssm: transform + mips or SAT;
+// Map sizes (512, 2048, 4096): the per-map prepare step (cssm: transform + mips or SAT;
 // ssmm: the min-depth pyramid) and the reconstruction at L = 0.05, device time of both per
 // iteration, no warm-up (prefilter() and one reconstruct() happen before the timing); 3 timed runs at 512, one
 // above (pcss and cssm take seconds a run there). cssm M = 16 at 512 only (its SAT at 2048 is over

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Seed 000 table 7.2 on bundled scenes: flagged fraction of ESM failure classification (zmax and
+# Annen 2008 table 7.2 on bundled scenes: flagged fraction of ESM failure classification (zmax and
 # threshold) for no convolution and 3x3, 5x5, 7x7 Gaussian prefilters (--blur-radius 0..3), with
 # the trilinear (mips) lookup driven by the receivers' footprints, c = 80.
 # Usage: [SCENES="spheres backyard fence"] bench/esm_classify_table.sh [build dir] [extra filter options]

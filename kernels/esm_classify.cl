@@ -1,4 +1,4 @@
-// ESM failure classification and fall-back (seed 000 ch. 7.3; methods.md sec. 3; docs/lookups.md).
+// ESM failure classification and fall-back (Annen 2008 ch. 7.3; methods.md sec. 3; docs/lookups.md).
 // Needs common.clh, storage.clh, methods/esm.clh, lookup.clh (SF_LOOKUP) and receiver_plane.clh
 // before it. Runs after reconstruction: flagged receivers get a 2x2 PCF of the ESM test on the raw
 // depth against their plane instead.

@@ -171,7 +171,7 @@ inline void sf_sat_put8(__global float* p, int x, int n, float8 v) {
 
 // In-register 8x8 transpose (unpack, 4-lane shuffle, 128-bit lane permute: 24 shuffles). Clang
 // gets them as explicit shuffles: from element-wise vector literals PoCL's LLVM built the same
-// transposes from inserts and broadcasts (the block loop 496 -> 293 instructions, 20% faster).
+// transposes from inserts and broadcasts, a longer and slower block loop (docs/lookups.md).
 #if defined(__clang__)
 #define SF_UNPACKLO(T, a, b) __builtin_shufflevector(a, b, 0, 8, 1, 9, 4, 12, 5, 13)
 #define SF_UNPACKHI(T, a, b) __builtin_shufflevector(a, b, 2, 10, 3, 11, 6, 14, 7, 15)

@@ -17,11 +17,11 @@ typedef SF_CAT(ushort, SF_XVEC) __attribute__((aligned(2))) sf_xushort_u;
 typedef SF_CAT(uchar, SF_XVEC) __attribute__((aligned(1))) sf_xuchar_u;
 
 // SF_XVEC values of one plane, rounded as sf_store rounds them (unorm: within one code at ties,
-// below). f16: vcvtps2ph, round to nearest even like vstore_half_rte. From vstore_half16_rte
-// LLVM folds the store into vcvtps2ph's memory form, which the AMD EPYC of our runs executes
-// slowly (evsm4 f16 took 15% more time than converting into a register and storing that), so on
-// x86 with AVX-512 the conversion is an asm statement with a register result; elsewhere
-// vstore_halfn_rte (vector code in PoCL; the scalar vstore_half is a call per texel).
+// below). f16: vcvtps2ph, round to nearest even like vstore_half_rte. On x86 with AVX-512 the
+// conversion is an asm statement with a register result: from vstore_half16_rte LLVM folds the
+// store into vcvtps2ph's memory form, which some x86 cores run slower (docs/methods.md,
+// "storage"); elsewhere vstore_halfn_rte (vector code in PoCL; the scalar vstore_half is a call
+// per texel).
 // Unorm: the value in code units plus 1.5 * 2^23 holds the nearest integer (ties to even, as
 // rint) in its low mantissa bits, cheaper than a float -> integer conversion. A method that
 // defines SF_BASISV_CODES gives code units in (-0.5, max + 0.5) from sf_basisv (csm: see its
@@ -70,8 +70,8 @@ inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 // depths per run, the method's vector basis (sf_basisv), then plane by plane one vector store per
 // run. A method whose planes come out of a recurrence in pairs (SF_BASISV_PAIRS: csm) is stepped
 // on all runs together and stored as it goes, so the planes of every run need not stay live
-// (csm M = 16 unorm8 spilled 128 vectors: 3x slower); not in float32 (one vector is a whole line
-// there, and storing in pair order made csm M = 16 1.5x slower than storing plane 0, 1, 2, ...).
+// (they spill at high orders); not in float32 (one vector is a whole line there, and plane order
+// 0, 1, 2, ... stores faster than pair order). docs/methods.md, "storage", has the figures.
 // PoCL vectorises the one-texel kernel below across work-items only when it is simple (one exp,
 // float stores); explicit vectors keep exp, the csm recurrence and the narrow stores in vector
 // code for every method.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Seed 002's Table 1 on Debian's scanned meshes (make meshes): `coherent build` at M = 128 for
+# Ritschel 2007's Table 1 on Debian's scanned meshes (make meshes): `coherent build` at M = 128 for
 # each mesh, view grid and ordering; prints a Markdown table with the seed's figures beside ours.
 # Usage: scripts/coherent_table.sh [BUILD] [VIEWS...]   (default: build 32x32 128x128)
 # MESHES (default "bunny00 ChineseDragon-10kv armadillo"), ORDERINGS (default "scanline hilbert").

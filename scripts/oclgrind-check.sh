@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Runs the launch-shape tests (tests/test_schedules.cpp: the Gpu family's blur, SAT and pyramid
+# Runs the launch-shape tests (tests/core/test_schedules.cpp: the Gpu family's blur, SAT and pyramid
 # forced on the device, each compared with the reference and with the Cpu family) and the Cpu
 # family's own small blur / pyramid / SAT tests under Oclgrind, the OpenCL simulator that reports
 # out-of-bounds accesses (global, local, private), data races (between work-items and across
 # barriers: the local-memory tiles) and, with SF_OCLGRIND_UNINIT=1, uninitialised reads.
 # Fails (exit 1) when a test fails or Oclgrind reports anything. Slow (an interpreter): about
 # 10-20 minutes on 2 cores; not part of CI. docs/gpu.md, "Launch shapes".
-# Usage: scripts/oclgrind-check.sh [BUILD_DIR]   (default: build; sf_tests must be built)
+# Usage: scripts/oclgrind-check.sh [BUILD_DIR]   (default: build; sf_tests_core must be built)
 # Env: SF_OCLGRIND_GROUPS: the groups to run (default "gpu cpu"), SF_OCLGRIND_SECONDS (1800 per
 #      group), SF_OCLGRIND_UNINIT=1 adds the uninitialised-value plugin (Oclgrind 21.10's own
 #      reports on the Cpu pyramid and its crashes on the Cpu SAT are known: docs/gpu.md).
@@ -17,8 +17,8 @@ set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${1:-build}
 cd "$ROOT"
-if [ ! -x "$BUILD/tests/sf_tests" ]; then
-  echo "oclgrind-check: $BUILD/tests/sf_tests is not built (cmake --build $BUILD)" >&2
+if [ ! -x "$BUILD/tests/sf_tests_core" ]; then
+  echo "oclgrind-check: $BUILD/tests/sf_tests_core is not built (cmake --build $BUILD)" >&2
   exit 2
 fi
 if ! command -v apt-get > /dev/null && [ ! -e .gpu/oclgrind/root/usr/lib/oclgrind/liboclgrind-rt-icd.so ]; then

@@ -6,8 +6,8 @@
 #include <chrono>
 #include <algorithm>
 #include <atomic>
+#include <iostream>
 #include <memory>
-#include <cstdio>
 #include <deque>
 #include <functional>
 #include <future>
@@ -54,7 +54,7 @@ BatchReport run_batch(const std::vector<FrameSpec>& frames, const BatchSettings&
     ++report.failed;
     const std::string message = frame.where + ": " + what;
     if (settings.keep_going)
-      std::fprintf(stderr, "%sshadowfilter: error: %s\n", settings.progress ? "\n" : "", message.c_str());
+      std::cerr << (settings.progress ? "\n" : "") << "shadowfilter: error: " << message << "\n";
     else if (!stop)
       stop = message;
   };

@@ -1,4 +1,4 @@
-// `shadowfilter coherent`: coherent shadow maps (methods.md sec. 5; seed 002; docs/coherent.md).
+// `shadowfilter coherent`: coherent shadow maps (methods.md sec. 5; Ritschel 2007; docs/coherent.md).
 // build renders and compresses a stack of dual-depth maps around an object into a .csm file;
 // info describes one.
 #include <unistd.h>

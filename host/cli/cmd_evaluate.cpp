@@ -1,16 +1,11 @@
-// `shadowfilter evaluate DIR... -o OUT`: every method over a parameter grid on scene directories;
-// results.csv / results.json, per scene the Pareto plots (pareto_<scene>.png against the plot's
-// reference, pareto_<scene>_<reference>.png against each other one), the contact sheet
-// contact_<scene>.png and one error image per method (host/eval).
-#include <cstdio>
-#include <filesystem>
+// `shadowfilter evaluate DIR... -o OUT`: its options, turned into an eval::EvaluationRequest
+// (host/eval/evaluation.hpp, which runs it and writes the files), and the summary it prints.
+#include <iostream>
 #include <memory>
 
 #include "commands.hpp"
+#include "evaluation.hpp"
 #include "option_names.hpp"
-#include "output_file.hpp"
-#include "evaluate.hpp"
-#include "progress.hpp"
 #include "shadowfilter/errors.hpp"
 #include "verbose.hpp"
 
@@ -77,7 +72,6 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
 }
 
 int run_evaluate(const EvaluateArgs& a) {
-  namespace fs = std::filesystem;
   const eval::Grid grid = eval::parse_grid(a.grid);
   const auto methods = eval::parse_methods(a.methods);
   // The plots' reference: --pareto-reference, or the one a prefixed --pareto-metric names
@@ -93,119 +87,45 @@ int run_evaluate(const EvaluateArgs& a) {
                        eval::reference_name(prefixed) + "', --pareto-reference says '" + a.pareto_reference + "'");
     requested = prefixed;
   }
-  eval::TargetFilter target;
-  target.blur.radius = a.target_blur_radius;
-  target.lookup = a.target_lookup == "bilinear" ? Lookup::Bilinear
-                  : a.target_lookup == "sat"    ? Lookup::Sat
-                                                : Lookup::Mips;
-  if (a.auto_args.enabled) eval::check_metric(a.auto_args.metric);
-  std::error_code ec;
-  fs::create_directories(a.out_dir, ec);
-  if (!fs::is_directory(a.out_dir)) throw InputError("cannot create output directory '" + a.out_dir + "'");
-
-  std::vector<eval::Scene> scenes;
-  for (const auto& d : a.dirs) scenes.push_back(eval::load_scene(d));
+  eval::EvaluationRequest q;
+  q.dirs = a.dirs;
+  q.out_dir = a.out_dir;
+  q.methods = methods;
+  q.grid = grid;
+  q.reference = requested;
+  q.metric = metric;
+  q.target.blur.radius = a.target_blur_radius;
+  q.target.lookup = a.target_lookup == "bilinear" ? Lookup::Bilinear
+                    : a.target_lookup == "sat"    ? Lookup::Sat
+                                                  : Lookup::Mips;
+  q.timing = eval::TimingSettings{a.warmup, a.runs};
+  q.sref_bias = a.auto_args.sref_bias;
+  q.images = !a.no_images;
+  q.progress = !a.quiet;
+  q.describe_refusal = cli_message;
+  if (a.auto_args.enabled) {
+    eval::check_metric(a.auto_args.metric);
+    eval::AutoRequest req;
+    req.max_error = a.auto_args.max_error;
+    req.metric = a.auto_args.metric;
+    req.sref_bias = a.auto_args.sref_bias;
+    req.target.blur.radius = a.auto_radius;
+    req.lookup_from_scene = a.auto_lookup == "auto";
+    req.target.lookup.kind = a.auto_lookup == "mips"  ? Lookup::Mips
+                             : a.auto_lookup == "sat" ? Lookup::Sat
+                                                      : Lookup::Bilinear;
+    req.final_rounds = a.auto_args.rounds;
+    req.time_tolerance = a.auto_args.tolerance;
+    q.auto_request = req;
+  }
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
-  eval::TimingSettings timing{a.warmup, a.runs};
-
-  std::vector<eval::Row> all;
-  std::vector<eval::Skipped> skipped;
-  std::vector<std::string> auto_lines;
-  for (const auto& scene : scenes) {
-    // Without --auto every lookup runs; with it only what the scene needs (make_grid drops mips
-    // and sat when every footprint <= 1).
-    const double fp = a.auto_args.enabled ? scene.max_footprint : std::max(scene.max_footprint, 2.0);
-    const auto configs = eval::make_grid(methods, grid, fp, a.auto_args.sref_bias);
-    eval::SrefCache sref(scene, a.auto_args.sref_bias);
-    // One s_ref of the target filter per scene, the same reference for every configuration.
-    const std::vector<double>& target_ref = sref.get(target.blur, target.lookup);
-    std::vector<eval::Row> rows;
-    {
-      scene::Progress bar(scene.name + " (" + std::to_string(configs.size()) + " configurations)", configs.size(),
-                          !a.quiet);
-      for (const auto& o : configs) {
-        try {
-          rows.push_back(eval::evaluate_config(runtime, scene, o, sref, timing, &target_ref));
-        } catch (const InputError& e) {
-          skipped.push_back({scene.name, eval::config_label(o), cli_message(e.what())});
-        }
-        bar.add(1);
-      }
-    }
-    std::string note;
-    const eval::Reference ref = eval::plot_reference(scene, requested, &note);
-    if (!note.empty()) std::fprintf(stderr, "shadowfilter evaluate: %s\n", note.c_str());
-    if (!a.no_images && !rows.empty()) {
-      const fs::path out(a.out_dir);
-      auto plot = [&](eval::Reference r, const std::string& file) {
-        eval::write_pareto_png((out / file).string(), rows, r, metric,
-                               eval::pareto_labels(scene, rows.size(), r, metric, target, r == ref ? note : ""));
-      };
-      plot(ref, "pareto_" + scene.name + ".png");
-      for (eval::Reference r :
-           {eval::Reference::Soft, eval::Reference::Hard, eval::Reference::Target, eval::Reference::Self})
-        if (r != ref && eval::has_reference(scene, r))
-          plot(r, "pareto_" + scene.name + "_" + eval::reference_name(r) + ".png");
-      const eval::Reference sheet = eval::contact_reference(scene, ref);
-      eval::write_contact_sheet((out / ("contact_" + scene.name + ".png")).string(), scene, rows,
-                                eval::best_per_method(rows, sheet, metric), sheet, metric, target, target_ref);
-      // |v - s_ref| of each method's most faithful configuration (lowest metric against its own
-      // s_ref): where a method departs from the filter it was asked for.
-      for (size_t i : eval::best_per_method(rows, eval::Reference::Self, metric))
-        eval::write_error_png((out / ("error_" + scene.name + "_" + rows[i].method + ".png")).string(), scene,
-                              rows[i].visibility, sref.for_options(rows[i].options), 0.25);
-    }
-    if (a.auto_args.enabled) {
-      eval::AutoRequest req;
-      req.max_error = a.auto_args.max_error;
-      req.metric = a.auto_args.metric;
-      req.sref_bias = a.auto_args.sref_bias;
-      req.target.blur.radius = a.auto_radius;
-      req.lookup_from_scene = a.auto_lookup == "auto";
-      req.target.lookup.kind = a.auto_lookup == "mips"  ? Lookup::Mips
-                               : a.auto_lookup == "sat" ? Lookup::Sat
-                                                        : Lookup::Bilinear;
-      req.methods = methods;
-      req.timing = timing;
-      req.final_rounds = a.auto_args.rounds;
-      req.time_tolerance = a.auto_args.tolerance;
-      const auto r = eval::choose_auto(runtime, scene, req);
-      auto_lines.push_back("== " + scene.name + "\n" + eval::describe(r, req.metric));
-    }
-    for (auto& r : rows) {
-      r.visibility.clear();
-      r.visibility.shrink_to_fit();
-      all.push_back(std::move(r));
-    }
-  }
-  eval::write_csv((fs::path(a.out_dir) / "results.csv").string(), all, target);
-  eval::write_json((fs::path(a.out_dir) / "results.json").string(), all, skipped, runtime->info().device_name, target);
-  if (a.auto_args.enabled) {
-    std::string text;
-    for (const auto& l : auto_lines) text += l;
-    io::write_text((fs::path(a.out_dir) / "auto.txt").string(), "results file", text);
-  }
-
-  if (!a.quiet) {
-    // RMSE against each reference (-1 where the scene has none; self: the configuration's own
-    // s_ref, a fidelity figure); acne% / leak%: eval::acne_leak against reference_hard.
-    std::printf("%-10s %-34s %9s %9s %9s %9s %9s %9s %9s %9s\n", "scene", "config", "ms", "soft_rmse", "hard_rmse",
-                "tgt_rmse", "self_rmse", "acne%", "leak%", "MiB");
-    auto rmse = [](const eval::ErrorStats& e) { return e.valid ? e.rmse : -1.0; };
-    for (const auto& r : all)
-      std::printf("%-10s %-34s %9.3f %9.4f %9.4f %9.4f %9.4f %9.2f %9.2f %9.2f\n", r.scene.c_str(), r.label.c_str(),
-                  r.time_ms, rmse(r.soft), rmse(r.hard), rmse(r.target), rmse(r.sref),
-                  r.acne_leak.valid ? 100.0 * r.acne_leak.acne : -1.0,
-                  r.acne_leak.valid ? 100.0 * r.acne_leak.leak : -1.0, r.device_bytes / 1048576.0);
-    for (const auto& s : skipped)
-      std::printf("skipped %s / %s: %s\n", s.scene.c_str(), s.label.c_str(), s.reason.c_str());
-  }
-  for (const auto& l : auto_lines) std::fputs(l.c_str(), stdout);
-  if (!a.quiet) {
-    std::printf("shadowfilter evaluate: %zu configurations on %zu scenes, device %s -> %s\n", all.size(), scenes.size(),
-                runtime->info().device_name.c_str(), a.out_dir.c_str());
-  }
+  const eval::EvaluationResult r = eval::run_evaluation(q, runtime, std::cerr);
+  if (!a.quiet) std::cout << eval::summary_table(r);
+  for (const auto& l : r.auto_lines) std::cout << l;
+  if (!a.quiet)
+    std::cout << "shadowfilter evaluate: " << r.rows.size() << " configurations on " << r.scenes << " scenes, device "
+              << r.device_name << " -> " << a.out_dir << "\n";
   return 0;
 }
 

@@ -13,6 +13,7 @@
 #include "output_file.hpp"
 #include "json_summary.hpp"
 #include "preview_images.hpp"
+#include "print.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -186,7 +187,7 @@ int run_filter(const FilterArgs& a) {
     std::snprintf(flagged, sizeof flagged, " | flagged %.2f%% of receivers, %.2f%% of %zu in the map",
                   receivers.count() ? 100.0 * r.flagged / receivers.count() : 0.0,
                   lit_able ? 100.0 * r.flagged / lit_able : 0.0, lit_able);
-  std::printf(
+  std::cout << formatted(
       "shadowfilter: %s | map %dx%d, receivers %dx%d%s (%zu background, %zu outside, %zu facing away)%s | "
       "device %s | "
       "device ms: transform %.3f, blur %.3f%s, reconstruct %.3f, upload %.3f, download %.3f | "

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <thread>
 
 #include "camera_io.hpp"
@@ -10,6 +11,7 @@
 #include "output_file.hpp"
 #include "help_format.hpp"
 #include "json_summary.hpp"
+#include "print.hpp"
 #include "shadowfilter/camera_receivers.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -156,7 +158,7 @@ int run_receivers(const ReceiversArgs& a) {
     print_json(j);
     return 0;
   }
-  std::printf(
+  std::cout << formatted(
       "shadowfilter receivers: %dx%d camera pixels (%zu background, %zu outside the light, %zu without a normal) | "
       "map %dx%d, %s light, planes %g..%g | wall ms: load %.1f, receivers %.1f (%d threads), write %.1f | %s\n",
       rx.width, rx.height, counts.background, counts.outside, counts.no_normal, map_w, map_h,

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <sstream>
 
+#include "print.hpp"
 #include "shadowfilter/camera_receivers.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/receiver_fit.hpp"
@@ -281,7 +283,7 @@ std::vector<std::string> fit_warnings(const HostImage& depth, const Receivers& r
 
 void print_warnings(const std::vector<std::string>& warnings, const std::string& where) {
   for (const std::string& w : warnings)
-    std::fprintf(stderr, "shadowfilter: warning: %s%s\n", where.empty() ? "" : (where + ": ").c_str(), w.c_str());
+    std::cerr << formatted("shadowfilter: warning: %s%s\n", where.empty() ? "" : (where + ": ").c_str(), w.c_str());
 }
 
 }  // namespace sf::cli

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <mutex>
 
@@ -17,6 +18,7 @@
 #include "image_io.hpp"
 #include "json_summary.hpp"
 #include "preview_images.hpp"
+#include "print.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/frame_filter.hpp"
@@ -123,7 +125,7 @@ int run_filter_batch(const FilterArgs& a) {
 
   BatchSettings settings;
   settings.keep_going = a.keep_going;
-  settings.progress = !a.quiet && ::isatty(STDERR_FILENO);
+  settings.progress = !a.quiet && stderr_is_terminal();
   const BatchReport report = run_batch<LoadedFrame, FilteredFrame>(
       frames, settings,
       [&](const FrameSpec& f) {
@@ -170,7 +172,7 @@ int run_filter_batch(const FilterArgs& a) {
   } else if (!a.quiet) {
     const double ms = 1e3;
     const size_t ran = std::max<size_t>(report.frames - report.failed, 1);
-    std::printf(
+    std::cout << formatted(
         "shadowfilter: batch of %zu frames, %zu written, %zu failed | %s | device %s (%s, %d allocation%s) | "
         "device ms per frame: transform %.3f, blur %.3f, mips %.3f, sat %.3f, zmax %.3f, classify %.3f, "
         "reconstruct %.3f, upload %.3f, download %.3f | stage s in all: decode %.2f, run %.2f, encode %.2f "

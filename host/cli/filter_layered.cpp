@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "image_io.hpp"
 #include "output_file.hpp"
 #include "preview_images.hpp"
+#include "print.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
@@ -94,7 +96,7 @@ int run_filter_layered(const FilterArgs& a) {
     if (s.sat > 0) stage("sat", s.sat);
     if (s.zmax > 0) stage("zmax", s.zmax);
     if (s.classify > 0) stage("classify", s.classify);
-    std::printf(
+    std::cout << formatted(
         "shadowfilter: %s | %zu layers of %dx%d, blend %.3g, receivers %dx%d (per layer %s; %zu blended, %zu "
         "background, %zu outside, %zu facing away) | device %s | device ms: transform %.3f, blur %.3f%s, project "
         "%.3f, reconstruct %.3f, blend %.3f, upload %.3f, download %.3f | wall ms: load %.1f, run %.1f, write "

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <utility>
 
+#include "print.hpp"
+
 namespace sf::cli {
 namespace {
 
@@ -41,7 +43,7 @@ class WrappingFormatter : public CLI::Formatter {
 
 size_t help_width() {
   winsize ws{};
-  if (::isatty(STDOUT_FILENO) && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 40) return ws.ws_col;
+  if (stdout_is_terminal() && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 40) return ws.ws_col;
   return 80;
 }
 

@@ -1,6 +1,6 @@
 #include "json_summary.hpp"
 
-#include <cstdio>
+#include <iostream>
 
 #include "filter_options.hpp"
 #include "shadowfilter/methods.hpp"
@@ -40,6 +40,6 @@ nlohmann::json filter_options_json(const FilterOptions& o) {
   return j;
 }
 
-void print_json(const nlohmann::json& summary) { std::printf("%s\n", summary.dump().c_str()); }
+void print_json(const nlohmann::json& summary) { std::cout << summary.dump() << "\n"; }
 
 }  // namespace sf::cli

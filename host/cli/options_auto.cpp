@@ -1,10 +1,10 @@
 // --auto for `filter` (and the flags `evaluate --auto` shares): the fastest configuration whose
 // error against s_ref of the requested weights stays under --max-error on this input.
-#include <cstdio>
 #include <iostream>
 
 #include "commands.hpp"
 #include "evaluate.hpp"
+#include "print.hpp"
 #include "progress.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -64,10 +64,10 @@ FilterOptions choose_auto_options(const FilterArgs& a, const HostImage& depth, c
   });
   bar.reset();
   if (!r.found) {
-    std::fputs(eval::describe(r, req.metric).c_str(), stderr);
+    std::cerr << eval::describe(r, req.metric);
     throw InputError("--auto: no configuration meets " + req.metric + " <= " + std::to_string(req.max_error));
   }
-  std::fputs(eval::describe(r, req.metric).c_str(), stdout);
+  std::cout << eval::describe(r, req.metric);
   FilterOptions chosen = r.chosen;
   chosen.schedule = a.options.schedule;
   return chosen;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <sstream>
 
 #include "camera_io.hpp"
@@ -17,6 +18,7 @@
 #include "io_detail.hpp"
 #include "json_summary.hpp"
 #include "light_list.hpp"
+#include "print.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/view_projection.hpp"
@@ -312,7 +314,7 @@ int run_soft(const SoftArgs& a) {
     j["warnings"] = warnings;
     print_json(j);
   } else if (!a.quiet)
-    std::printf(
+    std::cout << formatted(
         "shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
         "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",
         soft_method_name(opt.method), lights.size(), opt.light.size, opt.light.perspective ? "perspective" : "ortho",

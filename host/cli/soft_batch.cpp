@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iostream>
 #include <memory>
 
 #include "batch_runner.hpp"
@@ -12,6 +13,7 @@
 #include "image_io.hpp"
 #include "depth_inputs.hpp"
 #include "options_soft.hpp"
+#include "print.hpp"
 #include "verbose.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -35,7 +37,7 @@ int run_soft_batch(const SoftArgs& a) {
 
   BatchSettings settings;
   settings.keep_going = a.keep_going;
-  settings.progress = !a.quiet && ::isatty(STDERR_FILENO);
+  settings.progress = !a.quiet && stderr_is_terminal();
   struct Loaded {
     std::vector<SoftLightInput> light;
     std::vector<std::string> warnings;  // printed once the frame is written
@@ -71,7 +73,7 @@ int run_soft_batch(const SoftArgs& a) {
 
   if (!a.quiet) {
     const double per_frame = 1e3 / double(std::max<size_t>(report.frames - report.failed, 1));
-    std::printf(
+    std::cout << formatted(
         "shadowfilter soft: batch of %zu frames, %zu written, %zu failed | %s | device %s | device ms per frame: "
         "transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | stage s in all: decode %.2f, run %.2f, encode %.2f "
         "(decode and encode overlap the run) | wall %.2f s, %.1f frames/s, %.1f Mreceivers/s\n",

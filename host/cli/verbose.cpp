@@ -1,6 +1,8 @@
 #include "verbose.hpp"
 
-#include <cstdio>
+#include <iostream>
+
+#include "print.hpp"
 
 namespace sf::cli {
 
@@ -14,10 +16,10 @@ void add_verbose_flag(CLI::App& c, bool& verbose) {
 void apply_verbose(Runtime& rt, bool verbose) {
   if (!verbose) return;
   rt.set_compiler_warnings(true);
-  rt.set_notice_sink([](const std::string& note) { std::fprintf(stderr, "shadowfilter: %s\n", note.c_str()); });
+  rt.set_notice_sink([](const std::string& note) { std::cerr << formatted("shadowfilter: %s\n", note.c_str()); });
   rt.set_build_log_sink([](const std::string& files, const std::string& log) {
-    std::fprintf(stderr, "shadowfilter: OpenCL build log of [%s]:\n%s%s", files.c_str(), log.c_str(),
-                 log.empty() || log.back() == '\n' ? "" : "\n");
+    std::cerr << formatted("shadowfilter: OpenCL build log of [%s]:\n%s%s", files.c_str(), log.c_str(),
+                           log.empty() || log.back() == '\n' ? "" : "\n");
   });
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// `shadowfilter evaluate` and `--auto` (issue 6): run methods over a parameter grid on a scene,
+// `shadowfilter evaluate` and `--auto`: run methods over a parameter grid on a scene,
 // time them honestly (median of repeated device-resident runs after warm-up) and measure their
 // error against the exact filtered test s_ref with the same weights and against the ray-traced
 // references. Library-level: the CLI only parses options and prints. This module reads and
@@ -69,7 +69,7 @@ struct ErrorStats {
   bool valid = false;
 };
 ErrorStats error_stats(const std::vector<float>& v, const std::vector<double>& ref, const std::vector<uint8_t>& mask);
-// Acne and leaks against the hard reference (issue 14), over the receivers of `mask`, on the
+// Acne and leaks against the hard reference, over the receivers of `mask`, on the
 // receiver image's grid: a receiver is "lit inside" when the hard reference is lit (>= 0.5) at
 // every counted receiver of the (2 radius + 1)^2 window around it, and "shadowed inside" when it
 // is shadowed at every one (the window clipped to the image). Receivers outside `mask` (misses,

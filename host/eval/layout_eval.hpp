@@ -1,5 +1,5 @@
 #pragma once
-// `shadowfilter evaluate-layouts` (issue 15, seed 001): shadow-map layouts (single, pssm, tsm,
+// `shadowfilter evaluate-layouts` (Oliveira 2009): shadow-map layouts (single, pssm, tsm,
 // pssm+tsm) x cascade counts x methods at equal total texels, on a scene seen along a camera path,
 // measured against the ray-traced references of every frame. The scene is rendered in process
 // (Embree): the camera view and its references once per frame, the layers of every layout per
@@ -95,7 +95,7 @@ double quantile(std::vector<double> values, double q);
 std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, const LayoutEvalRequest& request,
                                         const std::function<void(const std::string&)>& progress = {});
 
-// results_layouts.csv; a Markdown table in the shape of seed 001's Table 2 with the error columns.
+// results_layouts.csv; a Markdown table in the shape of Oliveira 2009's Table 2 with the error columns.
 void write_layout_csv(const std::string& path, const std::vector<LayoutRow>& rows);
 std::string layout_markdown(const std::vector<LayoutRow>& rows);
 // layouts_<scene>.png: per layout, the methods' mismatched pixels in the nearest 10% and their

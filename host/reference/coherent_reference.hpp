@@ -1,5 +1,5 @@
 #pragma once
-// Scalar reference of coherent shadow maps (methods.md sec. 5; seed 002 sec. 3): the greedy
+// Scalar reference of coherent shadow maps (methods.md sec. 5; Ritschel 2007 sec. 3): the greedy
 // segment fit, the segment lookup and the visibility tests, plain loops the device kernels are
 // compared against byte for byte.
 #include <array>
@@ -13,7 +13,7 @@ namespace sf::ref::coherent {
 using sf::coherent::CompressedStack;
 using sf::coherent::DualDepthStack;
 
-// Seed 002 eq. (1), per texel: from the first map not yet covered, the longest run of maps whose
+// Ritschel 2007 eq. (1), per texel: from the first map not yet covered, the longest run of maps whose
 // max z1 < min z2 (z2 = kNoSurface counts as +infinity, 65536), stored with
 // z_avg = floor((max z1 + min z2) / 2), so max z1 <= z_avg < min z2 over the run.
 CompressedStack compress(const DualDepthStack& stack);
@@ -28,12 +28,12 @@ int stack_test(const DualDepthStack& s, uint32_t i, size_t texel, uint32_t q);
 bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t q);
 
 // Visibility of point p toward direction d (any length): the view whose cell holds d, p's texel
-// and depth there, the compressed test; 1 outside the map. (seed 002 sec. 3.2, fig. 6)
+// and depth there, the compressed test; 1 outside the map. (Ritschel 2007 sec. 3.2, fig. 6)
 // positions: sf::coherent::sequence_positions(c.layout), computed once by the caller.
 double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
                   const std::array<double, 3>& d);
 
-// Generalized PCF (seed 002 sec. 4.5), the twin of coherent/query.clh's sf_coherent_visibility_filtered:
+// Generalized PCF (Ritschel 2007 sec. 4.5), the twin of coherent/query.clh's sf_coherent_visibility_filtered:
 // the 2x2 views nearest to d in continuous lat-long coordinates (row t / pi T - 1/2 clamped to
 // [0, T - 1], column p / (2 pi) P - 1/2 wrapping around), in each the 2x2 texels nearest to p
 // (x = u M - 1/2; outside the map lit) tested at p's depth in that view, weighted bilinearly:

@@ -1,5 +1,5 @@
 #pragma once
-// Direct lighting of one object with its coherent shadow map (seed 002 sec. 5;
+// Direct lighting of one object with its coherent shadow map (Ritschel 2007 sec. 5;
 // docs/coherent_render.md): a G-buffer from Embree camera rays, then per pixel S stratified samples
 // of a lat-long environment map (drawn from its luminance) and of rectangular semi-local area
 // lights, diffuse BRDF. The visibility of every sample comes from the coherent maps on the device

@@ -1,5 +1,5 @@
 #pragma once
-// The dual-depth stacks of coherent shadow maps (methods.md sec. 5; seed 002 sec. 3.1 and 4.1):
+// The dual-depth stacks of coherent shadow maps (methods.md sec. 5; Ritschel 2007 sec. 3.1 and 4.1):
 // the object alone (no floor), its bounding sphere, and its N orthographic views rendered with
 // Embree on host threads.
 #include <functional>

@@ -1,5 +1,5 @@
 #pragma once
-// Lat-long environment maps for distant light (seed 002 sec. 4.1 and 5.1; docs/coherent_render.md):
+// Lat-long environment maps for distant light (Ritschel 2007 sec. 4.1 and 5.1; docs/coherent_render.md):
 // the map as RGB float radiance, its luminance-proportional sampling tables (what
 // kernels/coherent/render.cl reads), a host twin of the kernel's sampling, and a synthetic
 // sky so that the repository needs no downloaded HDR.

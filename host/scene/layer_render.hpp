@@ -1,5 +1,5 @@
 #pragma once
-// The scene side of layered shadow maps (cascades.hpp, methods.md sec. 6; seed 001): the
+// The scene side of layered shadow maps (cascades.hpp, methods.md sec. 6; Oliveira 2009): the
 // geometry's bounding boxes and the camera's frustum that a layout is fitted to, the layers'
 // depth maps ray-cast through their own transforms, the camera view as sf::ViewReceivers, and
 // camera paths for frame sequences. Everything is deterministic and does not depend on the

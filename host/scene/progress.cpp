@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iostream>
 
 namespace sf::scene {
 
@@ -40,11 +41,14 @@ void Progress::draw(size_t done, bool final) {
   char eta[32] = "";
   if (!final && rate > 0 && done < total_)
     std::snprintf(eta, sizeof eta, ", %.0f s left", double(total_ - done) / rate);
-  std::fprintf(stderr, "\r  %-16s [%s%s] %3d%%  %zu/%zu  %.3g/s  %.1f s%s   ", label_.c_str(),
-               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), int(fraction * 100 + 0.5),
-               done, total_, rate, seconds, eta);
-  if (final) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
+  const std::string bar(filled, '#'), gap(kWidth - filled, ' ');
+  std::string line(label_.size() + 160, '\0');
+  const int n =
+      std::snprintf(line.data(), line.size(), "\r  %-16s [%s%s] %3d%%  %zu/%zu  %.3g/s  %.1f s%s   ", label_.c_str(),
+                    bar.c_str(), gap.c_str(), int(fraction * 100 + 0.5), done, total_, rate, seconds, eta);
+  line.resize(n > 0 ? std::min(size_t(n), line.size() - 1) : 0);
+  // std::cerr, not stderr: the CLI's in-process entry (host/cli/run.hpp) hands it the caller's stream.
+  std::cerr << line << (final ? "\n" : "") << std::flush;
   shown_ = true;
 }
 

@@ -55,13 +55,13 @@ SceneDefaults spheres() {
 }
 
 // A picket fence between the light and a box and a sphere: thin high-frequency occluders in
-// front of other objects (VSM light bleeding, seed 000 fig. 6.9 / 7.8).
+// front of other objects (VSM light bleeding, Annen 2008 fig. 6.9 / 7.8).
 SceneDefaults fence() {
   SceneDefaults s;
   s.geometry.name = "fence";
   s.purpose =
       "thin high-frequency occluder (picket fence) in front of other objects: VSM light "
-      "bleeding (seed 000 fig. 6.9, 7.8)";
+      "bleeding (Annen 2008 fig. 6.9, 7.8)";
   add_floor(s.geometry, kFloorHalfSize);
   for (int k = 0; k < 40; ++k) {
     const double x = -3.6 + 0.18 * k;
@@ -89,14 +89,14 @@ void add_table(SceneGeometry& g, const std::string& name, Vec3 lo, Vec3 hi, doub
 }
 
 // Several depth layers over each other: tree crown, table top, bench, shed roof, a ball
-// (ESM failure classification, seed 000 table 7.2).
+// (ESM failure classification, Annen 2008 table 7.2).
 SceneDefaults backyard() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "backyard";
   s.purpose =
       "several depth layers (tree crown over table over bench over floor): ESM failure "
-      "classification (seed 000 table 7.2)";
+      "classification (Annen 2008 table 7.2)";
   add_floor(g, kFloorHalfSize);
   add_table(g, "table", {-2.6, 0.0, -2.6}, {-0.6, 1.1, -1.2}, 0.08, 0.1);
   add_table(g, "bench", {-1.2, 0.0, -0.6}, {0.6, 0.5, -0.1}, 0.06, 0.08);
@@ -121,14 +121,14 @@ SceneDefaults backyard() {
 }
 
 // A slanted plane whose lower edge lies on the floor, a box and a ball resting on the floor:
-// contact shadows (low-order CSM brightening, seed 000 fig. 6.5).
+// contact shadows (low-order CSM brightening, Annen 2008 fig. 6.5).
 SceneDefaults contact() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "contact";
   s.purpose =
       "slanted plane touching the floor, box and ball resting on it: contact shadows, "
-      "low-order CSM brightening (seed 000 fig. 6.5)";
+      "low-order CSM brightening (Annen 2008 fig. 6.5)";
   add_floor(g, kFloorHalfSize);
   add_quad(g, "ramp", {-2.8, 0.0, -2.0}, {0.0, 0.0, 3.2}, {2.6, 1.5, 0.0});
   add_box(g, "box", {0.9, 0.0, -2.6}, {2.3, 1.0, -1.2});
@@ -157,14 +157,14 @@ void grow_branch(TriMesh& mesh, Rng& rng, Vec3 base, Vec3 dir, double len, doubl
   }
 }
 
-// Two trees of branches down to sub-texel width: aliasing and minification (seed 000
+// Two trees of branches down to sub-texel width: aliasing and minification (Annen 2008
 // fig. 6.6, 6.10).
 SceneDefaults thin() {
   SceneDefaults s;
   SceneGeometry& g = s.geometry;
   g.name = "thin";
   s.purpose =
-      "tree-like branches down to sub-texel width: aliasing and minification (seed 000 "
+      "tree-like branches down to sub-texel width: aliasing and minification (Annen 2008 "
       "fig. 6.6, 6.10)";
   add_floor(g, kFloorHalfSize);
   Rng rng{20240601};
@@ -233,7 +233,7 @@ SceneDefaults terrain() {
   return s;
 }
 
-// --- Large scenes in metres (seed 001: cascades and warping). World units are metres; the
+// --- Large scenes in metres (Oliveira 2009: cascades and warping). World units are metres; the
 // camera stands near the ground and looks across hundreds of metres, so a single map spends
 // most of its texels far away and PSSM / TSM have something to fix.
 
@@ -253,7 +253,7 @@ SceneDefaults city() {
   g.name = "city";
   s.purpose =
       "sparse city blocks over 2 km x 2 km seen from street level: shadows from 5 m to 1.5 km "
-      "away, PSSM and TSM (seed 001)";
+      "away, PSSM and TSM (Oliveira 2009)";
   constexpr double kHalf = 1000.0, kPitch = 100.0, kStreet = 20.0, kLot = 0.5 * (kPitch - kStreet);
   constexpr int kBlocks = int(2.0 * kHalf / kPitch);
   add_floor(g, kHalf);
@@ -313,7 +313,7 @@ SceneDefaults treeline() {
   g.name = "treeline";
   s.purpose =
       "rows of thin trees on gentle terrain over 1 km x 1 km seen from eye height: thin far "
-      "occluders, self-shadowing ground, PSSM and TSM (seed 001)";
+      "occluders, self-shadowing ground, PSSM and TSM (Oliveira 2009)";
   constexpr double kHalf = 500.0;
   constexpr int kCells = 80;
   g.meshes.push_back(height_field("terrain", kHalf, kCells, treeline_height));

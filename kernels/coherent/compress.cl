@@ -1,4 +1,4 @@
-// Coherent shadow map compression on the device (methods.md sec. 5; seed 002 eq. (1)): per
+// Coherent shadow map compression on the device (methods.md sec. 5; Ritschel 2007 eq. (1)): per
 // texel the greedy piecewise-constant fit of sf::ref::coherent::compress, byte for byte. A
 // work-item walks the stack's N maps in sequence order for SF_COHERENT_LANES neighbouring texels;
 // z1 and z2 are ushort [i * texels + t]. Lanes: 1 on GPUs (neighbouring work-items read

@@ -1,4 +1,4 @@
-// Direct lighting with coherent shadow maps (seed 002 sec. 5 and 5.1; docs/coherent_render.md):
+// Direct lighting with coherent shadow maps (Ritschel 2007 sec. 5 and 5.1; docs/coherent_render.md):
 // one work-item per pixel of a G-buffer, S stratified samples of a lat-long environment map drawn
 // from its luminance distribution (plain light sampling, the seed's choice for diffuse surfaces)
 // and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the coherent maps

@@ -1,4 +1,4 @@
-// Coherent shadow map queries of unstructured points (methods.md sec. 5; seed 002 sec. 3.2 and
+// Coherent shadow map queries of unstructured points (methods.md sec. 5; Ritschel 2007 sec. 3.2 and
 // 4.5), after coherent/query.clh: one work-item per query, point p = points[i].xyz (w ignored) and
 // the second float4 either a direction d (toward 0: distant light) or a light sample's position
 // l (toward 1: semi-local light, d = l - p). `toward` is an argument, not a build option: the

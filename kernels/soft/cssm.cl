@@ -1,4 +1,4 @@
-// cssm: convolution soft shadows (seed 000 ch. 8; methods.md sec. 4). Needs common.clh,
+// cssm: convolution soft shadows (Annen 2008 ch. 8; methods.md sec. 4). Needs common.clh,
 // storage.clh (SF_STORAGE 0), lookup.clh and soft/soft_common.clh before it; SF_CSSM_ORDER = M.
 // Basis (4M + 1 float32 planes), c_k = (2k - 1) pi:
 //   [0, M) sin(c_k z), [M, 2M) cos(c_k z)          the CSM basis (same as methods/csm.clh)

@@ -1,4 +1,4 @@
-// pcss (Fernando 2005; methods.md sec. 4, seed 003 eq. 2.1/3.1): brute force on the raw depth.
+// pcss (Fernando 2005; methods.md sec. 4, Shen 2016 eq. 2.1/3.1): brute force on the raw depth.
 // Needs common.clh, receiver_plane.clh and soft/soft_common.clh before it.
 // Every texel t is tested against the receiver's plane d_t (receiver_plane.clh) with the bias b
 // (the light's constant plus the plane's slope-scaled term):

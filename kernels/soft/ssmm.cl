@@ -1,4 +1,4 @@
-// ssmm: soft shadow mip-maps (seed 003; methods.md sec. 4). Needs common.clh, receiver_plane.clh
+// ssmm: soft shadow mip-maps (Shen 2016; methods.md sec. 4). Needs common.clh, receiver_plane.clh
 // and soft/soft_common.clh before it. Reads the raw depth (level 0) and its min-depth pyramid
 // (pyramid.cl, Reduce::Min; levels 1.. in `chain`, one plane each). Every texel is tested against
 // the receiver's plane as its level sees it (sf_plane_level: the plane's minimum over the texel's
@@ -6,7 +6,7 @@
 // bias" below reads so. The result is times the fraction of the light above the receiver's
 // horizon (sf_soft_horizon).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
-// (seed 003 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
+// (Shen 2016 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
 // Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh).
 //   mode 0 (ssmm): z_avg from a blocker search on the layer whose n x n box covers the search
 //     width w(d, 0) (constant cost), r = w(d, z_avg); layers a, b = a + 1 with r_a <= r < r_b,

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Builds a self-contained x86-64 bundle of sf_tests, the `shadowfilter` CLI and sf_bench for a
+# Builds a self-contained x86-64 bundle of the test binaries (sf_tests_*), the `shadowfilter` CLI and sf_bench for a
 # machine without our Debian packages (the lent NVIDIA H200 machine; docs/gpu.md):
-#   .gpu/bin/{sf_tests,shadowfilter,sf_bench}
-#   .gpu/lib/  the DT_NEEDED closure of the three, glibc and its loader included (no PoCL; unused
+#   .gpu/bin/{sf_tests_*,shadowfilter,sf_bench}
+#   .gpu/lib/  the DT_NEEDED closure of them, glibc and its loader included (no PoCL; unused
 #              codecs stubbed, see bundle_libs.py), so that
-#              .gpu/lib/ld-linux-x86-64.so.2 --library-path .gpu/lib .gpu/bin/sf_tests
+#              .gpu/lib/ld-linux-x86-64.so.2 --library-path .gpu/lib .gpu/bin/sf_tests_core
 #              runs whatever the remote's glibc is
 #   .gpu/bundle.tar.xz  bin/ and lib/ packed (what travels: `carry: [".gpu/bundle.tar.xz"]`)
 # Usage: scripts/gpu/bundle.sh [BUILD_DIR]   (default build-gpu; configured and built if needed)
@@ -18,12 +18,13 @@ grep -qx '/.gpu/' .git/info/exclude 2>/dev/null || echo '/.gpu/' >> .git/info/ex
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSF_BUILD_BENCH=ON
 fi
-cmake --build "$BUILD" -j"${JOBS:-2}" --target sf_tests shadowfilter_cli sf_bench
+cmake --build "$BUILD" -j"${JOBS:-2}" --target sf_tests_core sf_tests_core_files sf_tests_reference sf_tests_io sf_tests_cli sf_tests_tools shadowfilter_cli sf_bench
 
 G="$ROOT/.gpu"
 rm -rf "$G/bin" "$G/lib" "$G/bundle.tar.xz"
 mkdir -p "$G/bin" "$G/lib"
-BINS=("$BUILD/tests/sf_tests" "$BUILD/shadowfilter" "$BUILD/sf_bench")
+TESTS=(sf_tests_core sf_tests_core_files sf_tests_reference sf_tests_io sf_tests_cli sf_tests_tools)
+BINS=("${TESTS[@]/#/$BUILD/tests/}" "$BUILD/shadowfilter" "$BUILD/sf_bench")
 for b in "${BINS[@]}"; do
   strip -o "$G/bin/$(basename "$b")" "$b"
 done
@@ -45,7 +46,9 @@ chmod +x "$G/lib/ld-linux-x86-64.so.2"
 for b in shadowfilter sf_bench; do  # every symbol resolves (stubs included)
   LD_BIND_NOW=1 "$G/lib/ld-linux-x86-64.so.2" --library-path "$G/lib" "$G/bin/$b" --help > /dev/null
 done
-LD_BIND_NOW=1 "$G/lib/ld-linux-x86-64.so.2" --library-path "$G/lib" "$G/bin/sf_tests" --gtest_list_tests > /dev/null
+for b in "${TESTS[@]}"; do
+  LD_BIND_NOW=1 "$G/lib/ld-linux-x86-64.so.2" --library-path "$G/lib" "$G/bin/$b" --gtest_list_tests > /dev/null
+done
 
 { echo "commit $(git rev-parse HEAD), built $(date -u +%FT%TZ) from a tree with these local changes:"
   git status --short --untracked-files=no; } > "$G/bin/build_info.txt"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs sf_tests on Oclgrind, an OpenCL device simulator that reports out-of-bounds accesses (of
+# Runs sf_tests_core on Oclgrind, an OpenCL device simulator that reports out-of-bounds accesses (of
 # global, local and private arrays), uninitialised reads and data races: the CPU-side check for
 # the kernel bugs PoCL hides and a GPU would not (docs/gpu.md). Slow (an interpreter): give it
 # small tests, one suite at a time.
@@ -35,12 +35,12 @@ export OCLGRIND_MAX_ERRORS=1000
 LOG="$O/errors.txt"
 rm -f "$LOG"
 export OCLGRIND_LOG="$LOG"
-timeout -k 5 "${SF_OCLGRIND_SECONDS:-600}" "$BUILD/tests/sf_tests" --gtest_filter="$FILTER" > "$O/tests.log" 2>&1
+timeout -k 5 "${SF_OCLGRIND_SECONDS:-600}" "$BUILD/tests/sf_tests_core" --gtest_filter="$FILTER" > "$O/tests.log" 2>&1
 rc=$?
 grep -E '^\[  (PASSED|FAILED) ' "$O/tests.log"
 # Oclgrind 21.10 often aborts at exit (heap corruption reported while LLVM's context is torn
 # down, after the tests): the tests' own verdict above is what counts.
-echo "sf_tests exit code $rc; Oclgrind reports (count, message, kernel, source line):"
+echo "sf_tests_core exit code $rc; Oclgrind reports (count, message, kernel, source line):"
 if [ -s "$LOG" ]; then
   awk '/^[A-Z]/ {msg=$0} /Kernel:/ {k=$2} /^\tAt line/ {getline src; gsub(/^[ \t]+/, "", src);
        print msg " | " k " | " src}' "$LOG" | sed -E 's/(address|Index) \(?0x[0-9a-f]+\)?/\1 N/; s/Index \([0-9]+\)/Index (N)/' |

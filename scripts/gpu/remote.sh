@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs on the lent GPU machine (as root, in the root of the working-tree copy): the bundled
-# sf_tests, `shadowfilter devices` and sf_bench on NVIDIA's OpenCL driver (docs/gpu.md).
+# The test binaries (sf_tests_*), `shadowfilter devices` and sf_bench on NVIDIA's OpenCL driver (docs/gpu.md).
 # Needs .gpu/bundle.tar.xz from scripts/gpu/bundle.sh, carried. Writes to $OUT (8 files at most):
 #   env.txt devices.txt tests.log tests.xml bench.log bench.json summary.txt
 # Knobs: SF_TEST_FILTER (*) SF_TEST_SECONDS (240) SF_BENCH_SECONDS (150) SF_SHARDS (6) SF_BENCH_FILTER SF_SKIP_BENCH=1
@@ -14,7 +14,7 @@ G=$ROOT/.gpu
 T0=$(date +%s)
 log() { echo "[$(( $(date +%s) - T0 ))s] $*" | tee -a "$OUT/env.txt"; }
 
-if [ ! -x "$G/bin/sf_tests" ]; then
+if [ ! -x "$G/bin/sf_tests_core" ]; then
   tar -C "$G" -xJf "$G/bundle.tar.xz" ||
     python3 -c "import sys, tarfile; tarfile.open(sys.argv[1]).extractall(sys.argv[2])" "$G/bundle.tar.xz" "$G" ||
     { log "cannot unpack $G/bundle.tar.xz"; exit 1; }
@@ -92,15 +92,21 @@ fi
 N=${SF_SHARDS:-6}
 R=/tmp/sf_res
 rm -rf "$R"; mkdir -p "$R"
+# Each shard runs its part of every test binary (tests/CMakeLists.txt: one per layer), in turn.
+TESTS="sf_tests_core sf_tests_core_files sf_tests_reference sf_tests_io sf_tests_cli sf_tests_tools"
 for i in $(seq 0 $((N - 1))); do
-  GTEST_TOTAL_SHARDS=$N GTEST_SHARD_INDEX=$i timeout -k 5 "${SF_TEST_SECONDS:-240}" \
-    $RUN "$G/bin/sf_tests" --gtest_filter="${SF_TEST_FILTER:-*}" --gtest_output="xml:$R/tests_$i.xml" > "$R/tests_$i.log" 2>&1 &
+  for b in $TESTS; do
+    GTEST_TOTAL_SHARDS=$N GTEST_SHARD_INDEX=$i timeout -k 5 "${SF_TEST_SECONDS:-240}" \
+      $RUN "$G/bin/$b" --gtest_filter="${SF_TEST_FILTER:-*}" --gtest_output="xml:$R/tests_${i}_$b.xml" >> "$R/tests_$i.log" 2>&1
+  done &
 done
 wait
 log "tests done"
 for i in $(seq 0 $((N - 1))); do
   echo "==== shard $i"; cat "$R/tests_$i.log"
-  [ -f "$R/tests_$i.xml" ] || echo "==== shard $i wrote no XML (timed out or crashed)"
+  for b in $TESTS; do
+    [ -f "$R/tests_${i}_$b.xml" ] || echo "==== shard $i of $b wrote no XML (timed out or crashed)"
+  done
 done > "$OUT/tests.log"
 python3 - "$R" "$OUT/tests.xml" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET

@@ -1,4 +1,4 @@
-// Acne and leaks of every method with its defaults (issue 14's "before" table, docs/results.md;
+// Acne and leaks of every method with its defaults (the "before" table of docs/results.md;
 // sf_measure, run by scripts/acne_leak.sh; not part of the test suite).
 //   SF_ACNE_SCENES="dir dir ..." [SF_ACNE_RADIUS=2] sf_measure --gtest_filter='AcneLeak.*'
 // Every scene dir is the scene tool's (shadowmap.exr with the light in its header, receivers.exr

@@ -1,4 +1,4 @@
-// The defaults sweep of issue 14 (docs/results.md "Defaults sweep", scripts/defaults_sweep.sh):
+// The defaults sweep (docs/results.md "Defaults sweep", scripts/defaults_sweep.sh):
 // every method of the registry and every soft method over a table of candidate parameter settings
 // on every scene; per scene x method x candidate, acne and leak against reference_hard and RMSE
 // against the ray-traced references, over the receivers facing the light (eval::Scene::traced).

@@ -1,4 +1,4 @@
-// The selection rule of the defaults sweep (issue 14) and its markdown tables, from the rows
+// The selection rule of the defaults sweep and its markdown tables, from the rows
 // DefaultsSweep.Run wrote (measure_defaults_sweep.cpp; scripts/defaults_sweep.sh runs both).
 //   SF_SWEEP_CSV="rows.csv ..." [SF_SWEEP_MIN_CLASS=50] sf_measure --gtest_filter='DefaultsSweep.Tables'
 // (SF_SWEEP_CSV defaults to SF_SWEEP_OUT.) The issue's targets with defaults, on every scene:

@@ -129,7 +129,7 @@ Errors kernel_vs_twin(const FilterOptions& o, const HostImage& m, const Receiver
 // over perturbations of the looked-up values by up to `ulps` float32 ulps (relative), one storage
 // step, and with sat the table's absolute error 4 eps N max|value| (sat_precision.hpp): every
 // sign pattern at full size (up to 4 channels) and 64 random ones, widened by 2e-5 (as
-// tests/test_methods.cpp's msm_backward_ok). Returns the fraction of receivers outside and how
+// tests/core/test_methods.cpp's msm_backward_ok). Returns the fraction of receivers outside and how
 // far the worst lies outside.
 struct Backward {
   double outside = 0, worst = 0;

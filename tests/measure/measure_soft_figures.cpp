@@ -1,5 +1,5 @@
 // Figures of docs/soft.md (sf_measure, run by scripts/soft_figures.sh; not part of the test suite).
-//   SF_SOFT_SCENES="dir dir ..." sf_tests --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
+//   SF_SOFT_SCENES="dir dir ..." sf_measure --gtest_also_run_disabled_tests --gtest_filter='SoftFigures.*'
 // Every scene dir holds shadowmap.exr (the light in its header), receivers.exr, reference_soft.exr.
 #include <gtest/gtest.h>
 
@@ -252,7 +252,7 @@ TEST(SoftFigures, CostAgainstLightSize) {
   }
 }
 
-// Frame time against the number of lights (seed 000 table 8.1): N lights, each its own map
+// Frame time against the number of lights (Annen 2008 table 8.1): N lights, each its own map
 // (the first scene's map, uploaded N times), prepare + run per light, one frame = all of them.
 TEST(SoftFigures, LightCount) {
   const auto dirs = scene_dirs();

@@ -1,5 +1,5 @@
 #pragma once
-// Layered shadow maps (methods.md sec. 6; seed 001): a cascade set is K layers, each a shadow map
+// Layered shadow maps (methods.md sec. 6; Oliveira 2009): a cascade set is K layers, each a shadow map
 // with its own world-to-map transform and the range of view depths it serves, plus the rule that
 // picks the layer (or the two blended layers) of a receiver. Single maps, parallel-split cascades
 // (PSSM), trapezoidal maps (TSM) and PSSM + TSM are all cascade sets; a caller may build one from
@@ -76,7 +76,7 @@ CascadeChoice select_cascade(const CascadeSet& set, double view_depth, const Poi
 // texels in every layer.
 double layer_footprint(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx, const Point3& dp_dy);
 
-// PSSM's practical split scheme (seed 001 sec. 3.1; Zhang et al.): K + 1 view depths from near to
+// PSSM's practical split scheme (Oliveira 2009 sec. 3.1; Zhang et al.): K + 1 view depths from near to
 // far, s_i = lambda n (f/n)^(i/K) + (1 - lambda)(n + (f - n) i / K).
 std::vector<double> practical_splits(double near_depth, double far_depth, int count, double lambda);
 
@@ -120,7 +120,7 @@ struct LayoutOptions {
   // axes, so a static scene's texels stay put from frame to frame (no crawling at the edges of
   // shadows). Off: the tight box of the slice in light space (sharper, flickers).
   bool stabilize = true;
-  // TSM's focus point: the view depth that the trapezoid maps to 80% of its map (seed 001 sec.
+  // TSM's focus point: the view depth that the trapezoid maps to 80% of its map (Oliveira 2009 sec.
   // 3.2, the "80% rule"), as a fraction t of the slice's log range, near (f/n)^t. 0.8: a
   // logarithmic parameterisation (the ideal against perspective aliasing) puts that depth on the
   // 80% line too, so the trapezoid agrees with it there; 0.5, the geometric mean, crushes the far

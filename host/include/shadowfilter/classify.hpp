@@ -1,5 +1,5 @@
 #pragma once
-// ESM failure classification as an optional stage after the reconstruction (seed 000 ch. 7.3,
+// ESM failure classification as an optional stage after the reconstruction (Annen 2008 ch. 7.3,
 // kernels/esm_classify.cl): what it allocates, the z-max pyramid it builds from the raw depth,
 // the kernel that flags receivers and replaces their visibility, and its flags. A Pipeline runs
 // one when FilterOptions::esm_classify asks for it; a caller with its own reconstruction may run

@@ -1,5 +1,5 @@
 #pragma once
-// Coherent shadow maps (methods.md sec. 5; seed 002, Ritschel et al.): a stack of N orthographic
+// Coherent shadow maps (methods.md sec. 5; Ritschel 2007): a stack of N orthographic
 // dual-depth maps rendered from a lat-long grid of directions around an object, ordered so that
 // neighbours in the sequence look alike, and compressed per texel into piecewise-constant
 // segments that separate the first surface (z1) from the second (z2, or the third for closed
@@ -28,7 +28,7 @@ inline constexpr uint16_t kNoSurface = 65535;
 // Views in one stack: a segment packs its last view index in 16 bits (kSegment* below).
 inline constexpr int kMaxViews = 65536;
 
-// The enumeration of the grid's views into a sequence (seed 002 sec. 4.4, fig. 8).
+// The enumeration of the grid's views into a sequence (Ritschel 2007 sec. 4.4, fig. 8).
 enum class Ordering : uint32_t { ScanLine = 0, ZigZag = 1, Hilbert = 2 };
 // Which surfaces bound the separating depth: the first and second hit (any mesh), or the first
 // and third (closed meshes: the second is the first surface's own back; sec. 3.1).

@@ -42,7 +42,7 @@ CompressedStack download(Runtime& rt, const DeviceStack& stack);
 // positions = sequence_positions(layout) in a new device buffer.
 cl::Buffer upload_positions(Runtime& rt, const StackLayout& layout);
 
-// --- compression (seed 002 eq. (1)) ------------------------------------------------------------
+// --- compression (Ritschel 2007 eq. (1)) ------------------------------------------------------------
 // Three passes on caller buffers, each an enqueue:
 //   enqueue_compress_count: the segments of every texel into offsets[0 .. texels) (z1, z2 as in
 //     DeviceDualDepth; offsets holds texels() + 1 uint);
@@ -69,7 +69,7 @@ CompressedStack compress_on_device(Runtime& rt, const DualDepthStack& stack);
 // --- queries ------------------------------------------------------------------------------------
 // Nearest: the view whose lat-long cell holds the direction, the texel holding the point, one
 // binary test (0 or 1; sf::ref::coherent::visibility). Pcf: generalized PCF, the 2x2 nearest
-// views x their 2x2 nearest texels, 16 tests weighted bilinearly (seed 002 sec. 4.5;
+// views x their 2x2 nearest texels, 16 tests weighted bilinearly (Ritschel 2007 sec. 4.5;
 // sf::ref::coherent::visibility_filtered), in [0, 1].
 enum class CoherentFilter { Nearest = 0, Pcf = 1 };
 // What the second float4 of a query holds (w ignored in both): the direction toward a distant

@@ -40,7 +40,7 @@ double layer_reference_texel(const CascadeSet& set, int layer);
 // R_k exceeds kMaxBlurRadius (a layer much finer than layer 0).
 // A warped layer's receiver plane also gets a slope-scaled bias of at least kWarpedSlopeBias
 // texels (ReceiverPlaneOptions::slope_bias): measured, the least that keeps lit ground lit under
-// every warp of tests/test_layered.cpp.
+// every warp of tests/core/test_layered.cpp.
 constexpr float kWarpedSlopeBias = 0.5f;
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
 

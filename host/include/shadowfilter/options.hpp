@@ -92,7 +92,7 @@ struct VsmOptions {
 };
 
 struct EvsmOptions {
-  // Exponents of the positive and negative warps (seed 000 / Lauritzen). Clamped to what the
+  // Exponents of the positive and negative warps (Annen 2008 / Lauritzen). Clamped to what the
   // storage holds: exp(2 c w) must stay finite, c <= 42 in float32 and 5.54 in float16. Negative =
   // the method's measured default (docs/results.md "Defaults sweep"): evsm2 c+ = 5, evsm4 c+ = 10
   // and c- = 5; larger warps sharpen the bound's penumbrae past the ray-traced ones.
@@ -134,7 +134,7 @@ struct LookupOptions {
   Lookup kind = Lookup::Bilinear;
 };
 
-// ESM failure classification (seed 000 ch. 7.3): flagged receivers fall back to a 2x2 PCF of
+// ESM failure classification (Annen 2008 ch. 7.3): flagged receivers fall back to a 2x2 PCF of
 // the ESM test on the raw depth. Auto (the default) is zmax for a method that can be classified
 // (esm) and none for every other: ESM alone leaks wherever a receiver's support also holds texels
 // behind it (up to 38% of terrain's umbra), and no exponent removes that (docs/results.md

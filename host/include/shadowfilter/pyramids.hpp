@@ -106,7 +106,7 @@ cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const ImageShape& 
                                 const LookupBuffers& lookup, const cl::Buffer& level0, const cl::Buffer& u,
                                 const cl::Buffer& v, const cl::Buffer& out, const EventList* wait = nullptr);
 
-// --- ESM failure classification (seed 000 ch. 7.3) ---------------------------
+// --- ESM failure classification (Annen 2008 ch. 7.3) ---------------------------
 // Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
 // z > d + offset, from the z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
 // their visibility by a 2x2 PCF of the ESM test on the raw depth, against the receiver's plane

@@ -21,7 +21,7 @@ struct SatMap {
 
 // Relative error of one table entry (hi + lo) against the exact sum of the values above-left of
 // it: 2^-46 with the double accumulator, 2^-42 with float-float. These are 4x and 3x the worst
-// entries measured on a 4096 x 4096 table (3.6e-15 and 7.4e-14, tests/test_sat.cpp SatLarge):
+// entries measured on a 4096 x 4096 table (3.6e-15 and 7.4e-14, tests/core/test_sat.cpp SatLarge):
 // rounding errors along an entry's path add up like a random walk, so the margin covers maps up
 // to the 2^31 values the pipeline accepts.
 double sat_entry_error(bool fp64);

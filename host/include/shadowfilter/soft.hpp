@@ -1,7 +1,7 @@
 #pragma once
 // Soft shadows from square area lights (methods.md sec. 4; docs/soft.md): pcss (brute force),
-// cssm (convolution soft shadows, seed 000 ch. 8), ssmm and ssmm-improved (soft shadow mip-maps,
-// seed 003). They read the raw depth (or their own bases and pyramids / SATs) and output
+// cssm (convolution soft shadows, Annen 2008 ch. 8), ssmm and ssmm-improved (soft shadow mip-maps,
+// Shen 2016). They read the raw depth (or their own bases and pyramids / SATs) and output
 // visibility per receiver, like the basis methods at the reconstruction end.
 #include <memory>
 #include <string>
@@ -34,7 +34,7 @@ struct SoftLight {
 // L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis.
 double soft_width(const SoftLight& light, double d, double z);
 
-// cssm (convolution soft shadows, seed 000 ch. 8). Defaults chosen on the bundled scenes
+// cssm (convolution soft shadows, Annen 2008 ch. 8). Defaults chosen on the bundled scenes
 // (docs/soft.md "cssm defaults"; the offset and scale by the defaults sweep, docs/results.md).
 // Negative values select the default, which depends on M.
 struct CssmOptions {
@@ -51,9 +51,9 @@ struct CssmOptions {
   bool contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
 };
 
-// ssmm and ssmm-improved (soft shadow mip-maps, seed 003).
+// ssmm and ssmm-improved (soft shadow mip-maps, Shen 2016).
 struct SsmmOptions {
-  int n = 4;  // n x n texels per layer (seed 003 eq. 3.4)
+  int n = 4;  // n x n texels per layer (Shen 2016 eq. 3.4)
 };
 
 // Every knob of a soft-shadow run: the generic ones, then one struct per technique (as

@@ -54,8 +54,9 @@ SatLayout sat_layout(const ImageShape& shape) {
 }
 
 SatSchedule sat_schedule(const Runtime& rt, const ImageShape& shape) {
-  // 2048^2 on 2 cores: 4 channels per channel 5.3 ms against 7.8 chained; 1 channel chained
-  // 1.61 ms against 2.18 in two launches (medians of 10 processes, docs/lookups.md).
+  // One band per channel while the channels fill the compute units; otherwise the chained launch
+  // on CPUs and two launches elsewhere: the fastest of the three on each (docs/lookups.md has
+  // the measurements).
   if (shape.channels >= int(std::max<cl_uint>(1, rt.info().compute_units))) return SatSchedule::PerChannel;
   return rt.info().type == "CPU" ? SatSchedule::Chained : SatSchedule::TwoLaunch;
 }

@@ -238,7 +238,7 @@ CascadeLayer fit_uniform(const LayoutOptions& o, const CameraFrustum& cam, const
   return layer;
 }
 
-// Trapezoidal shadow map of one slice (Martin & Tan; seed 001 sec. 3.2): in the light's image
+// Trapezoidal shadow map of one slice (Martin & Tan; Oliveira 2009 sec. 3.2): in the light's image
 // plane the trapezoid around the slice's projection, its centre line from the near face's centre
 // to the far face's, its sides through the projection centre q that puts the focus point on the
 // 80% line of the map; then the homography of the trapezoid onto the unit square.

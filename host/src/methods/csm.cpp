@@ -11,7 +11,7 @@ namespace {
 
 constexpr int kMaxOrder = 32;
 
-// Measured defaults (docs/methods.md "CSM defaults", tests/test_methods_csm.cpp): per order an
+// Measured defaults (docs/methods.md "CSM defaults", tests/core/test_methods_csm.cpp): per order an
 // offset and scale that keep every lit receiver >= 1 - 1/255 on the bundled spheres and contact
 // scenes (R = 3), chosen jointly over the orders so that the error against s_ref (RMSE and p99,
 // both scenes) falls from each order to the next. The defaults sweep against the ray-traced soft

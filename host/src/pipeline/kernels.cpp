@@ -144,7 +144,7 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
     throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
   // At most 64 basis values per lookup and work-item: wider (csm M >= 16 at width 16, mips)
   // overflowed PoCL's work-item stack. Only csm narrows (M = 8: width 4; M >= 16: width 1);
-  // every width gives the same values (tests/test_reconstruct_vec.cpp).
+  // every width gives the same values (tests/core/test_reconstruct_vec.cpp).
   while (vec > 1 && method.channels(opt) * vec > 64) vec = vec == 4 ? 1 : vec / 2;
   const MipLayout mips = kind == Lookup::Mips ? mip_layout(width, height, method.channels(opt)) : MipLayout{};
   const int chain_offset =

@@ -1,4 +1,4 @@
-// Issue 14's targets for defaults on the bundled scenes (data/: 512 maps, 640x480 camera
+// The targets for defaults on the bundled scenes (data/: 512 maps, 640x480 camera
 // receivers): every method with its defaults (prefilter radius 2 where it follows one; the soft
 // methods with the scene's light) keeps acne <= 0.5% on every scene, and sm, pcf, pcss, ssmm and
 // msm keep leaks <= 0.5%. Acne and leak as eval::acne_leak has them (7x7 windows against the

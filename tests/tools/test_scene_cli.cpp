@@ -10,6 +10,7 @@
 #include <functional>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
 
@@ -31,12 +32,8 @@ std::string read_all(const fs::path& path) {
 }
 
 SceneRun scene_cli(const std::string& args, const std::string& dir) {
-  const std::string err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SF_CLI_PATH) + " scene " + args + " > /dev/null 2> " + err;
-  const int status = std::system(cmd.c_str());
-  SceneRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(err)};
-  fs::remove(err);
-  return r;
+  const RunResult r = run_cli("scene " + args, dir);
+  return {r.exit_code, r.err};
 }
 
 const char* const kFiles[] = {"shadowmap.exr",      "receiver_depth.exr", "receivers.exr",

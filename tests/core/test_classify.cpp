@@ -1,4 +1,4 @@
-// ESM failure classification (kernels/esm_classify.cl, seed 000 ch. 7.3).
+// ESM failure classification (kernels/esm_classify.cl, Annen 2008 ch. 7.3).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -127,7 +127,7 @@ TEST(Classify, GridReceiversAreClassifiedToo) {
     }
 }
 
-// Seed 000 fig. 7.2 (a): a receiver at d = 0.5 between a blocker (z = 0.3) and a surface behind it
+// Annen 2008 fig. 7.2 (a): a receiver at d = 0.5 between a blocker (z = 0.3) and a surface behind it
 // (z = 0.9) in its prefilter support. exp(c (z - d)) of the far texels overflows the filtered
 // sum: ESM returns 1 where s_ref is partial. The fall-back (2x2 PCF of the ESM test on the raw
 // depth) returns the bilinear test: exp(-c 0.2) = 1e-7 for blockers, 1 behind.

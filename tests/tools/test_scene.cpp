@@ -126,7 +126,7 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
 
 // Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L
 // 4 units above the floor. Perspective light (a fixed square centred on the light position,
-// seed 003 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light.
+// Shen 2016 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light.
 // Orthographic light (the square in the near plane centred over each receiver): L (d_R - d_B)
 // / d_R. Measured as 1 / slope of a least-squares line through the visibility ramp across one
 // edge (x = 1), from floor pixels of the camera view.

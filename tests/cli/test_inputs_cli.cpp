@@ -1,6 +1,6 @@
 // Your own depth buffers through the command (docs/inputs.md): `receivers` then `filter`, the
 // one-shot `filter --camera`, a frame list and `soft` on the analytic scene against its ray-cast
-// truth; every silent case of issue 28's table now an error (exit 2, one line, nothing written)
+// truth; every inconsistent input an error (exit 2, one line, nothing written)
 // or a warning; help, --version and --json.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -135,7 +135,7 @@ TEST_F(InputsCli, CameraReceiversThroughEveryRouteMatchTheRayCastTruth) {
   EXPECT_LE(soft.fraction(), 0.01) << soft.mismatched << " of " << soft.compared;
 }
 
-// The table of issue 28, row by row.
+// Each inconsistent input, row by row: an error or a warning, never silence.
 TEST_F(InputsCli, SilentCasesOfTheIssueAreNoLongerSilent) {
   // A float map in world units (4-16 m) read as linear [0, 1]: refused with the range and the fix.
   HostImage world(32, 32, 1, 12.0f);

@@ -1,6 +1,6 @@
-// Properties every method must have (methods.md sec. 3; issue 3): exactness where the method is
+// Properties every method must have (methods.md sec. 3): exactness where the method is
 // exact, lit flat receivers, finite results on degenerate maps, CSM convergence with M, and the
-// light-bleeding ordering of seed 000 fig. 6.9 (CSM's convergence: test_methods_csm.cpp).
+// light-bleeding ordering of Annen 2008 fig. 6.9 (CSM's convergence: test_methods_csm.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -100,7 +100,7 @@ TEST(MethodProperties, DegenerateMapsGiveFiniteResultsInRange) {
   }
 }
 
-// Light bleeding (seed 000 fig. 6.9): a thin occluder A (z = 0.2) beside a second occluder B
+// Light bleeding (Annen 2008 fig. 6.9): a thin occluder A (z = 0.2) beside a second occluder B
 // (z = 0.5) over a receiver plane (z = 0.9). Receivers on the receiver plane under A and B are in
 // full shadow (s_ref = 0), but where the filter straddles the A/B edge VSM sees a wide variance
 // and leaks light: p = var / (var + (d - mu)^2) with var = w(1-w) 0.3^2. The methods with more

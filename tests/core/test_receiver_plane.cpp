@@ -137,7 +137,7 @@ TEST(ReceiverPlane, FlatTestShadowsTiltedPlanesAndKernelsMatchReference) {
 }
 
 // Every method with its defaults (prefilter radius 2 where it applies), the soft methods with a
-// light a tenth of the map wide: planes up to 80 degrees stay lit to 1/255 (issue 14's first
+// light a tenth of the map wide: planes up to 80 degrees stay lit to 1/255 (the first check of the
 // test; the prefiltered methods' own regularisation keeps a plane's moments lit, the depth tests
 // their plane and slope-scaled bias).
 TEST(ReceiverPlane, EveryMethodKeepsTiltedPlanesLit) {

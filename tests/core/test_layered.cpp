@@ -578,7 +578,7 @@ struct RefCase {
 class LayeredReference : public ::testing::TestWithParam<RefCase> {};
 
 // Against the reference from the kernel's own projection: the filtering alone, to the per-map
-// tolerances of tests/test_methods.cpp (sm, pcf 1e-5; esm 2e-5 + 1e-7 c; vsm 6e-3, Chebyshev's
+// tolerances of tests/core/test_methods.cpp (sm, pcf 1e-5; esm 2e-5 + 1e-7 c; vsm 6e-3, Chebyshev's
 // conditioning). Against the whole double reference (its own projection in double): the float
 // projection moves u, v, d by ~1e-7, which a depth test at its threshold or ESM's exponential
 // can turn into more; stated as a bound on the worst receiver after the 0.1% nearest to such a

@@ -252,7 +252,7 @@ TEST_F(Cli, NonFiniteNumbersAreInputErrors) {
 TEST_F(Cli, CompilerWarningsOnlyWithVerbose) {
   const std::string run = "filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx.exr") +
                           " --method vsm -q -o " + path("vis.exr");
-  RunResult r = run_cli(run, dir_, "SHADOWFILTER_CACHE_DIR=" + path("fresh_cache") + " POCL_KERNEL_CACHE=0");
+  RunResult r = run_cli_process(run, dir_, "SHADOWFILTER_CACHE_DIR=" + path("fresh_cache") + " POCL_KERNEL_CACHE=0");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   for (const char* word : {"warning", "generated", "build log"})
     EXPECT_EQ(r.err.find(word), std::string::npos) << r.err;

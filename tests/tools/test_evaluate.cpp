@@ -10,6 +10,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "evaluate.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
@@ -394,11 +395,12 @@ TEST(EvalCli, WritesResults) {
   HostImage hard(32, 32, 1, 1.0f);
   io::write_image(scene + "/reference_hard.exr", hard);
   const std::string out = dir + "/out";
-  const std::string cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
-                          " --methods sm,esm --grid quick --runs 1 -q --target-blur-radius 1 --target-lookup bilinear "
-                          "-o " +
-                          out + " > " + dir + "/log.txt 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const RunResult run = run_cli("evaluate " + scene +
+                                    " --methods sm,esm --grid quick --runs 1 -q --target-blur-radius 1 "
+                                    "--target-lookup bilinear -o " +
+                                    out,
+                                dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
   std::ifstream csv(out + "/results.csv");
   std::string header, line;
   std::getline(csv, header);
@@ -423,8 +425,7 @@ TEST(EvalCli, WritesResults) {
     EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
   for (const char* f : {"pareto_tiny_soft.png", "pareto_tiny_target.png"})
     EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
-  std::ifstream log(dir + "/log.txt");
-  const std::string log_text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  const std::string log_text = run.out + run.err;
   EXPECT_NE(log_text.find("scene 'tiny' has no reference_soft.exr: errors against the target filter's s_ref instead"),
             std::string::npos)
       << log_text;
@@ -447,28 +448,26 @@ TEST(EvalCli, WritesResults) {
   }
   // A prefixed metric names the reference (the older spelling); one that contradicts
   // --pareto-reference, an unknown reference and a radius that is no number exit 2.
-  const std::string base = std::string(SF_CLI_PATH) + " evaluate " + scene + " --methods sm --runs 1 -q -o " + out;
-  EXPECT_EQ(std::system((base + " --pareto-metric hard_p99 > /dev/null 2>&1").c_str()), 0);
+  const std::string base = "evaluate " + scene + " --methods sm --runs 1 -q -o " + out;
+  EXPECT_EQ(run_cli(base + " --pareto-metric hard_p99", dir).exit_code, 0);
   for (const char* bad_option : {"--pareto-metric hard_rmse --pareto-reference soft", "--pareto-reference ray",
                                  "--target-blur-radius nan", "--target-lookup trilinear", "--pareto-metric soft_p98"})
-    EXPECT_EQ(WEXITSTATUS(std::system((base + " " + bad_option + " > /dev/null 2>&1").c_str())), 2) << bad_option;
+    EXPECT_EQ(run_cli(base + " " + bad_option, dir).exit_code, 2) << bad_option;
   // --auto with a named metric: auto.txt says what it chose under that metric.
   const std::string auto_out = dir + "/auto";
-  const std::string auto_cmd = std::string(SF_CLI_PATH) + " evaluate " + scene +
-                               " --methods sm,pcf,vsm --grid quick --runs 1 -q --auto --auto-radius 1"
-                               " --metric rmse --max-error 0.5 -o " +
-                               auto_out + " > " + dir + "/auto_log.txt 2>&1";
-  ASSERT_EQ(std::system(auto_cmd.c_str()), 0) << auto_cmd;
+  const RunResult auto_run = run_cli("evaluate " + scene +
+                                         " --methods sm,pcf,vsm --grid quick --runs 1 -q --auto --auto-radius 1"
+                                         " --metric rmse --max-error 0.5 -o " +
+                                         auto_out,
+                                     dir);
+  ASSERT_EQ(auto_run.exit_code, 0) << auto_run.err;
   std::ifstream auto_txt(auto_out + "/auto.txt");
   const std::string text((std::istreambuf_iterator<char>(auto_txt)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("auto: chose"), std::string::npos) << text;
   EXPECT_NE(text.find("rmse <= 0.5"), std::string::npos) << text;
   EXPECT_NE(text.find("skipped mip pyramid"), std::string::npos) << text;  // footprints 1
-  const std::string bad_metric =
-      std::string(SF_CLI_PATH) + " evaluate " + scene + " --auto --metric p98 -o " + auto_out + " > /dev/null 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(bad_metric.c_str())), 2);
-  const std::string bad = std::string(SF_CLI_PATH) + " evaluate " + dir + "/missing -o " + out + " > /dev/null 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  EXPECT_EQ(run_cli("evaluate " + scene + " --auto --metric p98 -o " + auto_out, dir).exit_code, 2);
+  EXPECT_EQ(run_cli("evaluate " + dir + "/missing -o " + out, dir).exit_code, 2);
 }
 
 }  // namespace

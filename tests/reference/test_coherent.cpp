@@ -1,4 +1,4 @@
-// Coherent shadow maps on the host (methods.md sec. 5; seed 002): the view orderings, the greedy
+// Coherent shadow maps on the host (methods.md sec. 5; Ritschel 2007): the view orderings, the greedy
 // segment fit and its losslessness, the Embree-rendered stacks against Embree ray casts, and the
 // .csm file with its refusals.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Numerical stability at the extremes (issue 6): every method through the whole pipeline
+// Numerical stability at the extremes: every method through the whole pipeline
 // (sf::filter) on degenerate inputs. Every output must be finite and in [0,1] (strict: one bad
 // value fails); the worst |v - s_ref| (s_ref with the same weights, ref::s_ref) is printed as a
 // "NUMERICS|" line that docs/numerics.md tabulates, and bounded where the math makes the answer

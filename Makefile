@@ -40,8 +40,9 @@ run: configure
 
 # The whole suite, C++ and Python (ctest runs pytest as Python.pytest, label python), in one
 # pass; one layer of it: cd build && ctest -L core (labels: core, reference, io, cli, tools,
-# package, python; docs/development.md, "Tests"): the package's module is built in the same tree, against a virtual environment
-# under the build directory (Debian's Python is externally managed).
+# package, python; docs/development.md, "Tests"). The Python package's module is built in the
+# same tree against a virtual environment under the build directory (Debian's Python is
+# externally managed).
 PYTHON ?= python3
 VENV = $(BUILD)/venv
 $(VENV)/ready: python/requirements-test.txt

@@ -6,7 +6,7 @@ OUT ?= out
 # stop `make run`.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: deps deps-bench deps-dev configure build run test bench bench-smoke data meshes mesh-scenes coherent-table clean
+.PHONY: deps deps-bench deps-dev configure build run test python-env bench bench-smoke data meshes mesh-scenes coherent-table clean
 .PHONY: fresh-check oclgrind sanitize fuzz tidy format format-check
 
 deps:
@@ -38,9 +38,25 @@ run: configure
 	    --method esm --blur-radius 3
 	@echo "output images: $(OUT)/spheres_esm.exr (camera view; to look at: $(OUT)/spheres_esm_shaded.png, the scene shaded by the light, and $(OUT)/spheres_esm.png, the visibility), $(OUT)/spheres_esm_planar.exr (planar receiver)"
 
-# The whole suite; one layer of it: cd build && ctest -L core (labels: core, reference, io, cli,
-# tools, package; docs/development.md, "Tests").
-test: build
+# The whole suite, C++ and Python (ctest runs pytest as Python.pytest, label python), in one
+# pass; one layer of it: cd build && ctest -L core (labels: core, reference, io, cli, tools,
+# package, python; docs/development.md, "Tests"). The Python package's module is built in the
+# same tree against a virtual environment under the build directory (Debian's Python is
+# externally managed).
+PYTHON ?= python3
+VENV = $(BUILD)/venv
+$(VENV)/ready: python/requirements-test.txt
+	@$(PYTHON) -m venv $(VENV) || (echo "make test: $(PYTHON) -m venv failed (Debian: apt install python3-venv)"; exit 1)
+	@$(VENV)/bin/pip install -q --disable-pip-version-check -r python/requirements-test.txt
+	@touch $@
+
+python-env: deps $(VENV)/ready
+
+test: python-env
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSF_WARNINGS_AS_ERRORS=$(WERROR) \
+	    -DCMAKE_EXPORT_COMPILE_COMMANDS=ON -DSF_PYTHON=ON -DPython_EXECUTABLE=$(abspath $(VENV))/bin/python \
+	    > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
+	@cmake --build $(BUILD) -j $(JOBS)
 	@cd $(BUILD) && ctest --output-on-failure -j 2
 
 # The whole suite with AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer included) on

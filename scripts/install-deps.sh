@@ -12,7 +12,8 @@ core=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-clhpp-headers o
       nlohmann-json3-dev  # camera and light files (JSON), the CLI's --json summaries
       zlib1g-dev  # assimp's CMake targets link /usr/lib/x86_64-linux-gnu/libz.so, which libassimp-dev does not pull in
       libstb-dev  # examples/embed writes its PNG with stb_image_write (the package test builds it)
-      fonts-dejavu-core)  # evaluate's Pareto plots label points with DejaVu Sans (OIIO render_text)
+      fonts-dejavu-core  # evaluate's Pareto plots label points with DejaVu Sans (OIIO render_text)
+      python3-venv python3-dev)  # make test: the Python package's venv and its extension's headers
 bench=(libbenchmark-dev libopencv-dev)
 # Scanned meshes (Stanford bunny, Chinese dragon, armadillo, ...) in data.tar.gz of the docs.
 meshes=(libcgal-demo)

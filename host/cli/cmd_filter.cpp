@@ -57,6 +57,10 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
                 "[0, 1) (default: the files')");
   c->add_flag("--keep-going", a.keep_going,
               "Batch: report a failed frame and carry on (the exit code is the number of failed frames)");
+  c->add_option("--shard", a.shard,
+                "Batch: run part K of N (frames K, K + N, K + 2N, ... of the list; 1 <= K <= N): N processes with "
+                "K = 1..N write what one run writes")
+      ->type_name("K/N");
   c->add_option("--preview", a.preview,
                 "Also write OUTPUT.png (the visibility, 16-bit grey); shaded: and OUTPUT_shaded.png beside it (a "
                 "grey surface lit by the light, the background in blue)")
@@ -107,6 +111,7 @@ int run_filter(const FilterArgs& a) {
   const std::string& shadow_map = a.shadow_maps.front();
   if (a.output.empty()) throw InputError("give -o/--output (or --output-dir DIR, or --frames LIST)");
   if (a.keep_going) throw InputError("--keep-going is for a batch (--frames or --output-dir)");
+  if (!a.shard.empty()) throw InputError("--shard is for a batch (--frames or --output-dir)");
   const FrameFiles files{shadow_map,      a.receivers,           a.receiver_depth,
                          a.inputs.camera, a.inputs.camera_depth, a.inputs.light};
   require_one_receiver_source(files);

@@ -50,6 +50,7 @@ struct FilterArgs {
   std::string receivers, receiver_depth, output, device;
   std::string frames, output_dir;  // batch: --frames LIST, or --shadow-map A B ... --output-dir DIR
   bool keep_going = false;         // batch: report a failed frame and carry on
+  std::string shard;               // batch: --shard K/N, the frames this process runs (frame_list.hpp)
   std::string preview = "none";    // --preview [plain|shaded]: pictures beside each output (preview_images.hpp)
   DepthInputArgs inputs;           // encodings, --light, receivers from a camera (depth_inputs.hpp)
   bool quiet = false, verbose = false, json = false;

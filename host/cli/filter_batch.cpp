@@ -90,6 +90,7 @@ int run_filter_batch(const FilterArgs& a) {
     throw InputError("--auto measures one input; run it on one frame and give the batch the options it chose");
   if (!a.flags_out.empty()) throw InputError("--flags-out writes one frame's mask; it does not take a batch");
   validate_depth_args(a.inputs);
+  const Shard shard = a.shard.empty() ? Shard{} : parse_shard(a.shard);
   std::vector<FrameSpec> frames;
   if (!a.frames.empty()) {
     if (!a.inputs.camera.empty() || !a.inputs.camera_depth.empty())
@@ -112,7 +113,8 @@ int run_filter_batch(const FilterArgs& a) {
     } catch (const InputError& e) {
       throw InputError(frames[i].where + ": " + e.what());
     }
-  check_batch_outputs(frames, previews, a.frames);
+  check_batch_outputs(frames, previews, a.frames);  // the whole list's: every shard refuses what one run refuses
+  frames = shard_frames(frames, shard);
 
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);

@@ -158,4 +158,25 @@ void check_batch_outputs(const std::vector<FrameSpec>& frames,
   }
 }
 
+Shard parse_shard(const std::string& text) {
+  const auto refuse = [&text] {
+    return InputError("--shard must be K/N with 1 <= K <= N <= " + std::to_string(kMaxFrames) + ", got '" + text + "'");
+  };
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) throw refuse();
+  const auto whole = [&refuse](const std::string& s) {
+    if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) throw refuse();
+    return static_cast<size_t>(std::stoul(s));
+  };
+  const size_t k = whole(text.substr(0, slash)), n = whole(text.substr(slash + 1));
+  if (k < 1 || n < 1 || k > n || n > kMaxFrames) throw refuse();
+  return Shard{k - 1, n};
+}
+
+std::vector<FrameSpec> shard_frames(const std::vector<FrameSpec>& frames, const Shard& shard) {
+  std::vector<FrameSpec> out;
+  for (size_t i = shard.index; i < frames.size(); i += shard.count) out.push_back(frames[i]);
+  return out;
+}
+
 }  // namespace sf::cli

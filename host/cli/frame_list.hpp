@@ -36,6 +36,19 @@ std::vector<FrameSpec> frames_of_maps(const std::vector<std::string>& maps, cons
                                       const std::string& receiver_depth, const std::string& output_dir,
                                       const std::string& extension);
 
+// One of N parts of a batch (`--shard K/N`): frames i with i mod N = K - 1, so that any scheduler
+// (Slurm job arrays, GNU parallel, Kubernetes jobs) runs a sequence as N independent processes
+// and the union of their outputs is the unsharded run's, byte for byte (frames are independent).
+// Round robin rather than N blocks: frames late in a sequence often cost more than early ones.
+struct Shard {
+  size_t index = 0;  // K - 1
+  size_t count = 1;  // N
+};
+// "K/N" with 1 <= K <= N <= kMaxFrames; InputError naming --shard otherwise.
+Shard parse_shard(const std::string& text);
+// The frames of `shard`, in list order (none when the list has fewer frames than K).
+std::vector<FrameSpec> shard_frames(const std::vector<FrameSpec>& frames, const Shard& shard);
+
 // Refuses a batch (InputError) where two frames write one file or a frame's output (or its
 // `extra` outputs, e.g. the preview) is any frame's input or the list itself (`list`, "" for
 // none): checked before any frame runs.

@@ -162,6 +162,10 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
       ->excludes(out);
   c->add_flag("--keep-going", a.keep_going,
               "Batch: report a failed frame and carry on (the exit code is the number of failed frames)");
+  c->add_option("--shard", a.shard,
+                "Batch: run part K of N (frames K, K + N, K + 2N, ... of the list; 1 <= K <= N): N processes with "
+                "K = 1..N write what one run writes")
+      ->type_name("K/N");
   c->add_option("--light-size", a.light_size, "Area light width in light-space units (default: header light_size)");
   c->add_option("--light-type", a.light_type, "ortho | perspective (default: header light_type)");
   c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
@@ -247,6 +251,7 @@ SoftOptions soft_options(const SoftArgs& a) {
 int run_soft(const SoftArgs& a) {
   if (!a.frames.empty()) return run_soft_batch(a);
   if (a.keep_going) throw InputError("--keep-going is for a batch (--frames)");
+  if (!a.shard.empty()) throw InputError("--shard is for a batch (--frames)");
   const auto t0 = std::chrono::steady_clock::now();
   SoftOptions opt = soft_options(a);
   if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");

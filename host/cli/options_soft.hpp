@@ -23,6 +23,7 @@ struct SoftArgs {
   DepthInputArgs inputs;    // encodings, --light, receivers from a camera (depth_inputs.hpp)
   std::string frames;       // --frames LIST: a batch (soft_batch.cpp)
   bool keep_going = false;  // batch: report a failed frame and carry on
+  std::string shard;        // batch: --shard K/N, the frames this process runs (frame_list.hpp)
   SoftOptions options;
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);

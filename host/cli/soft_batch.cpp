@@ -26,8 +26,10 @@ int run_soft_batch(const SoftArgs& a) {
     throw InputError("--frames names each frame's camera on its line (camera= camera-depth=), not --camera");
   validate_depth_args(a.inputs);
   const SoftOptions opt = soft_options(a);
-  const std::vector<FrameSpec> frames = read_frame_list(a.frames);
-  check_batch_outputs(frames, {}, a.frames);
+  const Shard shard = a.shard.empty() ? Shard{} : parse_shard(a.shard);
+  std::vector<FrameSpec> frames = read_frame_list(a.frames);
+  check_batch_outputs(frames, {}, a.frames);  // the whole list's: every shard refuses what one run refuses
+  frames = shard_frames(frames, shard);
   auto runtime = Runtime::create(a.device);
   apply_verbose(*runtime, a.verbose);
   StageTimes device;

@@ -106,6 +106,46 @@ TEST_F(BatchCli, OutputDirFramesShareTheReceivers) {
   EXPECT_EQ(bytes(path("dir/sub/map1.exr")), single_run("map1.exr", "--receivers " + path("rx.exr"), ""));
 }
 
+// --shard K/N: N processes write what one run writes, byte for byte (frames K, K + N, ...), each
+// checks the whole list first, and a bad K/N or a shard outside a batch is refused.
+TEST_F(BatchCli, ShardsTogetherWriteWhatOneRunWrites) {
+  std::string list;
+  for (int i = 0; i < 5; ++i)
+    list += "map" + std::to_string(i % 4) + ".exr rx.exr out/f" + std::to_string(i) + ".exr\n";
+  write_list("frames.txt", list);
+  const std::string options = " --method vsm --blur-radius 1 -q";
+  ASSERT_EQ(run_cli("filter --frames " + path("frames.txt") + options, dir_).exit_code, 0);
+  std::vector<std::string> whole;
+  for (int i = 0; i < 5; ++i) whole.push_back(bytes(path("out/f" + std::to_string(i) + ".exr")));
+  fs::remove_all(path("out"));
+  fs::create_directories(path("out"));
+  for (const char* shard : {"1/2", "2/2"}) {
+    const RunResult r = run_cli("filter --frames " + path("frames.txt") + options + " --shard " + shard, dir_);
+    ASSERT_EQ(r.exit_code, 0) << shard << ": " << r.err;
+    if (std::string(shard) == "1/2") {  // frames 0, 2, 4 only
+      EXPECT_EQ(files_in("out"), (std::vector<std::string>{"f0.exr", "f2.exr", "f4.exr"}));
+    }
+  }
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(bytes(path("out/f" + std::to_string(i) + ".exr")), whole[i]) << i;
+
+  for (const char* bad : {"0/2", "3/2", "2", "1/0", "a/b", "1/-2", "1/2/3"}) {
+    const RunResult r = run_cli("filter --frames " + path("frames.txt") + " --shard " + bad, dir_);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--shard must be K/N"), std::string::npos) << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+  }
+  const RunResult single = run_cli("filter --shadow-map " + path("map0.exr") + " --receivers " + path("rx.exr") +
+                                       " -o " + path("one.exr") + " --shard 1/2",
+                                   dir_);
+  EXPECT_EQ(single.exit_code, 2);
+  EXPECT_NE(single.err.find("--shard is for a batch"), std::string::npos) << single.err;
+  // A shard refuses what the whole list refuses, even where the clash is in another shard's frames.
+  write_list("clash.txt", "map0.exr rx.exr out/a.exr\nmap1.exr rx.exr out/b.exr\nmap2.exr rx.exr out/a.exr\n");
+  const RunResult clash = run_cli("filter --frames " + path("clash.txt") + " --shard 2/2", dir_);
+  EXPECT_EQ(clash.exit_code, 2) << clash.err;
+  EXPECT_FALSE(fs::exists(path("out/b.exr")));
+}
+
 // map1 is missing: without --keep-going the batch stops at its line, with the frame before it
 // written in full and nothing after; with it, every other frame is written and the exit code
 // counts the failures.

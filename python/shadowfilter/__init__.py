@@ -1,0 +1,125 @@
+"""shadowfilter: pre-filtered shadow maps (ESM, VSM, EVSM, MSM, CSM, PCF) as OpenCL kernels.
+
+Depth maps and receivers are numpy arrays (any float dtype whose values float32 holds exactly, C
+or Fortran order); results are float32 arrays. Depths are linear in [0, 1] along the light's
+axis, texture coordinates u, v in [0, 1] with v = 0 the first row (docs/inputs.md).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from ._core import DeviceError, InputError
+
+__all__ = ["filter", "options", "receivers", "methods", "devices", "Device", "View", "load_view", "InputError", "DeviceError"]
+
+Device = _core.Device
+View = _core.View
+_default_device: "_core.Device | None" = None
+
+
+def devices():
+    """Every OpenCL device on every platform, in platform/device order."""
+    return _core.devices()
+
+
+def options():
+    """Every keyword option of filter(), generated from the library's declared parameters: a list
+    of dicts with keyword, flag (the CLI's), field, type, choices, default, range and help."""
+    return _core.options()
+
+
+def methods():
+    """The names of the registered filtering methods, in registry order."""
+    return _core.method_names()
+
+
+def _device(device):
+    global _default_device
+    if isinstance(device, _core.Device):
+        return device
+    if device is not None:
+        return _core.Device(str(device))
+    if _default_device is None:  # one warm device for every call that names none
+        _default_device = _core.Device("")
+    return _default_device
+
+
+def _float32(name, array, ndim):
+    """array as C-contiguous float32 when the conversion is exact; InputError otherwise."""
+    a = np.asarray(array)
+    if a.ndim != ndim:
+        raise InputError(f"{name} must have {ndim} dimensions, got shape {a.shape}")
+    if a.dtype == np.float32:
+        return np.ascontiguousarray(a)
+    if not np.issubdtype(a.dtype, np.floating):
+        raise InputError(f"{name} must be a float array, got dtype {a.dtype}")
+    b = a.astype(np.float32)
+    same = (b.astype(a.dtype) == a) | (np.isnan(a) & np.isnan(b))
+    if not same.all():
+        raise InputError(f"{name}: {a.dtype} values that float32 does not hold exactly (convert them yourself)")
+    return np.ascontiguousarray(b)
+
+
+def filter(depth, receivers=None, *, receiver_depth=None, method="esm", device=None, **options):
+    """Filtered visibility in [0, 1] of each receiver against the depth map `depth` (H, W).
+
+    receivers: (h, w, 3..5) u, v, d[, f[, ndl]] per camera pixel; or receiver_depth: (H, W) depth
+    of a receiver per shadow-map texel. Returns (h, w) or (H, W) float32.
+    """
+    if (receivers is None) == (receiver_depth is None):
+        raise InputError("give exactly one of receivers and receiver_depth")
+    dev = _device(device)
+    d = _float32("depth", depth, 2)
+    if receivers is not None:
+        return _core.filter_points(dev, method, options, d, _float32("receivers", receivers, 3))
+    return _core.filter_grid(dev, method, options, d, _float32("receiver_depth", receiver_depth, 2))
+
+
+_VIEW_KEYS = {"view", "projection", "clip", "reversed_z", "far", "width", "height"}
+
+
+def load_view(source):
+    """A View from a camera or light file's JSON (docs/inputs.md: view, projection, clip,
+    reversed_z, far; width and height are the image's and ignored here), a dict of the same keys,
+    or a View itself."""
+    if isinstance(source, View):
+        return source
+    if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
+        import json
+
+        with open(source, "rb") as f:
+            source = json.load(f)
+    if not isinstance(source, dict):
+        raise InputError(f"a view is a View, a dict or a JSON file, got {type(source).__name__}")
+    unknown = set(source) - _VIEW_KEYS
+    if unknown:
+        raise InputError(f"unknown key \"{sorted(unknown)[0]}\"; valid: view, projection, clip, reversed_z, far, width, height")
+    for key in ("view", "projection"):
+        if key not in source:
+            raise InputError(f"needs \"view\" and \"projection\" (16 numbers each, row-major); \"{key}\" is missing")
+    matrices = [np.asarray(source[k], dtype=np.float64).reshape(4, 4) if np.size(source[k]) == 16 else None
+                for k in ("view", "projection")]
+    if any(m is None for m in matrices):
+        raise InputError("\"view\" and \"projection\" must be 16 numbers, row-major (or 4 rows of 4)")
+    return View(np.ascontiguousarray(matrices[0]), np.ascontiguousarray(matrices[1]), source.get("clip", "opengl"),
+                source.get("reversed_z"), source.get("far"))
+
+
+def receivers(camera, camera_depth, light, *, map_size, camera_depth_kind="window", normals=None, counts=None):
+    """The receivers of every camera pixel as an (h, w, 5) float32 array u, v, d, f, ndl, ready for
+    filter(): the surface seen through each pixel projected into the light's map (docs/inputs.md).
+
+    camera, light: View, dict or JSON file. camera_depth: (h, w) window depth (the depth buffer,
+    any clip space, reversed-Z as the projection shows), view depth or distance in world units, or
+    (h, w, 3) world positions, as camera_depth_kind says. map_size: (width, height) of the light's
+    map (footprints are in its texels). counts: a dict to receive background, outside, no_normal.
+    """
+    kind = camera_depth_kind
+    d = _float32("camera_depth", camera_depth, 3 if kind == "position" else 2)
+    n = None if normals is None else _float32("normals", normals, 3)
+    width, height = map_size
+    out, c = _core.camera_receivers(load_view(camera), d, kind, load_view(light), int(width), int(height), n)
+    if counts is not None:
+        counts.update(c)
+    return out

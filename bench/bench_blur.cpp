@@ -13,7 +13,7 @@
 
 #include "bench_common.hpp"
 #include "reference.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
 
 namespace sf::bench {
 namespace {

@@ -1,3 +1,5 @@
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
 #include "bench_common.hpp"
 
 #include <algorithm>

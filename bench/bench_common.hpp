@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
 #include "shadowfilter/runtime.hpp"
 
 namespace sf::bench {

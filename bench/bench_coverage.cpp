@@ -12,9 +12,11 @@
 #include "bench_common.hpp"
 #include "lookups.hpp"
 #include "reference.hpp"
-#include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
+#include "shadowfilter/classify.hpp"
 
 namespace sf::bench {
 namespace {

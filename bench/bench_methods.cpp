@@ -1,5 +1,5 @@
 // 6. Every method's kernels: the basis transform of every basis method x storage it
-// accepts (csm at M = 4, 8, 16; the case list of shadowfilter/method_cases.hpp, shared with the
+// accepts (csm at M = 4, 8, 16; the case list of tests/support/method_cases.hpp, shared with the
 // method tests) at 2048^2 and every transform vector width (1 = one texel per work-item,
 // 4/8/16 = sf_transformv), and at 512^2 and 4096^2 with the default width 16 (csm at M = 4 only
 // at 4096: M = 16 in f32 is 2 GiB of basis); the reconstruction of each method (sm / pcf: the
@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
-#include "shadowfilter/method_cases.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "method_cases.hpp"
 #include "shadowfilter/methods.hpp"
 
 #ifdef SF_HAVE_OPENCV

@@ -4,7 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
 
 namespace sf::bench {
 namespace {

@@ -45,7 +45,7 @@
 #include <utility>
 
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::bench {

@@ -7,9 +7,11 @@
 #include <string>
 
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf::bench {
 namespace {

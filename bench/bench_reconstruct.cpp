@@ -9,9 +9,10 @@
 // u, v, d -> out, or only gather the 4 (bilinear) / 8 (levels 0 and 1) texels with the least
 // index math: what reconstruction costs at best on this device.
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf::bench {
 namespace {

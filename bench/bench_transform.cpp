@@ -2,7 +2,7 @@
 // at three map sizes, with explicit float16 vectors (sf_transformv, the default) and with one
 // texel per work-item (vector width 1). Every method and storage: bench_methods.cpp.
 #include "bench_common.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/methods.hpp"
 
 namespace sf::bench {

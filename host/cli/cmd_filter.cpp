@@ -15,6 +15,7 @@
 #include "preview_images.hpp"
 #include "print.hpp"
 #include "verbose.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"

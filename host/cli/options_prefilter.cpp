@@ -7,8 +7,8 @@
 
 #include "filter_options.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/kernels.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/classify.hpp"
 
 namespace sf::cli {
 

@@ -24,6 +24,7 @@
 
 #include "shadowfilter/camera_receivers.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/parameters.hpp"
 #include "shadowfilter/pipeline.hpp"

@@ -9,8 +9,8 @@
 #include "image_io.hpp"
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
-#include "shadowfilter/pyramids.hpp"
 
 namespace sf::test {
 namespace {

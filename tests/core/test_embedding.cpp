@@ -9,6 +9,10 @@
 #include <random>
 
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
 #include "shadowfilter/embed.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/pipeline.hpp"

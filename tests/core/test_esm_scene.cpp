@@ -7,6 +7,7 @@
 #include "image_io.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::test {

@@ -12,6 +12,7 @@
 #include "camera_io.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/camera_receivers.hpp"
 #include "shadowfilter/depth_encoding.hpp"
 #include "shadowfilter/errors.hpp"

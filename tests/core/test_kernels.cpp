@@ -6,8 +6,10 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "test_methods_common.hpp"

@@ -20,6 +20,8 @@
 #include "lookups.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/mips.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
 #include "shadowfilter/methods.hpp"

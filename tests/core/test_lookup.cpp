@@ -9,8 +9,12 @@
 #include "receiver_plane.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf::test {
 namespace {

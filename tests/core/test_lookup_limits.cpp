@@ -11,6 +11,7 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"

@@ -7,8 +7,9 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "test_methods_common.hpp"
 

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "image_io.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "csm_scenes.hpp"
 #include "test_methods_common.hpp"

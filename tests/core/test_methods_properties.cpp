@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "test_methods_common.hpp"
 

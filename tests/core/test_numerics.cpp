@@ -14,10 +14,11 @@
 #include "lookups.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/sat.hpp"
 
 namespace sf::test {
 namespace {

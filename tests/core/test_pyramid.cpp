@@ -7,7 +7,7 @@
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
 #include "test_methods_common.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/mips.hpp"
 
 namespace sf::test {
 namespace {

@@ -10,6 +10,7 @@
 #include "receiver_plane.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/soft.hpp"

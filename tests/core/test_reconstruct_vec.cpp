@@ -13,6 +13,9 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"

@@ -14,8 +14,9 @@
 #include "schedule_defaults.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
 #include "test_methods_common.hpp"
 
 namespace sf::test {

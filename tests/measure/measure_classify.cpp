@@ -10,6 +10,7 @@
 #include "image_io.hpp"
 #include "lookups.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::test {

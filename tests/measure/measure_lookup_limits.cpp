@@ -18,13 +18,15 @@
 #include "lookups.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/method_cases.hpp"
+#include "method_cases.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/kernels.hpp"
 #include "shadowfilter/pipeline.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/sat.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf::test {
 namespace {

@@ -1,6 +1,7 @@
 // Measurements behind the methods' measured defaults (docs/methods.md): csm's offset and scale per
 // order, msm's unorm16 depth bias. Run: build/tests/sf_measure --gtest_filter='MethodDefaults*'
 #include "csm_scenes.hpp"
+#include "shadowfilter/frame_filter.hpp"
 
 namespace sf::test {
 using namespace csm_scenes;

@@ -8,6 +8,7 @@
 
 #include "shadowfilter/embed.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "image_io.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "test_methods_common.hpp"
 

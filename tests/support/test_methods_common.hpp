@@ -10,13 +10,13 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
-#include "shadowfilter/method_cases.hpp"
+#include "method_cases.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/options.hpp"
 
 namespace sf::test {
 
-using ::sf::MethodCase;  // shadowfilter/method_cases.hpp: shared with sf_bench
+using ::sf::MethodCase;  // tests/support/method_cases.hpp: shared with sf_bench
 
 // Every basis method with every storage it accepts (csm at M = 4; more orders in f32).
 inline std::vector<MethodCase> basis_cases() {

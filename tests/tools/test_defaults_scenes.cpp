@@ -16,6 +16,7 @@
 #include "evaluate.hpp"
 #include "scene_light.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/soft.hpp"

@@ -7,9 +7,35 @@
 #include <memory>
 
 #include "shadowfilter/device_types.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/lookup.hpp"
+#include "shadowfilter/options.hpp"
+#include "shadowfilter/runtime.hpp"
 
 namespace sf {
+
+// The classification kernel (a thin typed wrapper in the argument order of device_types.hpp).
+// Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
+// z > d + offset, from the z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
+// their visibility by a 2x2 PCF of the ESM test on the raw depth, against the receiver's plane
+// (FilterOptions::receiver_plane; receiver_row as DeviceReceivers::row). flags: one uchar per
+// receiver.
+// `zmax_chain` is the Reduce::Max pyramid of `depth` (zmax mode only).
+struct ClassifyInputs {
+  cl::Buffer depth, zmax_chain;
+  cl::Buffer basis;  // level 0 of the filtered basis (threshold mode)
+  LookupBuffers lookup;
+  int width = 0, height = 0;
+};
+cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, size_t count, int receiver_row,
+                                      const ClassifyInputs& in, const cl::Buffer& u, const cl::Buffer& v,
+                                      const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                      const EventList* wait = nullptr);
+cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
+                                    const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
+                                    const EventList* wait = nullptr);
+// The threshold eps in effect: opt.esm_classify.threshold_eps, or when negative the automatic
+// exp(c offset)(1 + 1e-5) - 1, which makes threshold flag a subset of zmax (docs/lookups.md).
+double esm_threshold_eps(const FilterOptions& opt);
 
 class ClassifyStage {
  public:

@@ -3,13 +3,14 @@
 // compression of a dual-depth stack (kernels/coherent/compress.cl, byte for byte the scalar
 // reference's greedy fit) and the visibility queries of points (kernels/coherent/
 // coherent/visibility.cl over coherent/query.clh). Thin wrappers in the toolkit's style and argument order
-// (kernels.hpp): buffers are the caller's, every enqueue_* call enqueues after `wait` and returns
+// (device_types.hpp): buffers are the caller's, every enqueue_* call enqueues after `wait` and returns
 // its last event. Bad sizes or empty buffers throw InputError naming the field; OpenCL failures
 // DeviceError.
 #include <cstddef>
 
 #include "shadowfilter/coherent.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/device_types.hpp"
+#include "shadowfilter/runtime.hpp"
 
 namespace sf::coherent {
 

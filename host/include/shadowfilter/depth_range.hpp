@@ -2,8 +2,9 @@
 // The depth range (map_range.hpp) of a map on the host or on the device.
 #include <cstddef>
 
+#include "shadowfilter/device_types.hpp"
 #include "shadowfilter/host_image.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/runtime.hpp"
 #include "shadowfilter/map_range.hpp"
 
 namespace sf {

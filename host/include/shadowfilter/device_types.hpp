@@ -3,6 +3,16 @@
 // an image's shape, the receivers on the device, the stage times, the core of every result and
 // the plan of a filter's buffers. It includes only OpenCL and the host image, so the headers of
 // the pipeline, its stages, the soft and the layered filters include it and not each other.
+//
+// The kernel wrappers (method_kernels.hpp, blur.hpp, mips.hpp, sat.hpp, lookup.hpp, classify.hpp,
+// coherent_device.hpp) share one argument order (as CLBlast's clblast.h has one):
+//   (Runtime&, method and options, enums, sizes and scalars, input buffers, output buffers
+//    [, cl::Event* first], const EventList* wait)
+// Every call enqueues on runtime.queue() after the events in `wait` (null: none) and returns the
+// event of its last command, so a caller chains its own commands without a host round trip.
+// A call that may enqueue several commands (blur, pyramid, SAT, the compression's scan) also
+// takes `first`, just before `wait`: when not null it receives the event of the call's first
+// command, so event_seconds(*first, returned) is the call's device time on a profiling queue.
 #include <cstddef>
 #include <string>
 #include <vector>

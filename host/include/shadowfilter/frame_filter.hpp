@@ -20,6 +20,19 @@
 
 namespace sf {
 
+// Convenience for host data (what the CLI uses): uploads, runs, downloads. The map's depth range
+// (FilterOptions::depth_range, when unset) comes from the host copy, so a lookup that cannot
+// hold it is refused before anything runs.
+struct FilterResult : VisibilityResult {
+  // ESM classification (when asked): the mask (1 = flagged, receivers' size) and its count.
+  bool classified = false;
+  HostImage flags;
+  size_t flagged = 0;
+};
+FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
+                    const Receivers& receivers);
+
+// Frames of one size after another on one Pipeline (sf::filter runs one through it).
 class FrameFilter {
  public:
   enum class HostMemory {

@@ -33,8 +33,10 @@
 
 #include "shadowfilter/device_types.hpp"
 #include "shadowfilter/host_image.hpp"
-#include "shadowfilter/kernels.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/lookup.hpp"
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/options.hpp"
+#include "shadowfilter/runtime.hpp"
 
 namespace sf {
 
@@ -91,7 +93,8 @@ class Pipeline {
   cl::Event transform_done_;
   cl::Event blur_first_, blur_done_;  // first and last command of each multi-command stage
   cl::Event reconstruct_done_;
-  // Footprint lookups and ESM classification (pyramids.hpp), built only when the options ask.
+  // Footprint lookups (mips.hpp, sat.hpp) and ESM classification (classify.hpp), built only when the
+  // options ask.
   BufferPlan plan_;
   cl::Buffer mips_;           // mips: level 0 (basis_) and the chain (chain_) in one buffer
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
@@ -103,18 +106,6 @@ class Pipeline {
 
 // Checks that `bytes` in one buffer and `total` bytes overall fit the runtime's device.
 void check_fits_device(const Runtime& rt, size_t largest_buffer, size_t total, const std::string& what);
-
-// Convenience for host data (what the CLI uses): uploads, runs, downloads. The map's depth range
-// (FilterOptions::depth_range, when unset) comes from the host copy, so a lookup that cannot
-// hold it is refused before anything runs.
-struct FilterResult : VisibilityResult {
-  // ESM classification (when asked): the mask (1 = flagged, receivers' size) and its count.
-  bool classified = false;
-  HostImage flags;
-  size_t flagged = 0;
-};
-FilterResult filter(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const HostImage& depth,
-                    const Receivers& receivers);
 
 // Receivers that carry ndl and face away from the light (ndl <= 0; NaN = unknown, left alone) get
 // visibility 0: their own surface blocks the light, which a shadow map of that surface cannot

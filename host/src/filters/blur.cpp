@@ -8,7 +8,7 @@
 #include "launch.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
 
 namespace sf {
 

@@ -7,7 +7,8 @@
 #include "pass_events.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf {
 using detail::PassEvents;

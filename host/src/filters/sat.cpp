@@ -9,7 +9,7 @@
 #include "pass_events.hpp"
 #include "schedule_defaults.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/sat.hpp"
 
 namespace sf {
 using detail::PassEvents;

@@ -7,6 +7,7 @@
 
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "shadowfilter/blur.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"

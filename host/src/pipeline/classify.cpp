@@ -10,7 +10,8 @@
 #include "shadowfilter/classify.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf {
 namespace {

@@ -1,3 +1,7 @@
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 #include <algorithm>

@@ -7,7 +7,8 @@
 #include "plane_params.hpp"
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/sat.hpp"
 #include "shadowfilter/soft.hpp"
 
 namespace sf {

@@ -1,4 +1,3 @@
-#include "shadowfilter/kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +9,9 @@
 #include "method_build.hpp"
 #include "planned_scope.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/pyramids.hpp"
+#include "shadowfilter/method_kernels.hpp"
+#include "shadowfilter/mips.hpp"
+#include "shadowfilter/lookup.hpp"
 
 namespace sf {
 
@@ -137,7 +138,7 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, width, height, count, receiver_row, basis, u, v, d,
                               lookup ? lookup->footprint : cl::Buffer(), visibility, wait);
-  // The footprint lookup (pyramids.hpp): -DSF_LOOKUP and its buffers, null when unused.
+  // The footprint lookup (lookup.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
   int vec = opt.schedule.reconstruct_vector_width;
   if (vec != 1 && vec != 4 && vec != 8 && vec != 16)

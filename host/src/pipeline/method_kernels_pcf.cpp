@@ -8,7 +8,8 @@
 #include "plane_params.hpp"
 #include "planned_scope.hpp"
 #include "shadowfilter/errors.hpp"
-#include "shadowfilter/kernels.hpp"
+#include "shadowfilter/blur.hpp"
+#include "shadowfilter/method_kernels.hpp"
 
 namespace sf {
 namespace {

@@ -1,6 +1,7 @@
 #pragma once
-// The Gaussian prefilter of basis images (methods.md sec. 2, kernels/blur.cl). A thin typed wrapper in the argument order of device_types.hpp: buffers are the
-// caller's, every call enqueues after `wait` and returns its last command's event.
+// The Gaussian prefilter of basis images (methods.md sec. 2, kernels/blur.cl). A thin typed wrapper in the argument
+// order of device_types.hpp: buffers are the caller's, every call enqueues after `wait` and returns its last command's
+// event.
 #include <vector>
 
 #include "shadowfilter/device_types.hpp"

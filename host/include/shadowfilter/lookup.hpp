@@ -1,7 +1,7 @@
 #pragma once
 // Footprint lookups of a filtered basis: trilinear over a mip chain, a box through a
-// summed-area table (methods.md sec. 2-3; docs/lookups.md). A thin typed wrapper in the argument order of device_types.hpp: buffers are the
-// caller's, every call enqueues after `wait` and returns its last command's event.
+// summed-area table (methods.md sec. 2-3; docs/lookups.md). A thin typed wrapper in the argument order of
+// device_types.hpp: buffers are the caller's, every call enqueues after `wait` and returns its last command's event.
 #include "shadowfilter/device_types.hpp"
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/runtime.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Summed-area tables of basis images (methods.md sec. 3; docs/lookups.md; kernels/sat.cl);
-// what a table holds within its error bound is sat_precision.hpp's. A thin typed wrapper in the argument order of device_types.hpp: buffers are the
-// caller's, every call enqueues after `wait` and returns its last command's event.
+// what a table holds within its error bound is sat_precision.hpp's. A thin typed wrapper in the argument order of
+// device_types.hpp: buffers are the caller's, every call enqueues after `wait` and returns its last command's event.
 #include "shadowfilter/device_types.hpp"
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/runtime.hpp"

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "bench_common.hpp"
 #ifdef SF_BENCH_HAVE_SCENE
 #include "coherent_stack.hpp"
@@ -36,10 +37,8 @@ namespace sf::bench {
 namespace {
 
 using namespace sf::coherent;
-using Vec3 = std::array<double, 3>;
 
 Vec3 add(const Vec3& a, const Vec3& b, double s = 1.0) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // 32x32 views at M = 128 and 2^20 queries (smoke mode: a quarter of each side, 2^16 queries).
 int views_side() { return smoke_scaled(32, 4); }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "coherent_file.hpp"
 #include "coherent_render.hpp"
 #include "coherent_stack.hpp"
@@ -93,8 +94,7 @@ int run_render(const RenderArgs& a) {
   settings.threads = a.threads;
   for (const auto& l : a.area_lights) {
     scene::AreaLight light{vec(l, 0), vec(l, 3), vec(l, 6)};
-    light.radiance =
-        l.size() == 12 ? std::array<double, 3>{l[9], l[10], l[11]} : std::array<double, 3>{l[9], l[9], l[9]};
+    light.radiance = l.size() == 12 ? Vec3{l[9], l[10], l[11]} : Vec3{l[9], l[9], l[9]};
     scene::validate_area_light(light, center, layout.radius);
     settings.lights.push_back(light);
   }

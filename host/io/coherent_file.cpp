@@ -129,7 +129,7 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
   w.u32(uint32_t(c.layout.ordering));
   w.u32(uint32_t(c.layout.depth_pair));
   w.u32(uint32_t(c.layout.far_plane));
-  for (double v : c.layout.center) w.f64(v);
+  for (int axis = 0; axis < 3; ++axis) w.f64(c.layout.center[axis]);
   w.f64(c.layout.radius);
   w.u64(c.segments.size());
   w.u32(uint32_t(file.source.size()));
@@ -167,7 +167,7 @@ CoherentFile read_coherent_bytes(const std::string& path) {
   l.ordering = coherent::Ordering(r.u32("header"));
   l.depth_pair = coherent::DepthPair(r.u32("header"));
   l.far_plane = coherent::FarPlane(r.u32("header"));
-  for (double& v : l.center) v = r.f64("header");
+  for (int axis = 0; axis < 3; ++axis) l.center[axis] = r.f64("header");
   l.radius = r.f64("header");
   const uint64_t segments = r.u64("header");
   const uint32_t source_size = r.u32("header");

@@ -1,3 +1,4 @@
+#include "shadowfilter/vec3.hpp"
 #include "coherent_reference.hpp"
 
 #include <algorithm>
@@ -18,12 +19,11 @@ double lerp(double a, double b, double f) { return a + f * (b - a); }
 
 // Bilinear PCF of the 2x2 texels nearest to p in view g: project()'s geometry without the floor
 // (continuous u M, v M, the same clamp to [-1, 2] and the same quantised depth).
-double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& positions, uint32_t g,
-                       const std::array<double, 3>& p) {
+double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& positions, uint32_t g, const Vec3& p) {
   const StackLayout& l = c.layout;
   const ViewFrame f = view_frame(l, g);
-  const std::array<double, 3> r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
-  auto dot = [&](const std::array<double, 3>& a) { return r[0] * a[0] + r[1] * a[1] + r[2] * a[2]; };
+  const Vec3 r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
+  auto dot = [&](const Vec3& a) { return r[0] * a[0] + r[1] * a[1] + r[2] * a[2]; };
   const double scale = 1.0 / (2.0 * l.radius);
   const double u = std::clamp(dot(f.right) * scale + 0.5, -1.0, 2.0) * l.resolution - 0.5;
   const double v = std::clamp(dot(f.up) * scale + 0.5, -1.0, 2.0) * l.resolution - 0.5;
@@ -104,8 +104,7 @@ bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t
   return q <= segment_depth(c, texel, i);
 }
 
-double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
-                  const std::array<double, 3>& d) {
+double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p, const Vec3& d) {
   const uint32_t g = view_of_direction(c.layout, d);
   const ViewPoint vp = project(c.layout, g, p);
   if (!vp.inside(c.layout.resolution)) return 1.0;
@@ -114,8 +113,8 @@ double visibility(const CompressedStack& c, const std::vector<uint32_t>& positio
   return compressed_lit(c, i, texel, vp.q) ? 1.0 : 0.0;
 }
 
-double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions,
-                           const std::array<double, 3>& p, const std::array<double, 3>& d) {
+double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
+                           const Vec3& d) {
   const StackLayout& l = c.layout;
   const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   const double t = std::acos(std::clamp(d[1] / n, -1.0, 1.0));

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "shadowfilter/coherent.hpp"
 
 namespace sf::ref::coherent {
@@ -30,8 +31,7 @@ bool compressed_lit(const CompressedStack& c, uint32_t i, size_t texel, uint32_t
 // Visibility of point p toward direction d (any length): the view whose cell holds d, p's texel
 // and depth there, the compressed test; 1 outside the map. (Ritschel 2007 sec. 3.2, fig. 6)
 // positions: sf::coherent::sequence_positions(c.layout), computed once by the caller.
-double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const std::array<double, 3>& p,
-                  const std::array<double, 3>& d);
+double visibility(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p, const Vec3& d);
 
 // Generalized PCF (Ritschel 2007 sec. 4.5), the twin of coherent/query.clh's sf_coherent_visibility_filtered:
 // the 2x2 views nearest to d in continuous lat-long coordinates (row t / pi T - 1/2 clamped to
@@ -39,7 +39,7 @@ double visibility(const CompressedStack& c, const std::vector<uint32_t>& positio
 // (x = u M - 1/2; outside the map lit) tested at p's depth in that view, weighted bilinearly:
 // lerp(lerp(.., fx), lerp(.., fx), fy) at both levels, so that 16 equal tests give exactly that
 // value.
-double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions,
-                           const std::array<double, 3>& p, const std::array<double, 3>& d);
+double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
+                           const Vec3& d);
 
 }  // namespace sf::ref::coherent

@@ -86,8 +86,8 @@ float dot3(const F3& a, const F3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] *
 void validate_area_light(const AreaLight& l, Vec3 center, double radius) {
   if (!finite(l.corner) || !finite(l.edge_a) || !finite(l.edge_b))
     throw InputError("--area-light: corner and edges must be finite");
-  for (double r : l.radiance)
-    if (!std::isfinite(r) || r < 0.0 || r > kMaxRadiance)
+  for (int c = 0; c < 3; ++c)
+    if (const double r = l.radiance[c]; !std::isfinite(r) || r < 0.0 || r > kMaxRadiance)
       throw InputError("--area-light: radiance must be finite, >= 0 and <= 1e20");
   const Vec3 n = cross(l.edge_a, l.edge_b);
   if (!(length(n) > 1e-12 * std::max(1.0, dot(l.edge_a, l.edge_a) + dot(l.edge_b, l.edge_b))))

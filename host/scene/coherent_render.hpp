@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "shadowfilter/coherent.hpp"
 #include "shadowfilter/host_image.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -29,7 +30,7 @@ namespace sf::scene {
 // bounding sphere are refused.
 struct AreaLight {
   Vec3 corner, edge_a, edge_b;
-  std::array<double, 3> radiance{1.0, 1.0, 1.0};
+  Vec3 radiance{1.0, 1.0, 1.0};
 };
 // InputError (one line) on a non-finite or degenerate rectangle, a negative or non-finite or larger
 // than kMaxRadiance radiance, or a rectangle closer than `radius` to `center`.

@@ -1,26 +1,20 @@
 #pragma once
-// Minimal double-precision 3-vector for the scene generator.
+// Rays and intervals of the scene generator over the core's 3-vector.
 #include <cmath>
+
+#include "shadowfilter/vec3.hpp"
 
 namespace sf::scene {
 
-struct Vec3 {
-  double x = 0.0;
-  double y = 0.0;
-  double z = 0.0;
-};
-
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(Vec3 a) { return (1.0 / length(a)) * a; }
+// The core's vector (shadowfilter/vec3.hpp), as the scene generator names it.
+using Vec3 = sf::Vec3;
+using sf::cross;
+using sf::dot;
+using sf::length;
+using sf::normalize;
 
 // Component access by axis index 0..2 (x, y, z).
-inline double component(Vec3 a, int axis) { return axis == 0 ? a.x : (axis == 1 ? a.y : a.z); }
+inline double component(Vec3 a, int axis) { return a[axis]; }
 
 struct Ray {
   Vec3 origin;

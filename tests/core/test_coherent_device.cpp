@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "coherent_reference.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/coherent_device.hpp"
@@ -25,11 +26,9 @@ namespace sf::test {
 namespace {
 
 using namespace sf::coherent;
-using Vec3 = std::array<double, 3>;
 constexpr double kPi = 3.14159265358979323846;
 
 Vec3 add(const Vec3& a, const Vec3& b, double s = 1.0) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 StackLayout layout_of(int theta, int phi, int m, Ordering o, FarPlane far = FarPlane::Sphere) {
   StackLayout l;

@@ -34,15 +34,6 @@ using test::runtime_ptr;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Point3 add(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Point3 scale(double s, const Point3& a) { return {s * a[0], s * a[1], s * a[2]}; }
-Point3 cross(const Point3& a, const Point3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Point3 unit(const Point3& a) { return scale(1.0 / std::sqrt(dot(a, a)), a); }
-
 // ---- the scene ------------------------------------------------------------------------------
 
 struct Scene {
@@ -56,14 +47,14 @@ const Scene& scene() {
   static const Scene s = [] {
     Scene s;
     s.camera.position = {0, 7, 7};
-    s.camera.forward = unit(sub({0, 0, 0}, s.camera.position));
-    const Point3 right = unit(cross(s.camera.forward, {0, 1, 0}));
+    s.camera.forward = normalize(Point3{0, 0, 0} - s.camera.position);
+    const Point3 right = normalize(cross(s.camera.forward, {0, 1, 0}));
     s.camera.up = cross(right, s.camera.forward);
     s.camera.vertical_fov_degrees = 50;
     s.camera.aspect = 16.0 / 9.0;
     s.camera.near_depth = 4.0;
     s.camera.far_depth = 20.0;
-    s.light = unit({0.2, -1.0, 1.0});
+    s.light = normalize(Point3{0.2, -1.0, 1.0});
     s.occluder = {{-3.0, 1.5, -3.0}, {3.0, 2.0, 3.0}};
     s.ground = {{-60, -0.01, -60}, {60, 0, 60}};
     return s;
@@ -107,7 +98,7 @@ Hit trace(const Point3& o, const Point3& d) {
 }
 
 // A ground point is in the box's shadow when the ray towards the light meets the box.
-bool shadowed(const Point3& p) { return std::isfinite(hit_box(scene().occluder, p, scale(-1.0, scene().light)).t); }
+bool shadowed(const Point3& p) { return std::isfinite(hit_box(scene().occluder, p, (-1.0 * scene().light)).t); }
 
 CascadeSet layout(LayoutKind kind, int size = 128, double blend = 0.1) {
   LayoutOptions o;
@@ -145,7 +136,7 @@ ViewReceivers render_view(int width, int height) {
   const double tan_half = std::tan(0.5 * cam.vertical_fov_degrees * M_PI / 180.0);
   const auto ray = [&](double sx, double sy) {
     const double nx = (2.0 * sx / width - 1.0) * tan_half * cam.aspect, ny = (1.0 - 2.0 * sy / height) * tan_half;
-    return add(cam.forward, add(scale(nx, right), scale(ny, cam.up)));
+    return (cam.forward + ((nx * right) + (ny * cam.up)));
   };
   ViewReceivers v;
   v.width = width;
@@ -158,12 +149,12 @@ ViewReceivers render_view(int width, int height) {
       const Point3 d = ray(px + 0.5, py + 0.5);
       const Hit h = trace(cam.position, d);
       if (!(h.t <= cam.far_depth)) continue;
-      const Point3 p = add(cam.position, scale(h.t, d));
+      const Point3 p = (cam.position + (h.t * d));
       const auto on_plane = [&](const Point3& r) {
-        return add(cam.position, scale(dot(h.n, sub(p, cam.position)) / dot(h.n, r), r));
+        return (cam.position + (dot(h.n, (p - cam.position)) / dot(h.n, r) * r));
       };
-      const Point3 dx = sub(on_plane(ray(px + 1.0, py + 0.5)), on_plane(ray(px, py + 0.5)));
-      const Point3 dy = sub(on_plane(ray(px + 0.5, py + 1.0)), on_plane(ray(px + 0.5, py)));
+      const Point3 dx = (on_plane(ray(px + 1.0, py + 0.5)) - on_plane(ray(px, py + 0.5)));
+      const Point3 dy = (on_plane(ray(px + 0.5, py + 1.0)) - on_plane(ray(px + 0.5, py)));
       v.x[i] = float(p[0]), v.y[i] = float(p[1]), v.z[i] = float(p[2]);
       v.depth[i] = float(h.t);  // forward . d = 1
       v.dxx[i] = float(dx[0]), v.dxy[i] = float(dx[1]), v.dxz[i] = float(dx[2]);
@@ -262,7 +253,7 @@ bool layer_resolves(const CascadeSet& set, int k, const Point3& p, int texels) {
       if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)) return false;  // clamp-to-edge: not the scene
       if (!t.ray(u, v, o, d, per_length)) return false;
       const double along = -o[1] / d[1];
-      if (shadowed(add(o, scale(along, d))) != centre) return false;
+      if (shadowed((o + (along * d))) != centre) return false;
     }
   return true;
 }
@@ -383,7 +374,7 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
     // Receivers at the camera's own depth: on the layer whose split holds them, where most blend.
     for (size_t i = 1; i < view.count(); i += 3) {
       const Point3 p = position(view, i);
-      view.depth[i] = float(dot(sub(p, scene().camera.position), scene().camera.forward));
+      view.depth[i] = float(dot((p - scene().camera.position), scene().camera.forward));
     }
     LayeredPipeline pipe(runtime_ptr(), FilterOptions{}, set);
     run(pipe, render_maps(set), view);

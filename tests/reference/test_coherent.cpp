@@ -11,6 +11,7 @@
 #include <set>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "cli_runner.hpp"
 #include "coherent_file.hpp"
 #include "coherent_reference.hpp"
@@ -70,8 +71,7 @@ TEST(CoherentLayout, EveryViewHoldsItsOwnDirectionAndProjectsTheCentreMidMap) {
     EXPECT_EQ(c.y, 32);
     EXPECT_EQ(c.q, (kDepthMax + 1) / 2);  // half the diameter deep, rounded
     // The point on the sphere toward the camera is at depth 0, the far one at kDepthMax.
-    const std::array<double, 3> near{l.center[0] + 3.0 * f.dir[0], l.center[1] + 3.0 * f.dir[1],
-                                     l.center[2] + 3.0 * f.dir[2]};
+    const sf::Vec3 near{l.center[0] + 3.0 * f.dir[0], l.center[1] + 3.0 * f.dir[1], l.center[2] + 3.0 * f.dir[2]};
     EXPECT_EQ(project(l, g, near).q, 0u);
   }
 }

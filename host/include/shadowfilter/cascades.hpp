@@ -8,9 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
+
 namespace sf {
 
-using Point3 = std::array<double, 3>;
+using Point3 = Vec3;  // a world point (vec3.hpp)
 
 // World -> shadow-map coordinates of one layer: a 4x4 matrix M (row-major) applied to p = (x, y, z, 1),
 //   u = (M0 . p) / (M3 . p),  v = (M1 . p) / (M3 . p),  d = M2 . p.

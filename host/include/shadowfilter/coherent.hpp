@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/vec3.hpp"
 #include "shadowfilter/runtime.hpp"
 
 namespace sf::coherent {
@@ -52,7 +53,7 @@ struct StackLayout {
   Ordering ordering = Ordering::Hilbert;
   DepthPair depth_pair = DepthPair::FirstSecond;
   FarPlane far_plane = FarPlane::Sphere;
-  std::array<double, 3> center{0.0, 0.0, 0.0};  // bounding sphere of the object
+  Vec3 center{0.0, 0.0, 0.0};  // bounding sphere of the object
   double radius = 1.0;
 
   int views() const { return views_theta * views_phi; }
@@ -72,11 +73,11 @@ std::vector<uint32_t> sequence_positions(const StackLayout& layout);
 // A view's frame: dir from the centre toward the camera, right and up span its map (texel x
 // along right, y along up; right = d dir / d p normalised, up = dir x right).
 struct ViewFrame {
-  std::array<double, 3> dir, right, up;
+  Vec3 dir, right, up;
 };
 ViewFrame view_frame(const StackLayout& layout, uint32_t grid_index);
 // The grid cell that holds direction d (any length > 0): the view of a query toward d.
-uint32_t view_of_direction(const StackLayout& layout, const std::array<double, 3>& d);
+uint32_t view_of_direction(const StackLayout& layout, const Vec3& d);
 
 // A point in a view: texel (x, y), possibly outside the map, and its quantised depth
 // q = round(depth kDepthMax) clamped to [0, kDepthMax].
@@ -85,7 +86,7 @@ struct ViewPoint {
   uint32_t q = 0;
   bool inside(int resolution) const { return x >= 0 && y >= 0 && x < resolution && y < resolution; }
 };
-ViewPoint project(const StackLayout& layout, uint32_t grid_index, const std::array<double, 3>& p);
+ViewPoint project(const StackLayout& layout, uint32_t grid_index, const Vec3& p);
 
 // The uncompressed stack: z1 and z2 of map i (position in the sequence) at texel t are
 // z1[i * texels() + t], z2[...]. Invariant per element: z1 < z2, or z1 == z2 == kNoSurface (a

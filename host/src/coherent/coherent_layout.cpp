@@ -2,6 +2,7 @@
 #include <cmath>
 #include <string>
 
+#include "shadowfilter/vec3.hpp"
 #include "shadowfilter/coherent.hpp"
 #include "shadowfilter/errors.hpp"
 
@@ -33,10 +34,6 @@ void hilbert_cell(int side, uint32_t d, int* x, int* y) {
   }
   *x = cx;
   *y = cy;
-}
-
-double dot3(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 }  // namespace
@@ -94,8 +91,8 @@ void validate(const StackLayout& l) {
     throw InputError("coherent: resolution must be in [1, 4096], got " + std::to_string(l.resolution));
   if (!std::isfinite(l.radius) || l.radius <= 0.0)
     throw InputError("coherent: radius must be finite and > 0, got " + std::to_string(l.radius));
-  for (double c : l.center)
-    if (!std::isfinite(c)) throw InputError("coherent: center must be finite");
+  for (int axis = 0; axis < 3; ++axis)
+    if (!std::isfinite(l.center[axis])) throw InputError("coherent: center must be finite");
 }
 
 std::vector<uint32_t> enumerate_views(const StackLayout& l) {
@@ -141,8 +138,8 @@ ViewFrame view_frame(const StackLayout& l, uint32_t g) {
   return f;
 }
 
-uint32_t view_of_direction(const StackLayout& l, const std::array<double, 3>& d) {
-  const double n = std::sqrt(dot3(d, d));
+uint32_t view_of_direction(const StackLayout& l, const Vec3& d) {
+  const double n = std::sqrt(dot(d, d));
   const double t = std::acos(std::clamp(d[1] / n, -1.0, 1.0));
   double p = std::atan2(d[2], d[0]);
   if (p < 0.0) p += 2.0 * kPi;
@@ -151,12 +148,12 @@ uint32_t view_of_direction(const StackLayout& l, const std::array<double, 3>& d)
   return uint32_t(j * l.views_phi + k);
 }
 
-ViewPoint project(const StackLayout& l, uint32_t g, const std::array<double, 3>& p) {
+ViewPoint project(const StackLayout& l, uint32_t g, const Vec3& p) {
   const ViewFrame f = view_frame(l, g);
-  const std::array<double, 3> r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
+  const Vec3 r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
   const double scale = 1.0 / (2.0 * l.radius);
-  const double u = dot3(r, f.right) * scale + 0.5, v = dot3(r, f.up) * scale + 0.5;
-  const double depth = (l.radius - dot3(r, f.dir)) * scale;
+  const double u = dot(r, f.right) * scale + 0.5, v = dot(r, f.up) * scale + 0.5;
+  const double depth = (l.radius - dot(r, f.dir)) * scale;
   ViewPoint vp;
   // Far outside the map stays outside (and fits an int).
   vp.x = int(std::floor(std::clamp(u, -1.0, 2.0) * l.resolution));

@@ -18,12 +18,7 @@
 namespace sf {
 namespace {
 
-using detail::cross;
-using detail::dot;
-using detail::length;
 using detail::Mat4;
-using detail::normalized;
-using detail::Vec3;
 using detail::Vec4;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -3,15 +3,15 @@
 #include <array>
 #include <cmath>
 
+#include "shadowfilter/vec3.hpp"
+
 namespace sf::detail {
 
 using Mat4 = std::array<double, 16>;
 struct Vec4 {
   double x, y, z, w;
 };
-struct Vec3 {
-  double x, y, z;
-};
+using sf::Vec3;
 
 inline Mat4 multiply(const Mat4& a, const Mat4& b) {
   Mat4 c{};
@@ -75,19 +75,6 @@ inline bool invert(const Mat4& m, Mat4* out) {
   }
   *out = inv;
   return true;
-}
-
-inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator*(double s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalized(const Vec3& a) {
-  const double l = length(a);
-  return l > 0.0 ? (1.0 / l) * a : Vec3{0.0, 0.0, 0.0};
 }
 
 }  // namespace sf::detail

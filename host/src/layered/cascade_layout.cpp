@@ -14,28 +14,18 @@ constexpr double kPi = 3.14159265358979323846;
 // Stabilised layers move in steps of this many texels: mip levels 0..5 keep their texel blocks.
 constexpr int kStableSnapTexels = 32;
 
-double dot3(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Point3 cross3(const Point3& a, const Point3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Point3 add3(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Point3 sub3(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Point3 scale3(double s, const Point3& a) { return {s * a[0], s * a[1], s * a[2]}; }
-double norm3(const Point3& a) { return std::sqrt(dot3(a, a)); }
-Point3 unit3(const Point3& a) { return scale3(1.0 / norm3(a), a); }
-
 // Row r of the matrix as (xyz, constant).
 Point3 row_xyz(const LayerTransform& t, int r) { return {t.m[4 * r], t.m[4 * r + 1], t.m[4 * r + 2]}; }
-double row_at(const LayerTransform& t, int r, const Point3& p) { return dot3(row_xyz(t, r), p) + t.m[4 * r + 3]; }
+double row_at(const LayerTransform& t, int r, const Point3& p) { return dot(row_xyz(t, r), p) + t.m[4 * r + 3]; }
 
 // Solves A x = b (3x3, row-major) by Cramer's rule; false when |det| is negligible against the
 // rows' scale.
 bool solve3(const std::array<Point3, 3>& a, const Point3& b, Point3& x) {
-  const double det = dot3(a[0], cross3(a[1], a[2]));
-  const double scale = norm3(a[0]) * norm3(a[1]) * norm3(a[2]);
+  const double det = dot(a[0], cross(a[1], a[2]));
+  const double scale = length(a[0]) * length(a[1]) * length(a[2]);
   if (!(std::abs(det) > 1e-12 * scale) || !std::isfinite(det)) return false;
   // Columns of the inverse: cross products of the rows.
-  const Point3 c0 = cross3(a[1], a[2]), c1 = cross3(a[2], a[0]), c2 = cross3(a[0], a[1]);
+  const Point3 c0 = cross(a[1], a[2]), c1 = cross(a[2], a[0]), c2 = cross(a[0], a[1]);
   for (int i = 0; i < 3; ++i) x[i] = (c0[i] * b[0] + c1[i] * b[1] + c2[i] * b[2]) / det;
   return true;
 }
@@ -48,11 +38,11 @@ struct LightAxes {
 };
 LightAxes light_axes(const Point3& direction) {
   LightAxes axes;
-  axes.forward = unit3(direction);
+  axes.forward = normalize(direction);
   Point3 ref{0, 0, 1};
-  if (std::abs(dot3(ref, axes.forward)) > 0.99) ref = {1, 0, 0};
-  axes.down = unit3(sub3(ref, scale3(dot3(ref, axes.forward), axes.forward)));
-  axes.right = cross3(axes.down, axes.forward);
+  if (std::abs(dot(ref, axes.forward)) > 0.99) ref = {1, 0, 0};
+  axes.down = normalize((ref - (dot(ref, axes.forward) * axes.forward)));
+  axes.right = cross(axes.down, axes.forward);
   return axes;
 }
 
@@ -74,7 +64,7 @@ struct Range {
 Range clipped_depths(const WorldBox& box, const LightAxes& axes, const Range& x, const Range& y) {
   const double tol = 1e-9 * std::max({1.0, std::abs(x.lo), std::abs(x.hi), std::abs(y.lo), std::abs(y.hi)});
   const auto in_prism = [&](const Point3& p) {
-    const double px = dot3(p, axes.right), py = dot3(p, axes.down);
+    const double px = dot(p, axes.right), py = dot(p, axes.down);
     return px >= x.lo - tol && px <= x.hi + tol && py >= y.lo - tol && py <= y.hi + tol;
   };
   const auto in_box = [&](const Point3& p) {
@@ -89,7 +79,7 @@ Range clipped_depths(const WorldBox& box, const LightAxes& axes, const Range& x,
     return Point3{(k & 1) ? box.hi[0] : box.lo[0], (k & 2) ? box.hi[1] : box.lo[1], (k & 4) ? box.hi[2] : box.lo[2]};
   };
   for (int k = 0; k < 8; ++k)
-    if (in_prism(corner(k))) z.add(dot3(corner(k), axes.forward));
+    if (in_prism(corner(k))) z.add(dot(corner(k), axes.forward));
   // Box edges (corner pairs differing in one bit) against the prism's four side planes.
   const std::array<std::pair<const Point3*, double>, 4> sides{
       {{&axes.right, x.lo}, {&axes.right, x.hi}, {&axes.down, y.lo}, {&axes.down, y.hi}}};
@@ -98,21 +88,21 @@ Range clipped_depths(const WorldBox& box, const LightAxes& axes, const Range& x,
       if (k & bit) continue;
       const Point3 a = corner(k), b = corner(k | bit);
       for (const auto& [axis, level] : sides) {
-        const double fa = dot3(a, *axis) - level, fb = dot3(b, *axis) - level;
+        const double fa = dot(a, *axis) - level, fb = dot(b, *axis) - level;
         if ((fa < 0) == (fb < 0) || fa == fb) continue;
-        const Point3 p = add3(a, scale3(fa / (fa - fb), sub3(b, a)));
-        if (in_prism(p)) z.add(dot3(p, axes.forward));
+        const Point3 p = (a + (fa / (fa - fb) * (b - a)));
+        if (in_prism(p)) z.add(dot(p, axes.forward));
       }
     }
   // The prism's four edges (lines along forward) against the box's six faces.
   for (double px : {x.lo, x.hi})
     for (double py : {y.lo, y.hi}) {
-      const Point3 origin = add3(scale3(px, axes.right), scale3(py, axes.down));
+      const Point3 origin = ((px * axes.right) + (py * axes.down));
       for (int i = 0; i < 3; ++i) {
         if (axes.forward[i] == 0.0) continue;
         for (double face : {box.lo[i], box.hi[i]}) {
           const double t = (face - origin[i]) / axes.forward[i];
-          const Point3 p = add3(origin, scale3(t, axes.forward));
+          const Point3 p = (origin + (t * axes.forward));
           if (in_box(p)) z.add(t);
         }
       }
@@ -126,7 +116,7 @@ Range clipped_depths(const WorldBox& box, const LightAxes& axes, const Range& x,
 Range layer_depths(const LightAxes& axes, const Range& x, const Range& y, const std::array<Point3, 8>& slice,
                    const std::vector<WorldBox>& geometry) {
   Range z, slice_z;
-  for (const Point3& c : slice) slice_z.add(dot3(c, axes.forward));
+  for (const Point3& c : slice) slice_z.add(dot(c, axes.forward));
   for (const WorldBox& box : geometry) {
     const Range part = clipped_depths(box, axes, x, y);
     if (part.lo <= part.hi) z.add(part.lo), z.add(part.hi);
@@ -207,7 +197,7 @@ CascadeLayer fit_uniform(const LayoutOptions& o, const CameraFrustum& cam, const
     const double k = tan_half * std::sqrt(1.0 + cam.aspect * cam.aspect);
     double centre_depth = 0, radius = 0;
     slice_sphere(s.a, s.b, k, centre_depth, radius);
-    const Point3 centre = add3(cam.position, scale3(centre_depth, cam.forward));
+    const Point3 centre = (cam.position + (centre_depth * cam.forward));
     // The map moves in steps of `snap` texels along the light's axes: a static texel grid in
     // world space, and static mip levels too up to log2(snap) (a one-texel step regroups every
     // 2x2 block of the mips: evaluate-layouts measured it as the whole of treeline's residual
@@ -216,12 +206,12 @@ CascadeLayer fit_uniform(const LayoutOptions& o, const CameraFrustum& cam, const
     const int snap = std::min(kStableSnapTexels, std::max(1, o.map_size / 8));
     const double texel = 2.0 * radius / (o.map_size - snap);
     const double half = 0.5 * texel * o.map_size, step = snap * texel;
-    const double cx = std::round(dot3(centre, axes.right) / step) * step;
-    const double cy = std::round(dot3(centre, axes.down) / step) * step;
+    const double cx = std::round(dot(centre, axes.right) / step) * step;
+    const double cy = std::round(dot(centre, axes.down) / step) * step;
     x = {cx - half, cx + half};
     y = {cy - half, cy + half};
   } else {
-    for (const Point3& c : corners) x.add(dot3(c, axes.right)), y.add(dot3(c, axes.down));
+    for (const Point3& c : corners) x.add(dot(c, axes.right)), y.add(dot(c, axes.down));
   }
   Range z = layer_depths(axes, x, y, corners, geometry);
   if (o.stabilize) {
@@ -246,9 +236,9 @@ CascadeLayer fit_trapezoid(const LayoutOptions& o, const CameraFrustum& cam, con
                            const std::vector<WorldBox>& geometry) {
   const auto corners = cam.slice_corners(s.a, s.b);
   using P2 = std::array<double, 2>;
-  const auto plane = [&](const Point3& p) { return P2{dot3(p, axes.right), dot3(p, axes.down)}; };
-  const P2 top = plane(add3(cam.position, scale3(s.a, cam.forward)));
-  const P2 base = plane(add3(cam.position, scale3(s.b, cam.forward)));
+  const auto plane = [&](const Point3& p) { return P2{dot(p, axes.right), dot(p, axes.down)}; };
+  const P2 top = plane((cam.position + (s.a * cam.forward)));
+  const P2 base = plane((cam.position + (s.b * cam.forward)));
   double ex = base[0] - top[0], ey = base[1] - top[1];
   const double len = std::hypot(ex, ey);
   // Looking along the light: no direction to warp along; the uniform fit is TSM's own fall-back.
@@ -267,7 +257,7 @@ CascadeLayer fit_trapezoid(const LayoutOptions& o, const CameraFrustum& cam, con
   }
   const double lambda = t_range.hi - t_range.lo;
   const double focus_depth = s.a * std::pow(s.b / s.a, o.tsm_focus);
-  const P2 focus = plane(add3(cam.position, scale3(focus_depth, cam.forward)));
+  const P2 focus = plane((cam.position + (focus_depth * cam.forward)));
   double delta = (focus[0] - top[0]) * ex + (focus[1] - top[1]) * ey - t_range.lo;
   delta = std::clamp(delta, 0.01 * lambda, 0.79 * lambda);
   // y(s) = s (lambda + eta) / ((s + eta) lambda) maps the top (s = 0) to 0, the base to 1; y(delta) = 0.8.
@@ -324,14 +314,13 @@ LayerTransform::MapPoint LayerTransform::apply(const Point3& p) const {
 void LayerTransform::jacobian_uv(const Point3& p, Point3& du, Point3& dv) const {
   const MapPoint q = apply(p);
   const Point3 r3 = row_xyz(*this, 3);
-  du = scale3(1.0 / q.w, sub3(row_xyz(*this, 0), scale3(q.u, r3)));
-  dv = scale3(1.0 / q.w, sub3(row_xyz(*this, 1), scale3(q.v, r3)));
+  du = (1.0 / q.w * (row_xyz(*this, 0) - (q.u * r3)));
+  dv = (1.0 / q.w * (row_xyz(*this, 1) - (q.v * r3)));
 }
 
 bool LayerTransform::unproject(double u, double v, double d, Point3& p) const {
   const Point3 r3 = row_xyz(*this, 3);
-  const std::array<Point3, 3> a{sub3(row_xyz(*this, 0), scale3(u, r3)), sub3(row_xyz(*this, 1), scale3(v, r3)),
-                                row_xyz(*this, 2)};
+  const std::array<Point3, 3> a{(row_xyz(*this, 0) - (u * r3)), (row_xyz(*this, 1) - (v * r3)), row_xyz(*this, 2)};
   const Point3 b{u * m[15] - m[3], v * m[15] - m[7], d - m[11]};
   return solve3(a, b, p);
 }
@@ -340,11 +329,11 @@ bool LayerTransform::ray(double u, double v, Point3& origin, Point3& direction, 
   if (!unproject(u, v, 0.0, origin)) return false;
   Point3 far_point;
   if (!unproject(u, v, 1.0, far_point)) return false;
-  const Point3 span = sub3(far_point, origin);
-  const double length = norm3(span);
-  if (!(length > 0.0) || !std::isfinite(length)) return false;
-  direction = scale3(1.0 / length, span);
-  depth_per_length = 1.0 / length;
+  const Point3 span = (far_point - origin);
+  const double span_length = length(span);
+  if (!(span_length > 0.0) || !std::isfinite(span_length)) return false;
+  direction = (1.0 / span_length * span);
+  depth_per_length = 1.0 / span_length;
   return true;
 }
 
@@ -408,19 +397,19 @@ CascadeChoice select_cascade(const CascadeSet& set, double view_depth, const Poi
 double layer_footprint(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx, const Point3& dp_dy) {
   Point3 du, dv;
   set.layers.at(layer).transform.jacobian_uv(p, du, dv);
-  const auto texels = [&](const Point3& dp) { return std::hypot(set.width * dot3(du, dp), set.height * dot3(dv, dp)); };
+  const auto texels = [&](const Point3& dp) { return std::hypot(set.width * dot(du, dp), set.height * dot(dv, dp)); };
   return std::max(texels(dp_dx), texels(dp_dy));
 }
 
 double layer_texel_size(const CascadeSet& set, int layer, const Point3& p) {
   const LayerTransform& t = set.layers.at(layer).transform;
   // An orthonormal pair spanning the plane of constant depth.
-  const Point3 n = unit3(row_xyz(t, 2));
+  const Point3 n = normalize(row_xyz(t, 2));
   const Point3 ref = std::abs(n[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0};
-  const Point3 a = unit3(cross3(n, ref)), b = cross3(n, a);
+  const Point3 a = normalize(cross(n, ref)), b = cross(n, a);
   Point3 du, dv;
   t.jacobian_uv(p, du, dv);
-  const double det = set.width * set.height * (dot3(du, a) * dot3(dv, b) - dot3(du, b) * dot3(dv, a));
+  const double det = set.width * set.height * (dot(du, a) * dot(dv, b) - dot(du, b) * dot(dv, a));
   return 1.0 / std::sqrt(std::abs(det));
 }
 
@@ -442,16 +431,16 @@ std::vector<double> practical_splits(double near_depth, double far_depth, int co
 }
 
 std::array<Point3, 8> CameraFrustum::slice_corners(double a, double b) const {
-  const Point3 right = cross3(forward, up);
+  const Point3 right = cross(forward, up);
   const double tan_half = std::tan(0.5 * vertical_fov_degrees * kPi / 180.0);
   std::array<Point3, 8> c;
   for (int face = 0; face < 2; ++face) {
     const double t = face == 0 ? a : b;
-    const Point3 centre = add3(position, scale3(t, forward));
+    const Point3 centre = (position + (t * forward));
     const double h = t * tan_half, w = h * aspect;
     for (int k = 0; k < 4; ++k) {
       const double sx = (k & 1) ? w : -w, sy = (k & 2) ? h : -h;
-      c[4 * face + k] = add3(centre, add3(scale3(sx, right), scale3(sy, up)));
+      c[4 * face + k] = (centre + ((sx * right) + (sy * up)));
     }
   }
   return c;
@@ -484,7 +473,7 @@ CascadeSet fit_layout(const LayoutOptions& o, const CameraFrustum& cam, const Po
   if (!(cam.vertical_fov_degrees > 0.0 && cam.vertical_fov_degrees < 170.0))
     throw InputError("--camera-fov must lie in (0, 170) degrees");
   if (!(cam.aspect > 0.0) || !std::isfinite(cam.aspect)) throw InputError("the camera's aspect must be positive");
-  if (!(norm3(light_direction) > 0.0) || !std::isfinite(norm3(light_direction)))
+  if (!(length(light_direction) > 0.0) || !std::isfinite(length(light_direction)))
     throw InputError("the light direction must be a finite non-zero vector");
   const bool layered = o.kind == LayoutKind::Pssm || o.kind == LayoutKind::PssmTsm;
   const int count = layered ? o.cascades : 1;

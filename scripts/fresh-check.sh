@@ -79,10 +79,21 @@ in_root() {
   chroot "$root" /usr/bin/env -i PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     HOME=/root LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive JOBS=$jobs /bin/bash -c "$1"
 }
-# The host's resolver and apt sources (same mirror and suites, security updates included), so the
-# root differs from the host only in what is installed.
+# The host's resolver, apt sources (same mirror and suites, security updates included) and trust
+# store, so the root differs from the host only in what is installed. The trust store: where the
+# network passes a proxy with its own certificate authority (as on CI's machines), HTTPS from the
+# root (pip filling make test's venv) needs that authority as the host does; the local
+# certificates come along so that installing ca-certificates in the root keeps them.
 copy_host_config() {
   cp /etc/resolv.conf "$root/etc/resolv.conf" || return 1
+  if [ -d /usr/local/share/ca-certificates ]; then
+    mkdir -p "$root/usr/local/share/ca-certificates" &&
+      cp -a /usr/local/share/ca-certificates/. "$root/usr/local/share/ca-certificates/" || return 1
+  fi
+  if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
+    mkdir -p "$root/etc/ssl/certs" && cp /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/" || return 1
+  fi
+  if [ -f /etc/pip.conf ]; then cp /etc/pip.conf "$root/etc/pip.conf" || return 1; fi
   if [ -f /etc/apt/sources.list.d/debian.sources ]; then
     cp /etc/apt/sources.list.d/debian.sources "$root/etc/apt/sources.list.d/" && rm -f "$root/etc/apt/sources.list"
   fi

@@ -2,8 +2,6 @@
 // (parameters.hpp): the FilterOptions-wide knobs and every registered method's parameters, each
 // flag once however many methods share it.
 #include <algorithm>
-#include <cctype>
-#include <map>
 #include <sstream>
 
 #include "filter_options.hpp"
@@ -26,18 +24,6 @@ std::string users(const Parameter& p) {
   return out;
 }
 
-bool is_knob(const Parameter& p) {
-  for (const Parameter& k : filter_parameters())
-    if (k.field == p.field) return true;
-  return false;
-}
-
-std::string text_of(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // The flag's help: who reads it, what it is, its default.
 std::string help_of(const Parameter& p, const std::string& methods) {
   std::string h = methods.empty() ? p.help : methods + ": " + p.help;
@@ -45,15 +31,16 @@ std::string help_of(const Parameter& p, const std::string& methods) {
   return h;
 }
 
-// One flag of a declaration, its value handed to `set`. The knobs' ranges are checked here (their
-// stages check their own fields in the library, where 0 or a negative value may mean a default
-// that a flag given does not ask for); a method's parameters are checked by the method's
-// validation, whose message names the flag (cli_message).
+// One flag of a declaration, its value handed to `set`: checked and parsed as every front end
+// does (check_given_value, parse_choice: parameters.hpp); a method's parameters are checked by the
+// method's validation, whose message names the flag (cli_message).
 void add_parameter(CLI::App& c, const Parameter& p, const std::function<void(double)>& set, const std::string& help) {
-  const bool check = is_knob(p) && p.range.has_value();
-  auto checked = [&p, set, check](double v) {
-    if (check && !p.range->contains(v) && !(p.unset == ParameterUnset::Negative && v < 0))
-      throw CLI::ValidationError(p.flag, "must be " + p.range->text(p.type) + ", got " + text_of(v));
+  auto checked = [&p, set](double v) {
+    try {
+      check_given_value(p, v);
+    } catch (const InputError& e) {  // while parsing: a parse error, as every other option's
+      throw CLI::ValidationError(p.flag, e.what());
+    }
     set(v);
   };
   switch (p.type) {
@@ -66,37 +53,19 @@ void add_parameter(CLI::App& c, const Parameter& p, const std::function<void(dou
           p.flag, [checked](int v) { checked(v); }, help);
       return;
     case ParameterType::Choice:
-      break;
+      c.add_option_function<std::string>(
+           p.flag,
+           [&p, set](const std::string& text) {
+             try {
+               set(parse_choice(p, text));
+             } catch (const InputError& e) {
+               throw CLI::ValidationError(p.flag, e.what());
+             }
+           },
+           help)
+          ->type_name(p.metavar);
+      return;
   }
-  // Names, case-insensitive: "must be a, b or c, got 'x'" for anything else (alphabetical, as
-  // every enum option of the command lists its names).
-  std::map<std::string, int> names;
-  for (size_t i = 0; i < p.choices.size(); ++i) names[p.choices[i]] = int(i);
-  std::string listed;
-  size_t i = 0;
-  for (const auto& entry : names) {
-    listed += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + entry.first;
-    ++i;
-  }
-  c.add_option_function<std::string>(
-       p.flag,
-       [&p, names, listed, set](const std::string& text) {
-         if (p.parse) {
-           try {
-             set(p.parse(text));
-             return;
-           } catch (const InputError& e) {  // while parsing: a parse error, as every other option's
-             throw CLI::ValidationError(p.flag, e.what());
-           }
-         }
-         std::string lower = text;
-         for (char& ch : lower) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-         const auto it = names.find(lower);
-         if (it == names.end()) throw CLI::ValidationError(p.flag, "must be " + listed + ", got '" + text + "'");
-         set(it->second);
-       },
-       help)
-      ->type_name(p.metavar);
 }
 
 void add_for_filter(CLI::App& c, FilterOptions& o, const Parameter& p) {
@@ -142,7 +111,7 @@ void add_method_options(CLI::App& c, FilterOptions& o) {
   for (const Parameter& p : filter_parameters())
     if (!is_prefilter_knob(p)) add_for_filter(c, o, p);
   for (const Parameter* p : declared_parameters())
-    if (!is_knob(*p)) add_for_filter(c, o, *p);
+    if (!is_filter_knob(*p)) add_for_filter(c, o, *p);
 }
 
 void add_prefilter_options(CLI::App& c, FilterOptions& o) {

@@ -96,18 +96,7 @@ SoftLight light_from_view(const io::ViewFile& file, const std::string& path, con
                      "--light-far, --light-fov and --light-extent");
   if (!std::isfinite(a.light_size))
     throw InputError("--light '" + path + "' has no area light size: give --light-size L (world units)");
-  const ProjectionDepth pd = light_projection_depth(file.view_projection);
-  const double x_scale = std::fabs(file.view_projection.projection[0]);
-  SoftLight L;
-  L.perspective = pd.perspective;
-  L.size = a.light_size;
-  L.near_plane = pd.near_plane;
-  L.far_plane = pd.far_plane;
-  if (pd.perspective)
-    L.fov_degrees = 2.0 * std::atan(1.0 / x_scale) * 180.0 / M_PI;
-  else
-    L.extent = 2.0 / x_scale;
-  return L;
+  return soft_light(file.view_projection, a.light_size);
 }
 
 SoftLight light_from_header(const std::string& path, const SoftArgs& a) {

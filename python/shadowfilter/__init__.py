@@ -11,10 +11,12 @@ import numpy as np
 from . import _core
 from ._core import DeviceError, InputError
 
-__all__ = ["filter", "options", "receivers", "methods", "devices", "Device", "View", "load_view", "InputError", "DeviceError"]
+__all__ = ["filter", "soft", "soft_light", "options", "receivers", "methods", "soft_methods", "devices", "Device", "View",
+           "SoftLight", "load_view", "InputError", "DeviceError"]
 
 Device = _core.Device
 View = _core.View
+SoftLight = _core.SoftLight
 _default_device: "_core.Device | None" = None
 
 
@@ -32,6 +34,11 @@ def options():
 def methods():
     """The names of the registered filtering methods, in registry order."""
     return _core.method_names()
+
+
+def soft_methods():
+    """The names of the soft-shadow techniques: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)."""
+    return _core.soft_methods()
 
 
 def _device(device):
@@ -123,3 +130,67 @@ def receivers(camera, camera_depth, light, *, map_size, camera_depth_kind="windo
     if counts is not None:
         counts.update(c)
     return out
+
+
+_LIGHT_KEYWORDS = ("light_type", "light_near", "light_far", "light_fov", "light_extent")
+
+
+def soft_light(light=None, *, light_size=None, light_type=None, light_near=None, light_far=None, light_fov=None,
+               light_extent=None):
+    """A SoftLight as the `soft` command builds it, from the same names as its flags.
+
+    light: a light's View, dict or JSON file (its projection gives the type, planes and extent or
+    field of view; give light_size, the area light's width in world units). Without it:
+    light_type "ortho" (default) with light_extent (the map's width in light units) and
+    light_near, light_far (view depths of d = 0 and 1; default 0 and 1), or "perspective" with
+    light_near, light_far and light_fov (full field of view, degrees).
+    """
+    if isinstance(light, SoftLight):
+        return light
+    given = {k: v for k, v in zip(_LIGHT_KEYWORDS, (light_type, light_near, light_far, light_fov, light_extent))
+             if v is not None}
+    if light is not None:
+        if given:
+            raise InputError("light gives the light's type, planes and extent (its projection); drop "
+                             + ", ".join(sorted(given)))
+        if light_size is None:
+            raise InputError("light has no area light size: give light_size (world units)")
+        return _core.soft_light(load_view(light), float(light_size))
+    if light_size is None:
+        raise InputError("give light_size (the area light's width, world units) and the light's projection "
+                         "(light=, or light_type with light_extent or light_fov)")
+    kind = {"orthographic": "ortho"}.get(light_type, light_type) or "ortho"
+    if kind not in ("ortho", "perspective"):
+        raise InputError(f"light_type must be ortho or perspective, got '{light_type}'")
+    if kind == "perspective":
+        if light_near is None or light_far is None or light_fov is None:
+            raise InputError("a perspective light needs light_near, light_far and light_fov")
+    elif light_extent is None:
+        raise InputError("an orthographic light needs the map's width in light units (light_extent)")
+    near = 0.0 if light_near is None else light_near
+    far = 1.0 if light_far is None else light_far
+    return SoftLight(kind == "perspective", float(light_size), float(near), float(far),
+                     float(light_extent if light_extent is not None else 1.0),
+                     float(light_fov if light_fov is not None else 0.0))
+
+
+def soft(depth, receivers=None, *, receiver_depth=None, method="pcss", light=None, light_size=None, light_type=None,
+         light_near=None, light_far=None, light_fov=None, light_extent=None, device=None, **options):
+    """Soft-shadow visibility in [0, 1] of each receiver from a square area light (docs/soft.md):
+    method pcss, cssm, ssmm or ssmm-improved, on the light's depth map `depth` (H, W).
+
+    receivers / receiver_depth as filter() takes them. The light as soft_light() builds it (light=
+    a View or light file with light_size, or light_type, light_extent | light_fov, light_near,
+    light_far, light_size). Keyword options are the `soft` command's flags (soft_bias,
+    cssm_order, lookup="mips"|"sat", cssm_sharpen=(A, B), ssmm_n, slope_bias, ...), with its
+    messages. Returns (h, w) or (H, W) float32, equal to the command's output.
+    """
+    if (receivers is None) == (receiver_depth is None):
+        raise InputError("give exactly one of receivers and receiver_depth")
+    L = soft_light(light, light_size=light_size, light_type=light_type, light_near=light_near, light_far=light_far,
+                   light_fov=light_fov, light_extent=light_extent)
+    dev = _device(device)
+    d = _float32("depth", depth, 2)
+    if receivers is not None:
+        return _core.soft_points(dev, method, options, L, d, _float32("receivers", receivers, 3))
+    return _core.soft_grid(dev, method, options, L, d, _float32("receiver_depth", receiver_depth, 2))

@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "shadowfilter/options.hpp"
@@ -104,5 +105,29 @@ std::vector<const Parameter*> declared_parameters();
 // Throws InputError when a declared parameter of `params` is outside its range in `o`
 // ("FilterOptions::csm.order must be in 1..32, got 99").
 void check_parameters(const std::vector<Parameter>& params, const FilterOptions& o);
+
+// --- what every front end (the CLI's flags, the Python keywords) does with a given value --------
+// The messages below name no flag or keyword: the front end prefixes its own name.
+
+// Whether `p` is one of filter_parameters(), the knobs every method shares.
+bool is_filter_knob(const Parameter& p);
+
+// Checks a number given for `p` before it is set: a knob outside its range throws InputError
+// "must be <range>, got <v>" (values that mean "the default" pass). The knobs are checked here
+// because their stages take 0 or a negative value as "the default", which a value given does not
+// ask for; a method's parameters pass here and are checked by the method's validation.
+void check_given_value(const Parameter& p, double v);
+
+// A choice's value from its name: p.parse where the parameter has one, else its names
+// case-insensitively; InputError "must be a, b or c, got 'x'" (names alphabetical).
+double parse_choice(const Parameter& p, const std::string& text);
+
+// The fields the library's messages name, each with its flag: FilterOptions::method as
+// "--method", then every declared parameter's (declared_parameters()).
+std::vector<std::pair<std::string, std::string>> option_flags();
+
+// `message` with every field of `names` (field -> name) replaced by its name, longest field first
+// and whole names only ("FilterOptions::esm.c" is not rewritten inside "FilterOptions::esm.cx").
+std::string rename_fields(std::string message, std::vector<std::pair<std::string, std::string>> names);
 
 }  // namespace sf

@@ -5,9 +5,11 @@
 // visibility per receiver, like the basis methods at the reconstruction end.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/view_projection.hpp"
 
 namespace sf {
 
@@ -33,6 +35,12 @@ struct SoftLight {
 // receiver at depth d (soft_common.clh): ortho (L/extent)(D_R - D_B)/D_R; perspective
 // L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis.
 double soft_width(const SoftLight& light, double d, double z);
+// The light of a light's view and projection (camera-file conventions, docs/inputs.md):
+// orthographic with the map's width in light units 2 / |projection[0][0]|, or perspective with
+// the full field of view 2 atan(1 / |projection[0][0]|) across the map's width; its planes from
+// the projection (light_projection_depth); `size` the area light's width in world units.
+// InputError for a projection light_projection_depth refuses and for a size not finite and >= 0.
+SoftLight soft_light(const ViewProjection& light, double size);
 
 // cssm (convolution soft shadows, Annen 2008 ch. 8). Defaults chosen on the bundled scenes
 // (docs/soft.md "cssm defaults"; the offset and scale by the defaults sweep, docs/results.md).
@@ -74,6 +82,10 @@ struct SoftOptions {
   SsmmOptions ssmm;
 };
 void validate(const SoftOptions& opt);  // throws InputError
+// The SoftOptions fields validate() names in its messages, each with the command-line flag that
+// sets it ("SoftOptions::cssm.order" -> "--cssm-order"): the CLI names its flags in messages and
+// the Python binding its keywords (the flag's name with '_' for '-'), from this one table.
+const std::vector<std::pair<std::string, std::string>>& soft_option_flags();
 // cssm's parameters in effect (defaults resolved).
 struct CssmParams {
   float offset, z_offset, scale, width_scale, lit, sharpen_a, sharpen_b;

@@ -2,7 +2,10 @@
 // and the walk over every declared parameter.
 #include "shadowfilter/parameters.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "shadowfilter/errors.hpp"
@@ -157,6 +160,54 @@ void check_parameters(const std::vector<Parameter>& params, const FilterOptions&
     throw InputError(p.field + " must be " + p.range->text(p.type) +
                      (p.unset == ParameterUnset::Negative ? " (negative = the default)" : "") + ", got " + num(v));
   }
+}
+
+bool is_filter_knob(const Parameter& p) {
+  for (const Parameter& k : filter_parameters())
+    if (k.field == p.field) return true;
+  return false;
+}
+
+void check_given_value(const Parameter& p, double v) {
+  if (is_filter_knob(p) && p.range && !p.range->contains(v) && !(p.unset == ParameterUnset::Negative && v < 0))
+    throw InputError("must be " + p.range->text(p.type) + ", got " + num(v));
+}
+
+double parse_choice(const Parameter& p, const std::string& text) {
+  if (p.parse) return p.parse(text);
+  std::map<std::string, int> names;  // alphabetical, as every enum option lists its names
+  for (size_t i = 0; i < p.choices.size(); ++i) names[p.choices[i]] = int(i);
+  std::string lower = text;
+  for (char& ch : lower) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (const auto it = names.find(lower); it != names.end()) return it->second;
+  std::string listed;
+  size_t i = 0;
+  for (const auto& entry : names) listed += (i++ == 0 ? "" : (i == names.size() ? " or " : ", ")) + entry.first;
+  throw InputError("must be " + listed + ", got '" + text + "'");
+}
+
+std::vector<std::pair<std::string, std::string>> option_flags() {
+  std::vector<std::pair<std::string, std::string>> t = {{"FilterOptions::method", "--method"}};
+  for (const Parameter* p : declared_parameters()) t.emplace_back(p->field, p->flag);
+  return t;
+}
+
+std::string rename_fields(std::string s, std::vector<std::pair<std::string, std::string>> names) {
+  std::stable_sort(names.begin(), names.end(),
+                   [](const auto& a, const auto& b) { return a.first.size() > b.first.size(); });
+  auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (const auto& [field, name] : names) {
+    for (size_t at = s.find(field); at != std::string::npos; at = s.find(field, at)) {
+      const size_t end = at + field.size();
+      if (end < s.size() && is_name_char(s[end])) {  // a longer name that starts with this one
+        at = end;
+        continue;
+      }
+      s.replace(at, field.size(), name);
+      at += name.size();
+    }
+  }
+  return s;
 }
 
 }  // namespace sf

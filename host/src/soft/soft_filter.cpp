@@ -87,6 +87,46 @@ double soft_width(const SoftLight& L, double d, double z) {
   return L.size / L.extent * std::max(DR - DB, 0.0) / DR;
 }
 
+SoftLight soft_light(const ViewProjection& view, double size) {
+  if (!(size >= 0.0) || !std::isfinite(size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
+  const ProjectionDepth pd = light_projection_depth(view);
+  const double x_scale = std::fabs(view.projection[0]);
+  SoftLight L;
+  L.perspective = pd.perspective;
+  L.size = size;
+  L.near_plane = pd.near_plane;
+  L.far_plane = pd.far_plane;
+  if (pd.perspective)
+    L.fov_degrees = 2.0 * std::atan(1.0 / x_scale) * 180.0 / kPi;
+  else
+    L.extent = 2.0 / x_scale;
+  return L;
+}
+
+const std::vector<std::pair<std::string, std::string>>& soft_option_flags() {
+  static const std::vector<std::pair<std::string, std::string>> table = {
+      {"SoftOptions::receiver_plane.slope_bias", "--slope-bias"},
+      {"SoftOptions::receiver_plane.max_slope", "--receiver-plane-max-slope"},
+      {"SoftOptions::light.size", "--light-size"},
+      {"SoftOptions::light.near_plane", "--light-near"},
+      {"SoftOptions::light.fov_degrees", "--light-fov"},
+      {"SoftOptions::light.extent", "--light-extent"},
+      {"SoftOptions::bias", "--soft-bias"},
+      {"SoftOptions::max_width", "--soft-max-width"},
+      {"SoftOptions::cssm.order", "--cssm-order"},
+      {"SoftOptions::cssm.lookup", "--lookup"},
+      {"SoftOptions::cssm.offset", "--cssm-offset"},
+      {"SoftOptions::cssm.scale", "--cssm-scale"},
+      {"SoftOptions::cssm.sharpen_a", "--cssm-sharpen A"},
+      {"SoftOptions::cssm.sharpen_b", "--cssm-sharpen B"},
+      {"SoftOptions::cssm.min_den", "--cssm-min-den"},
+      {"SoftOptions::cssm.z_offset", "--cssm-z-offset"},
+      {"SoftOptions::cssm.width_scale", "--cssm-width-scale"},
+      {"SoftOptions::ssmm.n", "--ssmm-n"},
+  };
+  return table;
+}
+
 double cssm_series(int M, double x) {
   double s = 0;
   for (int k = 0; k < M; ++k) {

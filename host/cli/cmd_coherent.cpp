@@ -1,6 +1,7 @@
 // `shadowfilter coherent`: coherent shadow maps (methods.md sec. 5; Ritschel 2007; docs/coherent.md).
-// build renders and compresses a stack of dual-depth maps around an object into a .csm file;
-// info describes one.
+// build renders and compresses a stack of dual-depth maps around an object into a .csm file (or,
+// with --shard K/N, renders one contiguous range of its views into a part); merge compresses the
+// parts into the .csm one build writes; info describes one.
 #include <unistd.h>
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "coherent_reference.hpp"
 #include "coherent_stack.hpp"
 #include "commands.hpp"
+#include "frame_list.hpp"
 #include "output_file.hpp"
 #include "progress.hpp"
 #include "shadowfilter/coherent_device.hpp"
@@ -23,8 +25,16 @@ namespace {
 
 struct BuildArgs {
   std::string source, output, views = "32x32", ordering = "hilbert", far_plane = "sphere";
-  std::string compress = "auto", device, renderer = "auto";
+  std::string compress = "auto", device, renderer = "auto", shard;
   int resolution = 128, depth_pair = 12, threads = 0;
+  bool quiet = false;
+  const CLI::Option* compress_option = nullptr;  // given: with --shard, refused (the merge compresses)
+  const CLI::Option* device_option = nullptr;
+};
+
+struct MergeArgs {
+  std::vector<std::string> parts;
+  std::string output, compress = "auto", device;
   bool quiet = false;
 };
 
@@ -66,6 +76,47 @@ std::string size_summary(const coherent::CompressedStack& c) {
          " MiB, ratio " + fixed(unc / comp, 1) + ":1";
 }
 
+// The device that compresses (--compress, --device), chosen before the long render so that a bad
+// --device fails at once; null for the host. auto: the kernel on a GPU; on a CPU device the
+// host's pass, which costs about what the kernel does there and saves copying the stack to the
+// device (docs/coherent.md, "Compression").
+std::shared_ptr<Runtime> compression_runtime(const std::string& compress, const std::string& device) {
+  if (compress != "auto" && compress != "device" && compress != "host")
+    throw InputError("--compress must be auto, device or host, got '" + compress + "'");
+  std::shared_ptr<Runtime> runtime = compress != "host" ? Runtime::create(device) : nullptr;
+  if (compress == "auto" && runtime->info().type != "GPU") runtime.reset();
+  return runtime;
+}
+
+// The uncompressed maps (z1 and z2, 2 bytes each) are held in memory while they are written or
+// compressed: refused when they would take more than 3/4 of the machine's memory.
+void check_memory(const coherent::StackLayout& layout, size_t views) {
+  const double stack_bytes = 4.0 * double(views) * double(layout.texels());
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (memory > 0.0 && stack_bytes > 0.75 * memory)
+    throw InputError("the dual-depth stack of " + std::to_string(views) + " views of " +
+                     std::to_string(layout.resolution) + "^2 texels needs " + fixed(stack_bytes / 1073741824.0, 1) +
+                     " GiB, more than 3/4 of this machine's " + fixed(memory / 1073741824.0, 1) +
+                     " GiB: fewer views, a smaller --res or --shard K/N");
+}
+
+// Compresses the stack and writes the .csm, with the summary line of `command` unless quiet.
+void compress_and_write(const coherent::DualDepthStack& stack, const std::string& source,
+                        const std::shared_ptr<Runtime>& runtime, const std::string& output, const std::string& command,
+                        double before_s, bool quiet) {
+  const auto t1 = std::chrono::steady_clock::now();
+  io::CoherentFile file;
+  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
+  const double compress_s = seconds_since(t1);
+  file.source = source;
+  io::write_coherent(output, file);
+  if (!quiet)
+    std::cout << "coherent " << command << ": " << output << ": " << size_summary(file.stack) << "; "
+              << (command == "build" ? "render " : "read ") << fixed(before_s, 2) << " s, compress "
+              << fixed(compress_s, 2) << " s, total " << fixed(before_s + compress_s, 2) << " s, compressed on "
+              << (runtime ? runtime->info().device_name : std::string("the host")) << "\n";
+}
+
 int run_build(const BuildArgs& a) {
   io::check_outputs({a.output}, {a.source});
   coherent::StackLayout layout;
@@ -80,44 +131,89 @@ int run_build(const BuildArgs& a) {
   if (a.threads < 0 || a.threads > 1024) throw InputError("--threads must be in [0, 1024]");
   if (a.renderer != "auto" && a.renderer != "embree")
     throw InputError("--renderer must be auto or embree, got '" + a.renderer + "'");
-  if (a.compress != "auto" && a.compress != "device" && a.compress != "host")
-    throw InputError("--compress must be auto, device or host, got '" + a.compress + "'");
-  // The device is chosen before the long render, so a bad --device fails at once. auto: the
-  // kernel on a GPU; on a CPU device the host's pass, which costs about what the kernel does there
-  // and saves copying the stack to the device (docs/coherent.md, "Compression").
-  std::shared_ptr<Runtime> runtime = a.compress != "host" ? Runtime::create(a.device) : nullptr;
-  if (a.compress == "auto" && runtime->info().type != "GPU") runtime.reset();
+  const bool sharded = !a.shard.empty();
+  if (sharded && ((a.compress_option && a.compress_option->count()) || (a.device_option && a.device_option->count())))
+    throw InputError("--compress and --device are for the compression: with --shard, give them to coherent merge");
+  std::shared_ptr<Runtime> runtime = sharded ? nullptr : compression_runtime(a.compress, a.device);
   coherent::validate(layout);
-  // The uncompressed stack (z1 and z2, 2 bytes each) is held in memory while it is compressed.
-  const double stack_bytes = 4.0 * double(layout.views()) * double(layout.texels());
-  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-  if (memory > 0.0 && stack_bytes > 0.75 * memory)
-    throw InputError("the dual-depth stack of " + std::to_string(layout.views()) + " views of " +
-                     std::to_string(layout.resolution) + "^2 texels needs " + fixed(stack_bytes / 1073741824.0, 1) +
-                     " GiB, more than 3/4 of this machine's " + fixed(memory / 1073741824.0, 1) +
-                     " GiB: fewer views or a smaller --res");
+  scene::ViewRange range{0, uint32_t(layout.views())};
+  if (sharded) {
+    const Shard shard = parse_shard(a.shard);
+    if (shard.count > size_t(layout.views()))
+      throw InputError("--shard " + a.shard + ": more parts than the " + std::to_string(layout.views()) + " views");
+    range = scene::shard_views(layout, shard.index, shard.count);
+  }
+  check_memory(layout, range.count());
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
   scene::fit_bounding_sphere(object, layout);
 
   const auto t0 = std::chrono::steady_clock::now();
-  coherent::DualDepthStack stack;
+  scene::StackPart part;
   {
-    scene::Progress progress("rendering views", size_t(layout.views()), !a.quiet);
-    stack = scene::render_stack(
-        object, layout, a.threads, [&](size_t n) { progress.add(n); },
+    scene::Progress progress("rendering views", size_t(range.count()), !a.quiet);
+    part = scene::render_stack_part(
+        object, layout, range, a.threads, [&](size_t n) { progress.add(n); },
         a.renderer == "embree" ? scene::StackRenderer::Embree : scene::StackRenderer::Auto);
   }
   const double render_s = seconds_since(t0);
-  const auto t1 = std::chrono::steady_clock::now();
-  io::CoherentFile file;
-  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
-  const double compress_s = seconds_since(t1);
-  file.source = a.source;
-  io::write_coherent(a.output, file);
-  if (!a.quiet)
-    std::cout << "coherent build: " << a.output << ": " << size_summary(file.stack) << "; render " << fixed(render_s, 2)
-              << " s, compress " << fixed(compress_s, 2) << " s, total " << fixed(render_s + compress_s, 2)
-              << " s, compressed on " << (runtime ? runtime->info().device_name : std::string("the host")) << "\n";
+  if (sharded) {
+    io::CoherentPart file{layout, a.source, range.first, range.end, std::move(part.z1), std::move(part.z2)};
+    io::write_coherent_part(a.output, file);
+    if (!a.quiet)
+      std::cout << "coherent build: " << a.output << ": part " << a.shard << ", views " << range.first << ".."
+                << range.end << " of " << layout.views() << "; render " << fixed(render_s, 2)
+                << " s (coherent merge compresses the parts)\n";
+    return 0;
+  }
+  coherent::DualDepthStack stack{layout, std::move(part.z1), std::move(part.z2)};
+  compress_and_write(stack, a.source, runtime, a.output, "build", render_s, a.quiet);
+  return 0;
+}
+
+bool same_layout(const coherent::StackLayout& a, const coherent::StackLayout& b) {
+  return a.views_theta == b.views_theta && a.views_phi == b.views_phi && a.resolution == b.resolution &&
+         a.ordering == b.ordering && a.depth_pair == b.depth_pair && a.far_plane == b.far_plane &&
+         a.center[0] == b.center[0] && a.center[1] == b.center[1] && a.center[2] == b.center[2] && a.radius == b.radius;
+}
+
+// The parts of one stack (one layout and object, every view in exactly one part) into the .csm
+// that the unsharded build writes, byte for byte.
+int run_merge(const MergeArgs& a) {
+  io::check_outputs({a.output}, a.parts);
+  const std::shared_ptr<Runtime> runtime = compression_runtime(a.compress, a.device);
+  const auto t0 = std::chrono::steady_clock::now();
+  // The first part gives the layout and object; each is checked against them as it is read.
+  io::CoherentPart part = io::read_coherent_part(a.parts.front());
+  const coherent::StackLayout layout = part.layout;
+  const std::string source = part.source;
+  check_memory(layout, size_t(layout.views()));
+  const size_t texels = layout.texels();
+  coherent::DualDepthStack stack{layout, std::vector<uint16_t>(size_t(layout.views()) * texels, coherent::kNoSurface),
+                                 std::vector<uint16_t>(size_t(layout.views()) * texels, coherent::kNoSurface)};
+  std::vector<int> owner(size_t(layout.views()), -1);  // the part that holds each view
+  for (size_t k = 0; k < a.parts.size(); ++k) {
+    if (k > 0) part = io::read_coherent_part(a.parts[k]);
+    if (!same_layout(part.layout, layout) || part.source != source)
+      throw InputError("'" + a.parts[k] + "' is a part of another stack than '" + a.parts.front() +
+                       "' (its layout or object differs)");
+    for (uint32_t v = part.first; v < part.end; ++v) {
+      if (owner[v] >= 0)
+        throw InputError("'" + a.parts[k] + "' and '" + a.parts[size_t(owner[v])] + "' both hold view " +
+                         std::to_string(v) + " (give each part once)");
+      owner[v] = int(k);
+    }
+    const size_t at = size_t(part.first) * texels;
+    std::copy(part.z1.begin(), part.z1.end(), stack.z1.begin() + long(at));
+    std::copy(part.z2.begin(), part.z2.end(), stack.z2.begin() + long(at));
+  }
+  for (size_t v = 0; v < owner.size(); ++v)
+    if (owner[v] < 0) {
+      size_t end = v;
+      while (end < owner.size() && owner[end] < 0) ++end;
+      throw InputError("views " + std::to_string(v) + ".." + std::to_string(end) + " of " +
+                       std::to_string(layout.views()) + " are in no part (a shard's output is missing)");
+    }
+  compress_and_write(stack, source, runtime, a.output, "merge", seconds_since(t0), a.quiet);
   return 0;
 }
 
@@ -161,13 +257,32 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
-  b->add_option("--compress", build->compress,
-                "Where the segments are fitted: device (OpenCL kernel), host (the scalar reference; same bytes) or "
-                "auto (device on a GPU, else host)")
-      ->capture_default_str();
-  b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
+  const char* const compress_help =
+      "Where the segments are fitted: device (OpenCL kernel), host (the scalar reference; same bytes) or auto "
+      "(device on a GPU, else host)";
+  build->compress_option = b->add_option("--compress", build->compress, compress_help)->capture_default_str();
+  build->device_option =
+      b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
+  b->add_option("--shard", build->shard,
+                "Render part K of N, views floor((K-1)V/N) .. floor(KV/N) of the sequence, into a stack part "
+                "(-o, .csmpart) that coherent merge compresses with the other parts")
+      ->type_name("K/N");
   b->add_flag("-q,--quiet", build->quiet, "No progress bar or summary");
   out.subcommands.push_back({b, [build] { return run_build(*build); }});
+
+  auto merge = std::make_shared<MergeArgs>();
+  CLI::App* g = c->add_subcommand(
+      "merge", "Compress the parts of a sharded build (coherent build --shard K/N) into the .csm one build writes");
+  g->add_option("parts", merge->parts, "The stack parts, every view in exactly one (any order)")->required();
+  g->add_option("-o,--out", merge->output, "Output .csm file (written atomically)")->required();
+  g->add_option("--compress", merge->compress, compress_help)->capture_default_str();
+  g->add_option("--device", merge->device, "OpenCL device of --compress device (as filter's --device)");
+  g->add_flag("-q,--quiet", merge->quiet, "No summary");
+  g->footer(
+      "Example (4 processes, any scheduler; docs/scale.md):\n"
+      "  shadowfilter coherent build bunny.off -o p$K.csmpart --shard $K/4\n"
+      "  shadowfilter coherent merge p?.csmpart -o bunny.csm");
+  out.subcommands.push_back({g, [merge] { return run_merge(*merge); }});
 
   auto info = std::make_shared<InfoArgs>();
   CLI::App* i = c->add_subcommand("info", "Describe a .csm file: layout, object, sizes and compression ratio");

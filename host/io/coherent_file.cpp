@@ -113,6 +113,52 @@ void check_segments(const coherent::CompressedStack& c, const std::string& path)
   }
 }
 
+void put_layout(Writer& w, const coherent::StackLayout& l) {
+  w.u32(uint32_t(l.resolution));
+  w.u32(uint32_t(l.views_theta));
+  w.u32(uint32_t(l.views_phi));
+  w.u32(uint32_t(l.ordering));
+  w.u32(uint32_t(l.depth_pair));
+  w.u32(uint32_t(l.far_plane));
+  for (int axis = 0; axis < 3; ++axis) w.f64(l.center[axis]);
+  w.f64(l.radius);
+}
+
+coherent::StackLayout get_layout(Reader& r) {
+  coherent::StackLayout l;
+  l.resolution = int(r.u32("header"));
+  l.views_theta = int(r.u32("header"));
+  l.views_phi = int(r.u32("header"));
+  l.ordering = coherent::Ordering(r.u32("header"));
+  l.depth_pair = coherent::DepthPair(r.u32("header"));
+  l.far_plane = coherent::FarPlane(r.u32("header"));
+  for (int axis = 0; axis < 3; ++axis) l.center[axis] = r.f64("header");
+  l.radius = r.f64("header");
+  return l;
+}
+
+// The file's bytes after its magic and version are checked: InputError naming `role`.
+std::vector<unsigned char> read_versioned(const std::string& path, const char* role, const unsigned char* magic,
+                                          uint32_t version, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(role, path, "cannot open (" + std::string(std::strerror(errno)) + ")");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), magic, 8) != 0)
+    fail(role, path, std::string("not a ") + what + " (bad magic)");
+  if (bytes.size() < 12) fail(role, path, "truncated (ends inside the header)");
+  const uint32_t v =
+      uint32_t(bytes[8]) | uint32_t(bytes[9]) << 8 | uint32_t(bytes[10]) << 16 | uint32_t(bytes[11]) << 24;
+  if (v != version)
+    fail(role, path, "version " + std::to_string(v) + ", this build reads version " + std::to_string(version));
+  return bytes;
+}
+
+uint32_t stored_crc(const std::vector<unsigned char>& bytes) {
+  const size_t n = bytes.size();
+  return uint32_t(bytes[n - 4]) | uint32_t(bytes[n - 3]) << 8 | uint32_t(bytes[n - 2]) << 16 |
+         uint32_t(bytes[n - 1]) << 24;
+}
+
 }  // namespace
 
 void write_coherent(const std::string& path, const CoherentFile& file) {
@@ -123,14 +169,7 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
   Writer w;
   w.raw(kMagic, sizeof kMagic);
   w.u32(kCoherentFileVersion);
-  w.u32(uint32_t(c.layout.resolution));
-  w.u32(uint32_t(c.layout.views_theta));
-  w.u32(uint32_t(c.layout.views_phi));
-  w.u32(uint32_t(c.layout.ordering));
-  w.u32(uint32_t(c.layout.depth_pair));
-  w.u32(uint32_t(c.layout.far_plane));
-  for (int axis = 0; axis < 3; ++axis) w.f64(c.layout.center[axis]);
-  w.f64(c.layout.radius);
+  put_layout(w, c.layout);
   w.u64(c.segments.size());
   w.u32(uint32_t(file.source.size()));
   w.raw(file.source.data(), file.source.size());
@@ -144,31 +183,17 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
 namespace {
 
 CoherentFile read_coherent_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(kInputRole, path, "cannot open (" + std::string(std::strerror(errno)) + ")");
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
-    fail(kInputRole, path, "not a coherent shadow map (bad magic)");
+  const std::vector<unsigned char> bytes =
+      read_versioned(path, kInputRole, kMagic, kCoherentFileVersion, "coherent shadow map");
   Reader r(bytes, path);
   r.str(sizeof kMagic, "magic");
-  const uint32_t version = r.u32("header");
-  if (version != kCoherentFileVersion)
-    fail(kInputRole, path,
-         "version " + std::to_string(version) + ", this build reads version " + std::to_string(kCoherentFileVersion));
+  r.u32("header");  // the version
   if (bytes.size() < 4 + r.at()) fail(kInputRole, path, "truncated (ends inside the header)");
-  const uint32_t stored_crc = uint32_t(bytes[bytes.size() - 4]) | uint32_t(bytes[bytes.size() - 3]) << 8 |
-                              uint32_t(bytes[bytes.size() - 2]) << 16 | uint32_t(bytes[bytes.size() - 1]) << 24;
+  const uint32_t crc = stored_crc(bytes);
 
   CoherentFile file;
   coherent::StackLayout& l = file.stack.layout;
-  l.resolution = int(r.u32("header"));
-  l.views_theta = int(r.u32("header"));
-  l.views_phi = int(r.u32("header"));
-  l.ordering = coherent::Ordering(r.u32("header"));
-  l.depth_pair = coherent::DepthPair(r.u32("header"));
-  l.far_plane = coherent::FarPlane(r.u32("header"));
-  for (int axis = 0; axis < 3; ++axis) l.center[axis] = r.f64("header");
-  l.radius = r.f64("header");
+  l = get_layout(r);
   const uint64_t segments = r.u64("header");
   const uint32_t source_size = r.u32("header");
   if (source_size > kMaxSource)
@@ -191,7 +216,7 @@ CoherentFile read_coherent_bytes(const std::string& path) {
   const uint64_t expected = r.at() + offsets_bytes + 4 * segments + 4;
   if (bytes.size() > expected)
     fail(kInputRole, path, "corrupted: " + std::to_string(bytes.size() - expected) + " bytes past the end of the data");
-  if (crc32_of(bytes.data(), bytes.size() - 4) != stored_crc) fail(kInputRole, path, "corrupted (CRC-32 mismatch)");
+  if (crc32_of(bytes.data(), bytes.size() - 4) != crc) fail(kInputRole, path, "corrupted (CRC-32 mismatch)");
   file.stack.offsets.resize(l.texels() + 1);
   for (uint32_t& v : file.stack.offsets) v = r.u32("offsets");
   file.stack.segments.resize(size_t(segments));
@@ -209,6 +234,91 @@ CoherentFile read_coherent(const std::string& path) {
   require_regular_file(path, kInputRole);
   record_input(path);
   return with_out_of_memory_named(path, kInputRole, [&] { return read_coherent_bytes(path); });
+}
+
+namespace {
+
+const char* const kPartRole = "coherent stack part";
+const char* const kPartOutputRole = "output coherent stack part";
+const unsigned char kPartMagic[8] = {'S', 'F', 'C', 'S', 'P', '\r', '\n', 0x1a};
+
+CoherentPart read_part_bytes(const std::string& path) {
+  const std::vector<unsigned char> bytes =
+      read_versioned(path, kPartRole, kPartMagic, kCoherentPartVersion, "coherent stack part");
+  Reader r(bytes, path);
+  r.str(sizeof kPartMagic, "magic");
+  r.u32("header");  // the version
+  CoherentPart part;
+  part.layout = get_layout(r);
+  const uint32_t source_size = r.u32("header");
+  if (source_size > kMaxSource)
+    fail(kPartRole, path, "corrupted: a source name of " + std::to_string(source_size) + " bytes");
+  part.source = r.str(source_size, "header");
+  part.first = r.u32("header");
+  part.end = r.u32("header");
+  try {
+    coherent::validate(part.layout);
+  } catch (const InputError& e) {
+    fail(kPartRole, path, std::string("corrupted header: ") + e.what());
+  }
+  if (part.first >= part.end || part.end > uint32_t(part.layout.views()))
+    fail(kPartRole, path,
+         "corrupted: views " + std::to_string(part.first) + ".." + std::to_string(part.end) + " of a stack of " +
+             std::to_string(part.layout.views()));
+  const uint64_t values = uint64_t(part.end - part.first) * part.layout.texels();  // < 2^16 views x 2^24 texels
+  const uint64_t expected = r.at() + 4 * values + 4;
+  if (bytes.size() < expected)
+    fail(kPartRole, path,
+         "truncated: " + std::to_string(bytes.size()) + " bytes, the header announces " + std::to_string(expected));
+  if (bytes.size() > expected)
+    fail(kPartRole, path, "corrupted: " + std::to_string(bytes.size() - expected) + " bytes past the end of the data");
+  if (crc32_of(bytes.data(), bytes.size() - 4) != stored_crc(bytes))
+    fail(kPartRole, path, "corrupted (CRC-32 mismatch)");
+  const unsigned char* p = bytes.data() + r.at();  // z1, then z2
+  for (std::vector<uint16_t>* z : {&part.z1, &part.z2}) {
+    z->resize(size_t(values));
+    for (uint16_t& v : *z) {
+      v = uint16_t(p[0] | p[1] << 8);
+      p += 2;
+    }
+  }
+  // The stack's invariant, on which the compression relies: z1 < z2, or both kNoSurface.
+  for (size_t i = 0; i < part.z1.size(); ++i)
+    if (!(part.z1[i] < part.z2[i] || (part.z1[i] == coherent::kNoSurface && part.z2[i] == coherent::kNoSurface)))
+      fail(kPartRole, path, "corrupted: texel value " + std::to_string(i) + " has z1 >= z2");
+  return part;
+}
+
+}  // namespace
+
+void write_coherent_part(const std::string& path, const CoherentPart& part) {
+  coherent::validate(part.layout);
+  const size_t values = size_t(part.end - part.first) * part.layout.texels();
+  if (part.first >= part.end || part.end > uint32_t(part.layout.views()) || part.z1.size() != values ||
+      part.z2.size() != values)
+    fail(kPartOutputRole, path, "the maps do not match the layout and view range");
+  Writer w;
+  w.raw(kPartMagic, sizeof kPartMagic);
+  w.u32(kCoherentPartVersion);
+  put_layout(w, part.layout);
+  w.u32(uint32_t(part.source.size()));
+  w.raw(part.source.data(), part.source.size());
+  w.u32(part.first);
+  w.u32(part.end);
+  w.bytes.reserve(w.bytes.size() + 4 * values + 4);
+  for (const std::vector<uint16_t>* z : {&part.z1, &part.z2})
+    for (uint16_t v : *z) {
+      w.bytes.push_back(static_cast<unsigned char>(v));
+      w.bytes.push_back(static_cast<unsigned char>(v >> 8));
+    }
+  w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
+  write_file(path, kPartOutputRole, w.bytes.data(), w.bytes.size());
+}
+
+CoherentPart read_coherent_part(const std::string& path) {
+  require_regular_file(path, kPartRole);
+  record_input(path);
+  return with_out_of_memory_named(path, kPartRole, [&] { return read_part_bytes(path); });
 }
 
 }  // namespace sf::io

@@ -5,6 +5,7 @@
 // file is refused with InputError (one line).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "shadowfilter/coherent.hpp"
 
@@ -19,5 +20,23 @@ struct CoherentFile {
 
 void write_coherent(const std::string& path, const CoherentFile& file);
 CoherentFile read_coherent(const std::string& path);
+
+// A part of a stack before its compression (docs/coherent.md "Shards"): the maps of sequence
+// positions [first, end) as render_stack renders them, 16-bit z1 and z2 per texel. `coherent build
+// --shard K/N` writes one; `coherent merge` reads the parts of a stack, checks that they are one
+// layout and object and cover every view once, and compresses the whole. The file (.csmpart):
+// magic "SFCSP\r\n\x1a", version, the .csm header's layout and source, first and end, z1 then z2
+// (little-endian), CRC-32. Refused like a .csm when truncated, corrupted or of another version.
+inline constexpr uint32_t kCoherentPartVersion = 1;
+
+struct CoherentPart {
+  coherent::StackLayout layout;
+  std::string source;
+  uint32_t first = 0, end = 0;
+  std::vector<uint16_t> z1, z2;  // (end - first) * layout.texels() each, map after map
+};
+
+void write_coherent_part(const std::string& path, const CoherentPart& part);
+CoherentPart read_coherent_part(const std::string& path);
 
 }  // namespace sf::io

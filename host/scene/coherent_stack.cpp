@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -79,9 +80,27 @@ uint16_t quantise(double t, double diameter) {
 
 }  // namespace
 
+ViewRange shard_views(const StackLayout& layout, size_t index, size_t count) {
+  const uint64_t v = uint64_t(layout.views());
+  return {uint32_t(v * index / count), uint32_t(v * (index + 1) / count)};
+}
+
 DualDepthStack render_stack(const SceneGeometry& object, const StackLayout& layout, int threads,
                             const std::function<void(size_t)>& progress, StackRenderer renderer) {
+  StackPart part = render_stack_part(object, layout, {0, uint32_t(layout.views())}, threads, progress, renderer);
+  DualDepthStack stack;
+  stack.layout = layout;
+  stack.z1 = std::move(part.z1);
+  stack.z2 = std::move(part.z2);
+  return stack;
+}
+
+StackPart render_stack_part(const SceneGeometry& object, const StackLayout& layout, ViewRange range, int threads,
+                            const std::function<void(size_t)>& progress, StackRenderer renderer) {
   coherent::validate(layout);
+  if (range.first > range.end || range.end > uint32_t(layout.views()))
+    throw InputError("views " + std::to_string(range.first) + ".." + std::to_string(range.end) + " of a stack of " +
+                     std::to_string(layout.views()));
   const std::vector<uint32_t> sequence = coherent::enumerate_views(layout);
   const int m = layout.resolution;
   const size_t texels = layout.texels();
@@ -91,10 +110,10 @@ DualDepthStack render_stack(const SceneGeometry& object, const StackLayout& layo
   // A later hit starts this far past the earlier one: far below a depth step (diameter / 65534).
   const double gap = diameter * 1e-7;
 
-  DualDepthStack stack;
-  stack.layout = layout;
-  stack.z1.assign(size_t(layout.views()) * texels, kNoSurface);
-  stack.z2.assign(size_t(layout.views()) * texels, kNoSurface);
+  StackPart stack;
+  stack.range = range;
+  stack.z1.assign(size_t(range.count()) * texels, kNoSurface);
+  stack.z2.assign(size_t(range.count()) * texels, kNoSurface);
 
   // Meshes are rasterised (the same depths at texel centres, many times faster for thousands of
   // views); analytic spheres need Embree's ray casts.
@@ -102,11 +121,11 @@ DualDepthStack render_stack(const SceneGeometry& object, const StackLayout& layo
   const bool rasterise = !rasterizer.has_spheres() && renderer != StackRenderer::Embree;
   std::unique_ptr<RayTracer> tracer = rasterise ? nullptr : std::make_unique<RayTracer>(object);
 
-  std::atomic<size_t> next{0};
+  std::atomic<size_t> next{range.first};
   auto work = [&]() {
     std::vector<Ray> rays(static_cast<size_t>(m));
     std::vector<double> t(texels * size_t(hits));
-    for (size_t i = next++; i < sequence.size(); i = next++) {
+    for (size_t i = next++; i < range.end; i = next++) {
       const coherent::ViewFrame f = coherent::view_frame(layout, sequence[i]);
       const Vec3 dir{f.dir[0], f.dir[1], f.dir[2]}, right{f.right[0], f.right[1], f.right[2]},
           up{f.up[0], f.up[1], f.up[2]};
@@ -122,8 +141,8 @@ DualDepthStack render_stack(const SceneGeometry& object, const StackLayout& layo
           tracer->hits_along(rays.data(), size_t(m), hits, gap, t.data() + size_t(y) * size_t(m) * size_t(hits));
         }
       }
-      uint16_t* z1 = stack.z1.data() + i * texels;
-      uint16_t* z2 = stack.z2.data() + i * texels;
+      uint16_t* z1 = stack.z1.data() + (i - range.first) * texels;
+      uint16_t* z2 = stack.z2.data() + (i - range.first) * texels;
       for (int y = 0; y < m; ++y) {
         for (int x = 0; x < m; ++x) {
           const size_t at = size_t(y) * m + size_t(x);

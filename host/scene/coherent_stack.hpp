@@ -2,8 +2,10 @@
 // The dual-depth stacks of coherent shadow maps (methods.md sec. 5; Ritschel 2007 sec. 3.1 and 4.1):
 // the object alone (no floor), its bounding sphere, and its N orthographic views rendered with
 // Embree on host threads.
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scene_geometry.hpp"
 #include "shadowfilter/coherent.hpp"
@@ -29,5 +31,27 @@ enum class StackRenderer { Auto, Embree };
 coherent::DualDepthStack render_stack(const SceneGeometry& object, const coherent::StackLayout& layout, int threads,
                                       const std::function<void(size_t)>& progress = {},
                                       StackRenderer renderer = StackRenderer::Auto);
+
+// Maps [first, end) of the stack's sequence (positions, not grid indices): a part of the stack
+// that one process renders (`coherent build --shard K/N`).
+struct ViewRange {
+  uint32_t first = 0, end = 0;
+  uint32_t count() const { return end - first; }
+};
+// The range of part K (index K - 1) of N: positions floor((K - 1) V / N) .. floor(K V / N) of the
+// V views, contiguous, so that the parts in order are the whole sequence.
+ViewRange shard_views(const coherent::StackLayout& layout, size_t index, size_t count);
+
+// The maps of a range: z1 and z2 of sequence position range.first + i at texel t are
+// z1[i * texels() + t], z2[...], as DualDepthStack holds them.
+struct StackPart {
+  ViewRange range;
+  std::vector<uint16_t> z1, z2;
+};
+// The maps of `range` as render_stack renders them (the same bytes: each view is rendered alone).
+// InputError for a range outside the layout's views.
+StackPart render_stack_part(const SceneGeometry& object, const coherent::StackLayout& layout, ViewRange range,
+                            int threads, const std::function<void(size_t)>& progress = {},
+                            StackRenderer renderer = StackRenderer::Auto);
 
 }  // namespace sf::scene

@@ -252,7 +252,7 @@ TEST_F(InputsCli, CameraInputsThatCannotBeReadAreRefused) {
 TEST_F(InputsCli, HelpVersionAndJson) {
   for (const char* cmd :
        {"", "filter", "soft", "receivers", "scene", "devices", "methods", "evaluate", "evaluate-layouts", "coherent",
-        "coherent build", "coherent info", "coherent render", "coherent sky"}) {
+        "coherent build", "coherent merge", "coherent info", "coherent render", "coherent sky"}) {
     SCOPED_TRACE(cmd);
     const RunResult r = run_cli(std::string(cmd) + " --help", dir_);
     EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -313,6 +313,60 @@ TEST(CoherentCli, BuildInfoAndRefusals) {
   }
 }
 
+// A build in shards (--shard K/N, one process each) merges into the .csm the unsharded build
+// writes, byte for byte, whatever order the parts come in; a merge refuses a missing, repeated,
+// foreign or damaged part with one line and writes nothing.
+TEST(CoherentCli, ShardsMergeIntoTheUnshardedFile) {
+  const std::string dir = sf::test::temp_dir("coherent_shards");
+  const std::string common = " --views 8x8 --res 16 --ordering hilbert -q";
+  auto r = sf::test::run_cli("coherent build box -o " + dir + "/full.csm" + common, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (int k = 1; k <= 3; ++k) {
+    r = sf::test::run_cli("coherent build box -o " + dir + "/p" + std::to_string(k) + ".csmpart --shard " +
+                              std::to_string(k) + "/3" + common,
+                          dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const std::string p1 = dir + "/p1.csmpart", p2 = dir + "/p2.csmpart", p3 = dir + "/p3.csmpart";
+  r = sf::test::run_cli("coherent merge " + p3 + " " + p1 + " " + p2 + " -o " + dir + "/merged.csm -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_bytes(dir + "/merged.csm"), read_bytes(dir + "/full.csm"));
+  const sf::io::CoherentPart part = sf::io::read_coherent_part(p2);
+  EXPECT_EQ(part.first, 21u);  // floor(64 / 3) .. floor(128 / 3)
+  EXPECT_EQ(part.end, 42u);
+  EXPECT_EQ(part.z1.size(), 21u * 16 * 16);
+
+  r = sf::test::run_cli("coherent build sphere -o " + dir + "/s1.csmpart --shard 1/3" + common, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<char> good = read_bytes(p1);
+  write_bytes(dir + "/cut.csmpart", std::vector<char>(good.begin(), good.end() - 3));
+  std::vector<char> flipped = good;
+  flipped[good.size() / 2] ^= 0x04;
+  write_bytes(dir + "/flipped.csmpart", flipped);
+  const struct {
+    std::string parts, says;
+  } refusals[] = {
+      {p1 + " " + p3, "views 21..42 of 64 are in no part"},
+      {p1 + " " + p2 + " " + p2 + " " + p3, "both hold view 21"},
+      {dir + "/s1.csmpart " + p2 + " " + p3, "part of another stack"},
+      {dir + "/full.csm " + p2 + " " + p3, "bad magic"},
+      {dir + "/cut.csmpart " + p2 + " " + p3, "truncated"},
+      {dir + "/flipped.csmpart " + p2 + " " + p3, "CRC-32"},
+  };
+  for (const auto& c : refusals) {
+    r = sf::test::run_cli("coherent merge " + c.parts + " -o " + dir + "/x.csm -q", dir);
+    EXPECT_EQ(r.exit_code, 2) << c.parts;
+    EXPECT_EQ(sf::test::count_lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/x.csm")) << c.parts;
+  }
+  for (const char* args : {"--shard 0/3", "--shard 4/3", "--shard 1/3 --compress host", "--shard 65/65"}) {
+    r = sf::test::run_cli("coherent build box -o " + dir + "/x.csmpart " + args + common, dir);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/x.csmpart")) << args;
+  }
+}
+
 }  // namespace
 
 namespace {

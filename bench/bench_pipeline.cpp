@@ -4,10 +4,15 @@
 // the map in screen order, as a rendered view gives them: neighbouring pixels read neighbouring texels, footprints from
 // the map's screen derivatives, 0.6 .. 5 texels). Device time = every stage's profiling events; per-stage times as
 // counters. Bytes: 8 per map texel (transform) + 16 (blur) + 16 per receiver (+ 4 with footprints).
+// 6. The host convenience sf::filter (frame_filter.hpp) on host arrays: an n x n map and one
+// receiver per texel, vsm with blur R = 2, uploaded, filtered and downloaded on the warm runtime;
+// host wall time. The C++ side of the Python binding's call overhead (bench/python_layers.py
+// times shadowfilter.filter on the same frame against it).
 #include <algorithm>
 #include <cmath>
 
 #include "bench_common.hpp"
+#include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 
 namespace sf::bench {
@@ -81,6 +86,24 @@ void BM_EsmPipeline(benchmark::State& state) {
   set_throughput(state, 24.0 * texels + (mips ? 20.0 : 16.0) * count, texels, s);
 }
 
+void BM_HostFilter(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  HostImage depth(n, n, 1);
+  depth.data = random_floats(size_t(n) * n, 9, 0.2f, 0.9f);
+  Receivers rx;
+  rx.width = rx.height = n;
+  rx.grid = true;
+  rx.d = random_floats(size_t(n) * n, 10, 0.2f, 0.9f);
+  FilterOptions opt;
+  opt.method = "vsm";
+  opt.blur.radius = 2;
+  const auto rt = runtime_ptr();
+  const double s = time_runs(state, [&] {
+    return wall_seconds([&] { benchmark::DoNotOptimize(filter(rt, opt, depth, rx).visibility.data.data()); });
+  });
+  if (s > 0) state.counters["fps"] = 1.0 / s;
+}
+
 }  // namespace
 
 void register_pipeline() {
@@ -90,6 +113,9 @@ void register_pipeline() {
       ->Args({map, 3, 0, 0})
       ->Args({map, 3, 1, 0})
       ->Args({map, 3, 1, 1});
+  configure(benchmark::RegisterBenchmark("host_filter/grid_vsm", BM_HostFilter))
+      ->ArgNames({"size"})
+      ->Arg(smoke_size(512));
 }
 
 }  // namespace sf::bench

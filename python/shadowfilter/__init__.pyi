@@ -26,10 +26,27 @@ class View:
     @property
     def clip(self) -> str: ...
 
+class SoftLight:
+    def __init__(self, perspective: bool, size: float, near_plane: float, far_plane: float, extent: float,
+                 fov_degrees: float) -> None: ...
+    @property
+    def perspective(self) -> bool: ...
+    @property
+    def size(self) -> float: ...
+    @property
+    def near_plane(self) -> float: ...
+    @property
+    def far_plane(self) -> float: ...
+    @property
+    def extent(self) -> float: ...
+    @property
+    def fov_degrees(self) -> float: ...
+
 ViewLike = Union[View, Mapping[str, Any], str, PathLike]
 
 def devices() -> List[DeviceInfo]: ...
 def methods() -> List[str]: ...
+def soft_methods() -> List[str]: ...
 def options() -> List[Dict[str, Any]]: ...
 def load_view(source: ViewLike) -> View: ...
 def filter(depth: npt.ArrayLike, receivers: Optional[npt.ArrayLike] = None, *,
@@ -41,3 +58,17 @@ def receivers(camera: ViewLike, camera_depth: npt.ArrayLike, light: ViewLike, *,
               camera_depth_kind: str = "window", normals: Optional[npt.ArrayLike] = None,
               counts: Optional[Dict[str, int]] = None) -> npt.NDArray[np.float32]:
     """(h, w, 5) u, v, d, f, ndl of every camera pixel in the light's map."""
+def soft_light(light: Union[SoftLight, ViewLike, None] = None, *, light_size: Optional[float] = None,
+               light_type: Optional[str] = None, light_near: Optional[float] = None,
+               light_far: Optional[float] = None, light_fov: Optional[float] = None,
+               light_extent: Optional[float] = None) -> SoftLight:
+    """A square area light as the soft command builds it: from a light's view and projection with
+    light_size (world units), or light_type ortho (light_extent) | perspective (light_fov)."""
+def soft(depth: npt.ArrayLike, receivers: Optional[npt.ArrayLike] = None, *,
+         receiver_depth: Optional[npt.ArrayLike] = None, method: str = "pcss",
+         light: Union[SoftLight, ViewLike, None] = None, light_size: Optional[float] = None,
+         light_type: Optional[str] = None, light_near: Optional[float] = None, light_far: Optional[float] = None,
+         light_fov: Optional[float] = None, light_extent: Optional[float] = None,
+         device: Union[Device, str, None] = None,
+         **options: Union[int, float, str, bool, Tuple[float, float]]) -> npt.NDArray[np.float32]:
+    """Soft-shadow visibility in [0, 1] (pcss, cssm, ssmm, ssmm-improved), as the soft command."""

@@ -1,4 +1,4 @@
-from typing import Any, Iterable, List, Union
+from typing import Any, Iterable, List, Optional, Sequence, Union
 
 from distributed import Client, Future, WorkerPlugin
 
@@ -8,4 +8,4 @@ class DevicePlugin(WorkerPlugin):
     def __init__(self, selector: str = "") -> None: ...
 
 def filter_frames(client: Client, frames: Iterable[Any], *, method: str = "esm", device: str = "",
-                  **options: Union[int, float, str]) -> List[Future]: ...
+                  outputs: Optional[Sequence[Any]] = None, **options: Union[int, float, str]) -> List[Future]: ...

@@ -22,3 +22,39 @@ def test_an_inexact_conversion_is_refused():
     with pytest.raises(sf.InputError, match="float32 does not hold exactly"):
         sf.filter(depth, receiver_depth=np.zeros((8, 8), np.float32))
     assert issubclass(sf.InputError, ValueError)
+
+
+def test_the_python_benchmark_runs(tmp_path):
+    """bench/python_layers.py --smoke: every part of the Python figures once at small sizes, so
+    that the benchmark does not break unseen (its figures mean nothing here)."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    pytest.importorskip("pyopencl")
+    pytest.importorskip("distributed")
+    source = os.environ.get("SF_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+    out = tmp_path / "figures.json"
+    subprocess.run([sys.executable, os.path.join(source, "bench", "python_layers.py"), "--smoke", "--json", str(out)],
+                   check=True, capture_output=True, env=dict(os.environ))
+    figures = json.loads(out.read_text())
+    assert figures["pyopencl"]["in_place_ms"] > 0 and figures["dask"][0]["cluster_files_fps"] > 0
+
+
+def test_the_stubs_declare_every_public_name():
+    """Each module's __all__ is declared in its .pyi, so that type checkers see the whole API."""
+    import ast
+    import importlib
+    import os
+
+    pytest.importorskip("pyopencl")
+    pytest.importorskip("distributed")
+    for name in ("shadowfilter", "shadowfilter.device", "shadowfilter.dask"):
+        module = importlib.import_module(name)
+        stub = os.path.splitext(module.__file__)[0] + ".pyi"
+        tree = ast.parse(open(stub).read())
+        declared = {n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+        declared |= {t.id for n in tree.body if isinstance(n, (ast.Assign, ast.AnnAssign))
+                     for t in (n.targets if isinstance(n, ast.Assign) else [n.target]) if isinstance(t, ast.Name)}
+        assert set(module.__all__) <= declared, (name, set(module.__all__) - declared)

@@ -11,7 +11,7 @@ import numpy as np
 from . import _core
 from ._core import DeviceError, InputError
 
-__all__ = ["filter", "soft", "soft_light", "options", "receivers", "methods", "soft_methods", "devices", "Device", "View",
+__all__ = ["filter", "FrameFilter", "filter_frames", "soft", "soft_light", "options", "receivers", "methods", "soft_methods", "devices", "Device", "View",
            "SoftLight", "load_view", "InputError", "DeviceError"]
 
 Device = _core.Device
@@ -81,6 +81,50 @@ def filter(depth, receivers=None, *, receiver_depth=None, method="esm", device=N
     if receivers is not None:
         return _core.filter_points(dev, method, options, d, _float32("receivers", receivers, 3))
     return _core.filter_grid(dev, method, options, d, _float32("receiver_depth", receiver_depth, 2))
+
+
+class FrameFilter:
+    """Frames one after another on one warm device and one pipeline: what filter() does per frame,
+    without allocating per frame. Buffers are allocated for the first frame and reused while the
+    map's size and the receivers' count repeat; on a CPU device the frame's arrays are the kernels'
+    buffers. Each call returns what filter() returns for the same arrays, bit for bit.
+
+        batch = sf.FrameFilter(method="vsm", blur_radius=2)
+        for depth, rd in frames:
+            v = batch(depth, receiver_depth=rd)
+
+    Options are filter()'s; invalid ones raise here, before any frame. `allocations` counts the
+    buffer allocations so far. One thread at a time runs a FrameFilter (others wait).
+    """
+
+    def __init__(self, *, method="esm", device=None, **options):
+        self._f = _core.FrameFilter(_device(device), method, options)
+
+    @property
+    def allocations(self):
+        return self._f.allocations
+
+    def __call__(self, depth, receivers=None, *, receiver_depth=None):
+        if (receivers is None) == (receiver_depth is None):
+            raise InputError("give exactly one of receivers and receiver_depth")
+        d = _float32("depth", depth, 2)
+        if receivers is not None:
+            return self._f.run_points(d, _float32("receivers", receivers, 3))
+        return self._f.run_grid(d, _float32("receiver_depth", receiver_depth, 2))
+
+
+def filter_frames(frames, *, method="esm", device=None, **options):
+    """Filters a sequence of frames on one FrameFilter, yielding each visibility in order. A frame
+    is a pair (depth, receivers) or a dict with filter()'s keys (depth, receivers or
+    receiver_depth)."""
+    batch = FrameFilter(method=method, device=device, **options)
+    for frame in frames:
+        if isinstance(frame, dict):
+            kwargs = dict(frame)
+            yield batch(kwargs.pop("depth"), **kwargs)
+        else:
+            depth, receivers = frame
+            yield batch(depth, receivers)
 
 
 _VIEW_KEYS = {"view", "projection", "clip", "reversed_z", "far", "width", "height"}

@@ -1,5 +1,5 @@
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -44,6 +44,16 @@ class SoftLight:
 
 ViewLike = Union[View, Mapping[str, Any], str, PathLike]
 
+class FrameFilter:
+    def __init__(self, *, method: str = "esm", device: Union[Device, str, None] = None,
+                 **options: Union[int, float, str]) -> None: ...
+    @property
+    def allocations(self) -> int: ...
+    def __call__(self, depth: npt.ArrayLike, receivers: Optional[npt.ArrayLike] = None, *,
+                 receiver_depth: Optional[npt.ArrayLike] = None) -> npt.NDArray[np.float32]: ...
+
+def filter_frames(frames: Iterable[Any], *, method: str = "esm", device: Union[Device, str, None] = None,
+                  **options: Union[int, float, str]) -> Iterator[npt.NDArray[np.float32]]: ...
 def devices() -> List[DeviceInfo]: ...
 def methods() -> List[str]: ...
 def soft_methods() -> List[str]: ...

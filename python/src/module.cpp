@@ -11,6 +11,7 @@
 
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,23 @@ Output2D run_filter(const Device& device, const sf::FilterOptions& options, cons
   sf::FilterResult result = keyword_errors([&] {
     nb::gil_scoped_release released;
     return sf::filter(device.runtime, options, host_image(depth), receivers);
+  });
+  return to_numpy(std::move(result.visibility.data), result.visibility.width, result.visibility.height);
+}
+
+// Frames one after another on one pipeline (sf::FrameFilter): buffers allocated for the first
+// frame and reused while the sizes repeat. FrameFilter is not thread-safe; the lock makes a
+// second thread wait rather than race (each thread may hold its own instead).
+struct FrameFilterHandle {
+  std::unique_ptr<sf::FrameFilter> filter;
+  std::mutex lock;
+};
+
+Output2D run_frame(FrameFilterHandle& f, const Image2D& depth, const sf::Receivers& receivers) {
+  sf::FilterResult result = keyword_errors([&] {
+    nb::gil_scoped_release released;
+    std::lock_guard<std::mutex> held(f.lock);
+    return f.filter->run(host_image(depth), receivers);
   });
   return to_numpy(std::move(result.visibility.data), result.visibility.width, result.visibility.height);
 }
@@ -175,6 +193,29 @@ NB_MODULE(_core, m) {
         return run_filter(device, filter_options_of(method, options), depth, receiver_grid(receiver_depth));
       },
       "device"_a, "method"_a, "options"_a, "depth"_a, "receiver_depth"_a);
+
+  nb::class_<FrameFilterHandle>(m, "FrameFilter")
+      .def(
+          "__init__",
+          [](FrameFilterHandle* self, const Device& device, const std::string& method, const nb::dict& options) {
+            new (self) FrameFilterHandle();
+            const sf::FilterOptions o = filter_options_of(method, options);
+            self->filter = keyword_errors([&] { return std::make_unique<sf::FrameFilter>(device.runtime, o); });
+          },
+          "device"_a, "method"_a, "options"_a)
+      .def(
+          "run_points",
+          [](FrameFilterHandle& f, const Image2D& depth, const Image3D& receivers) {
+            return run_frame(f, depth, receivers_of(receivers));
+          },
+          "depth"_a, "receivers"_a)
+      .def(
+          "run_grid",
+          [](FrameFilterHandle& f, const Image2D& depth, const Image2D& receiver_depth) {
+            return run_frame(f, depth, receiver_grid(receiver_depth));
+          },
+          "depth"_a, "receiver_depth"_a)
+      .def_prop_ro("allocations", [](const FrameFilterHandle& f) { return f.filter->allocations(); });
 
   nb::class_<sf::ViewProjection>(m, "View", "A camera or a light: row-major view and projection matrices")
       .def(

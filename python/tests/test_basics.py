@@ -58,3 +58,23 @@ def test_the_stubs_declare_every_public_name():
         declared |= {t.id for n in tree.body if isinstance(n, (ast.Assign, ast.AnnAssign))
                      for t in (n.targets if isinstance(n, ast.Assign) else [n.target]) if isinstance(t, ast.Name)}
         assert set(module.__all__) <= declared, (name, set(module.__all__) - declared)
+
+
+def test_a_frame_filter_gives_filters_bits_on_a_sequence_and_reuses_its_buffers():
+    rng = np.random.default_rng(5)
+    frames = []
+    for i, n in enumerate((48, 48, 48, 64)):  # the last frame changes size: one more allocation
+        depth = rng.uniform(0.2, 0.9, (n, n)).astype(np.float32)
+        frames.append({"depth": depth, "receiver_depth": np.full((n, n), 0.55, np.float32)})
+    rx = np.stack([rng.uniform(0, 1, (8, 8)), rng.uniform(0, 1, (8, 8)), rng.uniform(0.3, 0.8, (8, 8))], axis=-1).astype(np.float32)
+    batch = sf.FrameFilter(method="vsm", blur_radius=2)
+    for f in frames:
+        np.testing.assert_array_equal(batch(f["depth"], receiver_depth=f["receiver_depth"]),
+                                      sf.filter(f["depth"], receiver_depth=f["receiver_depth"], method="vsm",
+                                                blur_radius=2))
+    assert batch.allocations == 2
+    images = list(sf.filter_frames([(f["depth"], rx) for f in frames], method="esm"))
+    for f, image in zip(frames, images):
+        np.testing.assert_array_equal(image, sf.filter(f["depth"], rx, method="esm"))
+    with pytest.raises(sf.InputError, match="blur_radius"):
+        sf.FrameFilter(blur_radius=-3)

@@ -237,6 +237,9 @@ std::ostream& operator<<(std::ostream& out, const Method& m) { return out << m.n
 
 void validate_options(const FilterOptions& o) {
   require_finite_options(o);
+  // The knobs every method shares, within their declared ranges (values meaning "the default"
+  // pass), so that a FrameFilter or a Pipeline refuses them before any stage runs.
+  check_parameters(filter_parameters(), o);
   o.method->validate(o);
 }
 

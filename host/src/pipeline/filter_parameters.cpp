@@ -2,6 +2,7 @@
 // option structs' own (options.hpp), read here rather than written again.
 #include <limits>
 
+#include "shadowfilter/blur.hpp"
 #include "shadowfilter/parameters.hpp"
 
 namespace sf {
@@ -44,6 +45,7 @@ const std::vector<Parameter>& filter_parameters() {
     t.push_back(Parameter::integer("FilterOptions::blur.radius", "--blur-radius", "R",
                                    "Gaussian prefilter radius R (taps -R..R)")
                     .with_default(d.blur.radius)
+                    .within({0, double(kMaxBlurRadius)})
                     .on(&FilterOptions::blur, &BlurOptions::radius));
     // 0 is the default (2R+1)/6: a sigma given must be positive.
     t.push_back(Parameter::real("FilterOptions::blur.sigma", "--blur-sigma", "S", "Gaussian sigma in texels")

@@ -4,10 +4,12 @@
 // parts into the .csm one build writes; info describes one.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "coherent_file.hpp"
@@ -27,6 +29,7 @@ struct BuildArgs {
   std::string source, output, views = "32x32", ordering = "hilbert", far_plane = "sphere";
   std::string compress = "auto", device, renderer = "auto", shard;
   int resolution = 128, depth_pair = 12, threads = 0;
+  int chunk_views = 0;  // views per chunk of a streamed build; 0: 256 MiB of maps
   bool quiet = false;
   const CLI::Option* compress_option = nullptr;  // given: with --shard, refused (the merge compresses)
   const CLI::Option* device_option = nullptr;
@@ -100,21 +103,23 @@ void check_memory(const coherent::StackLayout& layout, size_t views) {
                      " GiB: fewer views, a smaller --res or --shard K/N");
 }
 
-// Compresses the stack and writes the .csm, with the summary line of `command` unless quiet.
-void compress_and_write(const coherent::DualDepthStack& stack, const std::string& source,
-                        const std::shared_ptr<Runtime>& runtime, const std::string& output, const std::string& command,
-                        double before_s, bool quiet) {
-  const auto t1 = std::chrono::steady_clock::now();
-  io::CoherentFile file;
-  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
-  const double compress_s = seconds_since(t1);
-  file.source = source;
+// Writes the .csm, with the summary line of `command` unless quiet (before_s: the rendering or
+// reading before the fit; fit_s: the fit's own time).
+void write_compressed(io::CoherentFile file, const std::shared_ptr<Runtime>& runtime, const std::string& output,
+                      const std::string& command, double before_s, double fit_s, bool quiet) {
   io::write_coherent(output, file);
   if (!quiet)
     std::cout << "coherent " << command << ": " << output << ": " << size_summary(file.stack) << "; "
-              << (command == "build" ? "render " : "read ") << fixed(before_s, 2) << " s, compress "
-              << fixed(compress_s, 2) << " s, total " << fixed(before_s + compress_s, 2) << " s, compressed on "
-              << (runtime ? runtime->info().device_name : std::string("the host")) << "\n";
+              << (command == "build" ? "render " : "read ") << fixed(before_s, 2) << " s, compress " << fixed(fit_s, 2)
+              << " s, total " << fixed(before_s + fit_s, 2) << " s, compressed on "
+              << (runtime ? runtime->info().device_name : std::string("the host, streamed")) << "\n";
+}
+
+// Views per chunk of a streamed build: 256 MiB of z1 and z2 (4096 views at M = 128), so that the
+// build's memory is a chunk and the segments, not the stack.
+uint32_t chunk_views(const coherent::StackLayout& layout) {
+  const size_t per_view = 4 * layout.texels();
+  return uint32_t(std::clamp<size_t>((size_t(256) << 20) / per_view, 1, size_t(layout.views())));
 }
 
 int run_build(const BuildArgs& a) {
@@ -143,30 +148,59 @@ int run_build(const BuildArgs& a) {
       throw InputError("--shard " + a.shard + ": more parts than the " + std::to_string(layout.views()) + " views");
     range = scene::shard_views(layout, shard.index, shard.count);
   }
-  check_memory(layout, range.count());
+  // Held at once: a part's maps; the whole stack for the device's fit; a chunk for the host's.
+  if (a.chunk_views < 0) throw InputError("--chunk-views must be >= 0 (0: 256 MiB of maps)");
+  const uint32_t chunk = sharded || runtime ? range.count()
+                         : a.chunk_views > 0 ? uint32_t(std::min(a.chunk_views, layout.views()))
+                                             : chunk_views(layout);
+  check_memory(layout, chunk);
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
   scene::fit_bounding_sphere(object, layout);
+  const scene::StackRenderer renderer =
+      a.renderer == "embree" ? scene::StackRenderer::Embree : scene::StackRenderer::Auto;
 
-  const auto t0 = std::chrono::steady_clock::now();
-  scene::StackPart part;
-  {
-    scene::Progress progress("rendering views", size_t(range.count()), !a.quiet);
-    part = scene::render_stack_part(
-        object, layout, range, a.threads, [&](size_t n) { progress.add(n); },
-        a.renderer == "embree" ? scene::StackRenderer::Embree : scene::StackRenderer::Auto);
+  std::optional<scene::Progress> progress;  // reset when the views are rendered: the bar ends its line
+  progress.emplace("rendering views", size_t(range.count()), !a.quiet);
+  auto render = [&](scene::ViewRange views) {
+    return scene::render_stack_part(object, layout, views, a.threads, [&](size_t n) { progress->add(n); }, renderer);
+  };
+  double render_s = 0.0, fit_s = 0.0;
+  io::CoherentFile file;
+  file.source = a.source;
+  if (sharded || runtime) {
+    const auto t0 = std::chrono::steady_clock::now();
+    scene::StackPart part = render(range);
+    render_s = seconds_since(t0);
+    progress.reset();
+    if (sharded) {
+      io::write_coherent_part(a.output, {layout, a.source, range.first, range.end, std::move(part.z1), std::move(part.z2)});
+      if (!a.quiet)
+        std::cout << "coherent build: " << a.output << ": part " << a.shard << ", views " << range.first << ".."
+                  << range.end << " of " << layout.views() << "; render " << fixed(render_s, 2)
+                  << " s (coherent merge compresses the parts)\n";
+      return 0;
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    file.stack = coherent::compress_on_device(*runtime, {layout, std::move(part.z1), std::move(part.z2)});
+    fit_s = seconds_since(t1);
+  } else {
+    // Streamed: each chunk of views is rendered, fitted and dropped (the same bytes as the whole
+    // stack fitted at once: StreamingFit).
+    ref::coherent::StreamingFit fit(layout);
+    for (uint32_t first = 0; first < range.end; first += chunk) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const scene::StackPart part = render({first, std::min(range.end, first + chunk)});
+      const auto t1 = std::chrono::steady_clock::now();
+      fit.add(part.z1.data(), part.z2.data(), part.range.count());
+      render_s += std::chrono::duration<double>(t1 - t0).count();
+      fit_s += seconds_since(t1);
+    }
+    progress.reset();
+    const auto t2 = std::chrono::steady_clock::now();
+    file.stack = fit.finish();
+    fit_s += seconds_since(t2);
   }
-  const double render_s = seconds_since(t0);
-  if (sharded) {
-    io::CoherentPart file{layout, a.source, range.first, range.end, std::move(part.z1), std::move(part.z2)};
-    io::write_coherent_part(a.output, file);
-    if (!a.quiet)
-      std::cout << "coherent build: " << a.output << ": part " << a.shard << ", views " << range.first << ".."
-                << range.end << " of " << layout.views() << "; render " << fixed(render_s, 2)
-                << " s (coherent merge compresses the parts)\n";
-    return 0;
-  }
-  coherent::DualDepthStack stack{layout, std::move(part.z1), std::move(part.z2)};
-  compress_and_write(stack, a.source, runtime, a.output, "build", render_s, a.quiet);
+  write_compressed(std::move(file), runtime, a.output, "build", render_s, fit_s, a.quiet);
   return 0;
 }
 
@@ -177,34 +211,46 @@ bool same_layout(const coherent::StackLayout& a, const coherent::StackLayout& b)
 }
 
 // The parts of one stack (one layout and object, every view in exactly one part) into the .csm
-// that the unsharded build writes, byte for byte.
+// that the unsharded build writes, byte for byte. On the host the parts are read twice, checked,
+// then fitted in sequence order one at a time (memory: one part); the device's fit takes the
+// whole stack, assembled as the parts are checked.
 int run_merge(const MergeArgs& a) {
   io::check_outputs({a.output}, a.parts);
   const std::shared_ptr<Runtime> runtime = compression_runtime(a.compress, a.device);
   const auto t0 = std::chrono::steady_clock::now();
-  // The first part gives the layout and object; each is checked against them as it is read.
-  io::CoherentPart part = io::read_coherent_part(a.parts.front());
-  const coherent::StackLayout layout = part.layout;
-  const std::string source = part.source;
-  check_memory(layout, size_t(layout.views()));
-  const size_t texels = layout.texels();
-  coherent::DualDepthStack stack{layout, std::vector<uint16_t>(size_t(layout.views()) * texels, coherent::kNoSurface),
-                                 std::vector<uint16_t>(size_t(layout.views()) * texels, coherent::kNoSurface)};
-  std::vector<int> owner(size_t(layout.views()), -1);  // the part that holds each view
+  coherent::StackLayout layout;
+  std::string source;
+  coherent::DualDepthStack stack;        // the device's fit only
+  std::vector<int> owner;                // the part that holds each view
+  std::vector<std::pair<uint32_t, size_t>> order;  // (first view, part) for the host's fit
   for (size_t k = 0; k < a.parts.size(); ++k) {
-    if (k > 0) part = io::read_coherent_part(a.parts[k]);
-    if (!same_layout(part.layout, layout) || part.source != source)
+    io::CoherentPart part = io::read_coherent_part(a.parts[k]);
+    if (k == 0) {  // the first part gives the layout and object; the others are checked against them
+      layout = part.layout;
+      source = part.source;
+      owner.assign(size_t(layout.views()), -1);
+      check_memory(layout, runtime ? size_t(layout.views()) : size_t(part.end - part.first));
+      if (runtime) {
+        const size_t values = size_t(layout.views()) * layout.texels();
+        stack = {layout, std::vector<uint16_t>(values, coherent::kNoSurface),
+                 std::vector<uint16_t>(values, coherent::kNoSurface)};
+      }
+    } else if (!same_layout(part.layout, layout) || part.source != source) {
       throw InputError("'" + a.parts[k] + "' is a part of another stack than '" + a.parts.front() +
                        "' (its layout or object differs)");
+    }
     for (uint32_t v = part.first; v < part.end; ++v) {
       if (owner[v] >= 0)
         throw InputError("'" + a.parts[k] + "' and '" + a.parts[size_t(owner[v])] + "' both hold view " +
                          std::to_string(v) + " (give each part once)");
       owner[v] = int(k);
     }
-    const size_t at = size_t(part.first) * texels;
-    std::copy(part.z1.begin(), part.z1.end(), stack.z1.begin() + long(at));
-    std::copy(part.z2.begin(), part.z2.end(), stack.z2.begin() + long(at));
+    order.emplace_back(part.first, k);
+    if (runtime) {
+      const size_t at = size_t(part.first) * layout.texels();
+      std::copy(part.z1.begin(), part.z1.end(), stack.z1.begin() + long(at));
+      std::copy(part.z2.begin(), part.z2.end(), stack.z2.begin() + long(at));
+    }
   }
   for (size_t v = 0; v < owner.size(); ++v)
     if (owner[v] < 0) {
@@ -213,7 +259,31 @@ int run_merge(const MergeArgs& a) {
       throw InputError("views " + std::to_string(v) + ".." + std::to_string(end) + " of " +
                        std::to_string(layout.views()) + " are in no part (a shard's output is missing)");
     }
-  compress_and_write(stack, source, runtime, a.output, "merge", seconds_since(t0), a.quiet);
+  io::CoherentFile file;
+  file.source = source;
+  double read_s = seconds_since(t0), fit_s = 0.0;
+  if (runtime) {
+    const auto t1 = std::chrono::steady_clock::now();
+    file.stack = coherent::compress_on_device(*runtime, stack);
+    fit_s = seconds_since(t1);
+  } else {
+    std::sort(order.begin(), order.end());
+    ref::coherent::StreamingFit fit(layout);
+    for (const auto& [first, k] : order) {
+      const auto t1 = std::chrono::steady_clock::now();
+      const io::CoherentPart part = io::read_coherent_part(a.parts[k]);
+      if (part.first != first || !same_layout(part.layout, layout) || part.source != source)
+        throw InputError("'" + a.parts[k] + "' changed while the merge read it");
+      const auto t2 = std::chrono::steady_clock::now();
+      fit.add(part.z1.data(), part.z2.data(), part.end - part.first);
+      read_s += std::chrono::duration<double>(t2 - t1).count();
+      fit_s += seconds_since(t2);
+    }
+    const auto t3 = std::chrono::steady_clock::now();
+    file.stack = fit.finish();
+    fit_s += seconds_since(t3);
+  }
+  write_compressed(std::move(file), runtime, a.output, "merge", read_s, fit_s, a.quiet);
   return 0;
 }
 
@@ -263,6 +333,10 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
   build->compress_option = b->add_option("--compress", build->compress, compress_help)->capture_default_str();
   build->device_option =
       b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
+  b->add_option("--chunk-views", build->chunk_views,
+                "Views rendered and fitted at a time when the host compresses (the build holds one chunk, not the "
+                "stack; 0: 256 MiB of maps)")
+      ->capture_default_str();
   b->add_option("--shard", build->shard,
                 "Render part K of N, views floor((K-1)V/N) .. floor(KV/N) of the sequence, into a stack part "
                 "(-o, .csmpart) that coherent merge compresses with the other parts")

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
+
+#include "shadowfilter/errors.hpp"
 
 namespace sf::ref::coherent {
 
@@ -39,46 +42,68 @@ double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& po
 }
 }  // namespace
 
-CompressedStack compress(const DualDepthStack& s) {
-  validate(s.layout);
-  const size_t texels = s.layout.texels();
-  const uint32_t n = uint32_t(s.layout.views());
-  // Every texel's run is grown map by map in sequence order (the stack is read once, in memory
+StreamingFit::StreamingFit(const StackLayout& layout)
+    : layout_(layout), lo_(layout.texels()), hi_(layout.texels()), runs_(layout.texels()) {
+  validate(layout);
+}
+
+void StreamingFit::add(const uint16_t* z1s, const uint16_t* z2s, uint32_t count) {
+  const size_t texels = layout_.texels();
+  if (count > uint32_t(layout_.views()) - next_)
+    throw InputError("the segment fit was given map " + std::to_string(next_ + count - 1) + " of a stack of " +
+                     std::to_string(layout_.views()));
+  // Every texel's run is grown map by map in sequence order (each map is read once, in memory
   // order): a map that leaves no separating depth closes the run before it and starts the next.
-  std::vector<uint32_t> lo(texels), hi(texels);
-  std::vector<std::vector<uint32_t>> runs(texels);
-  for (size_t t = 0; t < texels; ++t) {
-    lo[t] = s.z1[t];
-    hi[t] = upper(s.z2[t]);
-  }
-  for (uint32_t i = 1; i < n; ++i) {
-    const uint16_t* z1 = s.z1.data() + size_t(i) * texels;
-    const uint16_t* z2 = s.z2.data() + size_t(i) * texels;
+  for (uint32_t k = 0; k < count; ++k, ++next_) {
+    const uint16_t* z1 = z1s + size_t(k) * texels;
+    const uint16_t* z2 = z2s + size_t(k) * texels;
+    if (next_ == 0) {
+      for (size_t t = 0; t < texels; ++t) {
+        lo_[t] = z1[t];
+        hi_[t] = upper(z2[t]);
+      }
+      continue;
+    }
     for (size_t t = 0; t < texels; ++t) {
-      const uint32_t l2 = std::max(lo[t], uint32_t(z1[t])), h2 = std::min(hi[t], upper(z2[t]));
+      const uint32_t l2 = std::max(lo_[t], uint32_t(z1[t])), h2 = std::min(hi_[t], upper(z2[t]));
       if (l2 < h2) {
-        lo[t] = l2;
-        hi[t] = h2;
+        lo_[t] = l2;
+        hi_[t] = h2;
         continue;
       }
-      runs[t].push_back((((lo[t] + hi[t]) / 2) << kSegmentDepthShift) | (i - 1));
-      lo[t] = z1[t];
-      hi[t] = upper(z2[t]);
+      runs_[t].push_back((((lo_[t] + hi_[t]) / 2) << kSegmentDepthShift) | (next_ - 1));
+      lo_[t] = z1[t];
+      hi_[t] = upper(z2[t]);
     }
   }
+}
+
+CompressedStack StreamingFit::finish() {
+  const size_t texels = layout_.texels();
+  const uint32_t n = uint32_t(layout_.views());
+  if (next_ != n)
+    throw InputError("the segment fit has " + std::to_string(next_) + " of the stack's " + std::to_string(n) +
+                     " maps");
   CompressedStack c;
-  c.layout = s.layout;
+  c.layout = layout_;
   c.offsets.assign(texels + 1, 0);
   size_t total = texels;
-  for (const auto& r : runs) total += r.size();
+  for (const auto& r : runs_) total += r.size();
   c.segments.reserve(total);
   for (size_t t = 0; t < texels; ++t) {
     c.offsets[t] = uint32_t(c.segments.size());
-    c.segments.insert(c.segments.end(), runs[t].begin(), runs[t].end());
-    c.segments.push_back((((lo[t] + hi[t]) / 2) << kSegmentDepthShift) | (n - 1));
+    c.segments.insert(c.segments.end(), runs_[t].begin(), runs_[t].end());
+    std::vector<uint32_t>().swap(runs_[t]);  // freed as they are copied: the peak is one copy
+    c.segments.push_back((((lo_[t] + hi_[t]) / 2) << kSegmentDepthShift) | (n - 1));
   }
   c.offsets[texels] = uint32_t(c.segments.size());
   return c;
+}
+
+CompressedStack compress(const DualDepthStack& s) {
+  StreamingFit fit(s.layout);
+  fit.add(s.z1.data(), s.z2.data(), uint32_t(s.layout.views()));
+  return fit.finish();
 }
 
 uint16_t segment_depth(const CompressedStack& c, size_t texel, uint32_t i) {

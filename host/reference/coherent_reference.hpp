@@ -19,6 +19,26 @@ using sf::coherent::DualDepthStack;
 // z_avg = floor((max z1 + min z2) / 2), so max z1 <= z_avg < min z2 over the run.
 CompressedStack compress(const DualDepthStack& stack);
 
+// The same fit fed in sequence order a few maps at a time (a chunk a build renders, a part a merge
+// reads): its memory is the per-texel state and the segments so far, not the stack. Feeding every
+// map, in any chunks, then finish() gives compress()'s segments, byte for byte (compress() is
+// this with one chunk).
+class StreamingFit {
+ public:
+  explicit StreamingFit(const sf::coherent::StackLayout& layout);
+  // Maps next() .. next() + count - 1, z1 and z2 as DualDepthStack holds them (map after map).
+  void add(const uint16_t* z1, const uint16_t* z2, uint32_t count);
+  uint32_t next() const { return next_; }
+  // The compressed stack; InputError when not every view was added.
+  CompressedStack finish();
+
+ private:
+  sf::coherent::StackLayout layout_;
+  uint32_t next_ = 0;
+  std::vector<uint32_t> lo_, hi_;
+  std::vector<std::vector<uint32_t>> runs_;
+};
+
 // z_avg of the segment of texel t that holds map i (binary search over i_last).
 uint16_t segment_depth(const CompressedStack& c, size_t texel, uint32_t i);
 

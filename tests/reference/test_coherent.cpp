@@ -253,6 +253,32 @@ std::string refusal(const std::string& path) {
   return "";
 }
 
+// The fit fed in chunks (a streamed build, a merge of parts) gives the segments of the whole stack
+// fitted at once, whatever the chunks; a fit missing maps or given too many refuses.
+TEST(CoherentReference, StreamedFitEqualsTheWholeStacksFit) {
+  const sf::scene::SceneGeometry object = sf::scene::load_coherent_object("box");
+  StackLayout l = grid_layout(8, 8, Ordering::Hilbert, 16);
+  sf::scene::fit_bounding_sphere(object, l);
+  const DualDepthStack stack = sf::scene::render_stack(object, l, 2);
+  const CompressedStack whole = compress(stack);
+  ASSERT_GT(whole.segments.size(), 2 * l.texels());  // runs end inside the sequence
+  const size_t texels = l.texels();
+  for (uint32_t chunk : {1u, 3u, 7u, 64u}) {
+    sf::ref::coherent::StreamingFit fit(l);
+    for (uint32_t first = 0; first < 64; first += chunk) {
+      const uint32_t count = std::min(chunk, 64 - first);
+      fit.add(stack.z1.data() + first * texels, stack.z2.data() + first * texels, count);
+    }
+    const CompressedStack streamed = fit.finish();
+    EXPECT_EQ(streamed.offsets, whole.offsets) << chunk;
+    EXPECT_EQ(streamed.segments, whole.segments) << chunk;
+  }
+  sf::ref::coherent::StreamingFit short_fit(l);
+  short_fit.add(stack.z1.data(), stack.z2.data(), 10);
+  EXPECT_THROW(short_fit.finish(), sf::InputError);
+  EXPECT_THROW(short_fit.add(stack.z1.data(), stack.z2.data(), 60), sf::InputError);
+}
+
 TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
   const std::string dir = sf::test::temp_dir("coherent_file");
   const std::string path = dir + "/s.csm";
@@ -331,6 +357,14 @@ TEST(CoherentCli, ShardsMergeIntoTheUnshardedFile) {
   r = sf::test::run_cli("coherent merge " + p3 + " " + p1 + " " + p2 + " -o " + dir + "/merged.csm -q", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(read_bytes(dir + "/merged.csm"), read_bytes(dir + "/full.csm"));
+  // The device's fit of the whole stack and the host's streamed in chunks of 5 views: one file.
+  r = sf::test::run_cli("coherent merge " + p1 + " " + p2 + " " + p3 + " -o " + dir + "/device.csm --compress device -q",
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_bytes(dir + "/device.csm"), read_bytes(dir + "/full.csm"));
+  r = sf::test::run_cli("coherent build box -o " + dir + "/chunks.csm --compress host --chunk-views 5" + common, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_bytes(dir + "/chunks.csm"), read_bytes(dir + "/full.csm"));
   const sf::io::CoherentPart part = sf::io::read_coherent_part(p2);
   EXPECT_EQ(part.first, 21u);  // floor(64 / 3) .. floor(128 / 3)
   EXPECT_EQ(part.end, 42u);

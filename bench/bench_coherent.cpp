@@ -7,8 +7,8 @@
 //   coherent/query: 2^20 point queries, nearest (filter 0) or generalized PCF (filter 1); rx 0:
 //     random points within 0.9 R toward random directions, rx 1: coherent, points of a grid in
 //     scan order with one direction per 4096 of them (Fixture). bytes: what the kernel loads per query, counted on the
-//     host by running the same lookups (query in 32, out 4, and per texel test: positions 4, offsets 8, 4 per segment
-//     the binary search reads), cache hits included; Mtexel/s = M queries/s.
+//     host by running the same lookups (query in 32, out 4, and per texel test: positions 4, offsets 8, 4 per index
+//     the binary search reads and 2 for the depth found), cache hits included; Mtexel/s = M queries/s.
 // The stack: Hilbert-ordered 32x32 views at M = 128 of the mesh SF_BENCH_COHERENT_MESH (e.g.
 // build/meshes/bunny00.off, rendered with Embree as `coherent build` does; needs the scene
 // library), else a synthetic one: 8 spheres and 2 thin discs ray cast in double. Its segments
@@ -200,8 +200,9 @@ Fixture& fixture() {
   return f;
 }
 
-// Loads of one texel test: positions[g], offsets[t], offsets[t + 1], one segment per binary
-// search step and the final one (coherent/query.clh, sf_coherent_segment_depth); none outside the map.
+// Loads of one texel test: positions[g], offsets[t], offsets[t + 1], one index (last, 4 bytes)
+// per binary search step and the found segment's depth (2 bytes; coherent/query.clh,
+// sf_coherent_segment_depth); none outside the map.
 double texel_bytes(const CompressedStack& c, int x, int y) {
   const int m = c.layout.resolution;
   if (x < 0 || y < 0 || x >= m || y >= m) return 0.0;
@@ -212,7 +213,7 @@ double texel_bytes(const CompressedStack& c, int x, int y) {
     hi = mid;
     ++steps;
   }
-  return 4.0 + 8.0 + 4.0 * (steps + 1);
+  return 4.0 + 8.0 + 4.0 * steps + 2.0;
 }
 
 // Mean loads per query over a sample of the queries, in double geometry (the device's float
@@ -316,7 +317,8 @@ void BM_Compress(benchmark::State& state) {
   const StackLayout& l = f.stack.layout;
   const size_t texels = l.texels();
   cl::Buffer offsets = device_buffer((texels + 1) * 4), scratch = device_buffer(compress_scratch_bytes(l));
-  cl::Buffer segments = device_buffer(f.compressed.segment_count * 4);
+  cl::Buffer last = device_buffer(f.compressed.segment_count * 4),
+             depth = device_buffer(f.compressed.segment_count * 2);
   std::vector<uint32_t> counts(texels + 1);
   double count_s = 0, scan_s = 0, write_s = 0, span_s = 0;
   const double s = time_runs(state, [&] {
@@ -342,7 +344,7 @@ void BM_Compress(benchmark::State& state) {
         scan_s = event_seconds(first, scanned);
       }
       const cl::Event written = enqueue_compress_write(rt, l, f.compressed.segment_count, f.device.z1, f.device.z2,
-                                                       offsets, segments, after.empty() ? nullptr : &after);
+                                                       offsets, last, depth, after.empty() ? nullptr : &after);
       written.wait();
       count_s = event_seconds(counted);
       write_s = event_seconds(written);
@@ -359,7 +361,7 @@ void BM_Compress(benchmark::State& state) {
   state.counters["between_ms"] = (span_s - count_s - write_s) * 1e3;
   state.counters["segments_per_texel"] = double(f.compressed.segment_count) / texels;
   state.counters["ratio"] = double(l.uncompressed_bytes()) / f.host.compressed_bytes();
-  set_throughput(state, 2 * stack_bytes + 12.0 * texels + 4.0 * f.compressed.segment_count, double(l.views()) * texels,
+  set_throughput(state, 2 * stack_bytes + 12.0 * texels + 6.0 * f.compressed.segment_count, double(l.views()) * texels,
                  s);
 }
 

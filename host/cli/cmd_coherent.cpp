@@ -73,8 +73,8 @@ std::string size_summary(const coherent::CompressedStack& c) {
   return std::to_string(c.layout.views_theta) + "x" + std::to_string(c.layout.views_phi) + " views (" +
          std::to_string(c.layout.views()) + "), M = " + std::to_string(c.layout.resolution) + ", " +
          coherent::ordering_name(c.layout.ordering) + ", depth pair " + std::to_string(uint32_t(c.layout.depth_pair)) +
-         ", far plane " + coherent::far_plane_name(c.layout.far_plane) + ": " + std::to_string(c.segments.size()) +
-         " segments (" + fixed(double(c.segments.size()) / double(c.layout.texels()), 1) +
+         ", far plane " + coherent::far_plane_name(c.layout.far_plane) + ": " + std::to_string(c.segment_count()) +
+         " segments (" + fixed(double(c.segment_count()) / double(c.layout.texels()), 1) +
          " per texel), uncompressed " + fixed(unc / mib, 1) + " MiB, compressed " + fixed(comp / mib, 2) +
          " MiB, ratio " + fixed(unc / comp, 1) + ":1";
 }
@@ -150,7 +150,7 @@ int run_build(const BuildArgs& a) {
   }
   // Held at once: a part's maps; the whole stack for the device's fit; a chunk for the host's.
   if (a.chunk_views < 0) throw InputError("--chunk-views must be >= 0 (0: 256 MiB of maps)");
-  const uint32_t chunk = sharded || runtime ? range.count()
+  const uint32_t chunk = sharded || runtime  ? range.count()
                          : a.chunk_views > 0 ? uint32_t(std::min(a.chunk_views, layout.views()))
                                              : chunk_views(layout);
   check_memory(layout, chunk);
@@ -162,7 +162,8 @@ int run_build(const BuildArgs& a) {
   std::optional<scene::Progress> progress;  // reset when the views are rendered: the bar ends its line
   progress.emplace("rendering views", size_t(range.count()), !a.quiet);
   auto render = [&](scene::ViewRange views) {
-    return scene::render_stack_part(object, layout, views, a.threads, [&](size_t n) { progress->add(n); }, renderer);
+    return scene::render_stack_part(
+        object, layout, views, a.threads, [&](size_t n) { progress->add(n); }, renderer);
   };
   double render_s = 0.0, fit_s = 0.0;
   io::CoherentFile file;
@@ -173,7 +174,8 @@ int run_build(const BuildArgs& a) {
     render_s = seconds_since(t0);
     progress.reset();
     if (sharded) {
-      io::write_coherent_part(a.output, {layout, a.source, range.first, range.end, std::move(part.z1), std::move(part.z2)});
+      io::write_coherent_part(a.output,
+                              {layout, a.source, range.first, range.end, std::move(part.z1), std::move(part.z2)});
       if (!a.quiet)
         std::cout << "coherent build: " << a.output << ": part " << a.shard << ", views " << range.first << ".."
                   << range.end << " of " << layout.views() << "; render " << fixed(render_s, 2)
@@ -220,8 +222,8 @@ int run_merge(const MergeArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   coherent::StackLayout layout;
   std::string source;
-  coherent::DualDepthStack stack;        // the device's fit only
-  std::vector<int> owner;                // the part that holds each view
+  coherent::DualDepthStack stack;                  // the device's fit only
+  std::vector<int> owner;                          // the part that holds each view
   std::vector<std::pair<uint32_t, size_t>> order;  // (first view, part) for the host's fit
   for (size_t k = 0; k < a.parts.size(); ++k) {
     io::CoherentPart part = io::read_coherent_part(a.parts[k]);

@@ -30,6 +30,10 @@ class Writer {
   void u32(uint32_t v) {
     for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<unsigned char>(v >> (8 * b)));
   }
+  void u16(uint16_t v) {
+    bytes.push_back(static_cast<unsigned char>(v));
+    bytes.push_back(static_cast<unsigned char>(v >> 8));
+  }
   void u64(uint64_t v) {
     for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<unsigned char>(v >> (8 * b)));
   }
@@ -56,6 +60,12 @@ class Reader {
     uint32_t v = 0;
     for (int b = 0; b < 4; ++b) v |= uint32_t(bytes_[at_ + b]) << (8 * b);
     at_ += 4;
+    return v;
+  }
+  uint16_t u16(const char* what) {
+    need(2, what);
+    const uint16_t v = uint16_t(bytes_[at_] | bytes_[at_ + 1] << 8);
+    at_ += 2;
     return v;
   }
   uint64_t u64(const char* what) {
@@ -103,12 +113,12 @@ void check_segments(const coherent::CompressedStack& c, const std::string& path)
   if (c.offsets[0] != 0) fail(kInputRole, path, "corrupted: the first offset is not 0");
   for (size_t t = 0; t < texels; ++t) {
     const uint32_t begin = c.offsets[t], end = c.offsets[t + 1];
-    if (end <= begin || end > c.segments.size())
+    if (end <= begin || end > c.last.size())
       fail(kInputRole, path, "corrupted: texel " + std::to_string(t) + " has no segments or runs past the end");
     for (uint32_t s = begin + 1; s < end; ++s)
-      if ((c.segments[s] & coherent::kSegmentIndexMask) <= (c.segments[s - 1] & coherent::kSegmentIndexMask))
+      if (c.last[s] <= c.last[s - 1])
         fail(kInputRole, path, "corrupted: texel " + std::to_string(t) + "'s segments are out of order");
-    if ((c.segments[end - 1] & coherent::kSegmentIndexMask) != last)
+    if (c.last[end - 1] != last)
       fail(kInputRole, path, "corrupted: texel " + std::to_string(t) + "'s segments do not reach the last view");
   }
 }
@@ -139,7 +149,7 @@ coherent::StackLayout get_layout(Reader& r) {
 
 // The file's bytes after its magic and version are checked: InputError naming `role`.
 std::vector<unsigned char> read_versioned(const std::string& path, const char* role, const unsigned char* magic,
-                                          uint32_t version, const char* what) {
+                                          std::initializer_list<uint32_t> versions, const char* what) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(role, path, "cannot open (" + std::string(std::strerror(errno)) + ")");
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -148,8 +158,11 @@ std::vector<unsigned char> read_versioned(const std::string& path, const char* r
   if (bytes.size() < 12) fail(role, path, "truncated (ends inside the header)");
   const uint32_t v =
       uint32_t(bytes[8]) | uint32_t(bytes[9]) << 8 | uint32_t(bytes[10]) << 16 | uint32_t(bytes[11]) << 24;
-  if (v != version)
-    fail(role, path, "version " + std::to_string(v) + ", this build reads version " + std::to_string(version));
+  if (std::find(versions.begin(), versions.end(), v) == versions.end()) {
+    std::string known;
+    for (uint32_t k : versions) known += (known.empty() ? "" : " and ") + std::to_string(k);
+    fail(role, path, "version " + std::to_string(v) + ", this build reads version " + known);
+  }
   return bytes;
 }
 
@@ -164,17 +177,20 @@ uint32_t stored_crc(const std::vector<unsigned char>& bytes) {
 void write_coherent(const std::string& path, const CoherentFile& file) {
   const coherent::CompressedStack& c = file.stack;
   coherent::validate(c.layout);
-  if (c.offsets.size() != c.layout.texels() + 1 || c.offsets.back() != c.segments.size())
+  if (c.offsets.size() != c.layout.texels() + 1 || c.offsets.back() != c.last.size() || c.depth.size() != c.last.size())
     fail(kOutputRole, path, "the offsets do not match the layout and segments");
   Writer w;
+  w.bytes.reserve(c.compressed_bytes() + 256 + file.source.size());
   w.raw(kMagic, sizeof kMagic);
   w.u32(kCoherentFileVersion);
   put_layout(w, c.layout);
-  w.u64(c.segments.size());
+  w.u64(c.last.size());
   w.u32(uint32_t(file.source.size()));
   w.raw(file.source.data(), file.source.size());
   for (uint32_t v : c.offsets) w.u32(v);
-  for (uint32_t v : c.segments) w.u32(v);
+  const bool wide = coherent::index_bytes(c.layout) == 4;
+  for (uint32_t v : c.last) wide ? w.u32(v) : w.u16(uint16_t(v));
+  for (uint16_t v : c.depth) w.u16(v);
   w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
 
   write_file(path, kOutputRole, w.bytes.data(), w.bytes.size());
@@ -184,10 +200,10 @@ namespace {
 
 CoherentFile read_coherent_bytes(const std::string& path) {
   const std::vector<unsigned char> bytes =
-      read_versioned(path, kInputRole, kMagic, kCoherentFileVersion, "coherent shadow map");
+      read_versioned(path, kInputRole, kMagic, {1, kCoherentFileVersion}, "coherent shadow map");
   Reader r(bytes, path);
   r.str(sizeof kMagic, "magic");
-  r.u32("header");  // the version
+  const uint32_t version = r.u32("header");
   if (bytes.size() < 4 + r.at()) fail(kInputRole, path, "truncated (ends inside the header)");
   const uint32_t crc = stored_crc(bytes);
 
@@ -204,23 +220,38 @@ CoherentFile read_coherent_bytes(const std::string& path) {
   } catch (const InputError& e) {
     fail(kInputRole, path, std::string("corrupted header: ") + e.what());
   }
+  if (version == 1 && l.views() > 65536)  // version 1 packs a 16-bit index with the depth
+    fail(kInputRole, path, "corrupted header: " + std::to_string(l.views()) + " views in a version 1 file");
   // The data after the header: the offsets, the segments (a count the file states, any number up
   // to 2^64 - 1, so it is checked against the bytes there are before any product is formed) and
-  // the CRC.
+  // the CRC. Version 1: one word per segment, (z_avg << 16) | i_last; version 2: the indices
+  // (index_bytes each), then the depths (2 bytes each).
+  const uint64_t segment_bytes = version == 1 ? 4 : 2 + uint64_t(coherent::index_bytes(l));
   const uint64_t offsets_bytes = 4 * (uint64_t(l.texels()) + 1);  // texels <= 4096^2 (validate)
   const uint64_t after_header = bytes.size() - r.at();
-  if (after_header < offsets_bytes + 4 || segments > (after_header - offsets_bytes - 4) / 4)
+  if (after_header < offsets_bytes + 4 || segments > (after_header - offsets_bytes - 4) / segment_bytes)
     fail(kInputRole, path,
          "truncated: " + std::to_string(bytes.size()) + " bytes, the header announces " + std::to_string(segments) +
              " segments for " + std::to_string(l.texels()) + " texels");
-  const uint64_t expected = r.at() + offsets_bytes + 4 * segments + 4;
+  const uint64_t expected = r.at() + offsets_bytes + segment_bytes * segments + 4;
   if (bytes.size() > expected)
     fail(kInputRole, path, "corrupted: " + std::to_string(bytes.size() - expected) + " bytes past the end of the data");
   if (crc32_of(bytes.data(), bytes.size() - 4) != crc) fail(kInputRole, path, "corrupted (CRC-32 mismatch)");
   file.stack.offsets.resize(l.texels() + 1);
   for (uint32_t& v : file.stack.offsets) v = r.u32("offsets");
-  file.stack.segments.resize(size_t(segments));
-  for (uint32_t& v : file.stack.segments) v = r.u32("segments");
+  file.stack.last.resize(size_t(segments));
+  file.stack.depth.resize(size_t(segments));
+  if (version == 1) {
+    for (size_t s = 0; s < segments; ++s) {
+      const uint32_t word = r.u32("segments");
+      file.stack.last[s] = word & 0xffffu;
+      file.stack.depth[s] = uint16_t(word >> 16);
+    }
+  } else {
+    const bool wide = coherent::index_bytes(l) == 4;
+    for (uint32_t& v : file.stack.last) v = wide ? r.u32("segments") : r.u16("segments");
+    for (uint16_t& v : file.stack.depth) v = r.u16("segments");
+  }
   if (file.stack.offsets.back() != segments)
     fail(kInputRole, path, "corrupted: the offsets do not end at the segment count");
   check_segments(file.stack, path);
@@ -244,7 +275,7 @@ const unsigned char kPartMagic[8] = {'S', 'F', 'C', 'S', 'P', '\r', '\n', 0x1a};
 
 CoherentPart read_part_bytes(const std::string& path) {
   const std::vector<unsigned char> bytes =
-      read_versioned(path, kPartRole, kPartMagic, kCoherentPartVersion, "coherent stack part");
+      read_versioned(path, kPartRole, kPartMagic, {kCoherentPartVersion}, "coherent stack part");
   Reader r(bytes, path);
   r.str(sizeof kPartMagic, "magic");
   r.u32("header");  // the version

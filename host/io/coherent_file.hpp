@@ -11,7 +11,9 @@
 
 namespace sf::io {
 
-inline constexpr uint32_t kCoherentFileVersion = 1;
+// Version 2 (written): 32-bit view indices, stored in 2 bytes up to 65536 views and 4 beyond, then
+// the depths. Version 1 (read): one word per segment, (z_avg << 16) | i_last.
+inline constexpr uint32_t kCoherentFileVersion = 2;
 
 struct CoherentFile {
   coherent::CompressedStack stack;

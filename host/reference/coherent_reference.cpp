@@ -71,7 +71,7 @@ void StreamingFit::add(const uint16_t* z1s, const uint16_t* z2s, uint32_t count)
         hi_[t] = h2;
         continue;
       }
-      runs_[t].push_back((((lo_[t] + hi_[t]) / 2) << kSegmentDepthShift) | (next_ - 1));
+      runs_[t].push_back(uint64_t((lo_[t] + hi_[t]) / 2) << 32 | (next_ - 1));
       lo_[t] = z1[t];
       hi_[t] = upper(z2[t]);
     }
@@ -82,21 +82,27 @@ CompressedStack StreamingFit::finish() {
   const size_t texels = layout_.texels();
   const uint32_t n = uint32_t(layout_.views());
   if (next_ != n)
-    throw InputError("the segment fit has " + std::to_string(next_) + " of the stack's " + std::to_string(n) +
-                     " maps");
+    throw InputError("the segment fit has " + std::to_string(next_) + " of the stack's " + std::to_string(n) + " maps");
   CompressedStack c;
   c.layout = layout_;
   c.offsets.assign(texels + 1, 0);
   size_t total = texels;
   for (const auto& r : runs_) total += r.size();
-  c.segments.reserve(total);
+  if (total > 0xffffffffu)
+    throw InputError("the stack has " + std::to_string(total) + " segments, more than 32-bit offsets address");
+  c.last.reserve(total);
+  c.depth.reserve(total);
   for (size_t t = 0; t < texels; ++t) {
-    c.offsets[t] = uint32_t(c.segments.size());
-    c.segments.insert(c.segments.end(), runs_[t].begin(), runs_[t].end());
-    std::vector<uint32_t>().swap(runs_[t]);  // freed as they are copied: the peak is one copy
-    c.segments.push_back((((lo_[t] + hi_[t]) / 2) << kSegmentDepthShift) | (n - 1));
+    c.offsets[t] = uint32_t(c.last.size());
+    for (uint64_t r : runs_[t]) {
+      c.last.push_back(uint32_t(r));
+      c.depth.push_back(uint16_t(r >> 32));
+    }
+    std::vector<uint64_t>().swap(runs_[t]);  // freed as they are copied: the peak is one copy
+    c.last.push_back(n - 1);
+    c.depth.push_back(uint16_t((lo_[t] + hi_[t]) / 2));
   }
-  c.offsets[texels] = uint32_t(c.segments.size());
+  c.offsets[texels] = uint32_t(c.last.size());
   return c;
 }
 
@@ -110,12 +116,12 @@ uint16_t segment_depth(const CompressedStack& c, size_t texel, uint32_t i) {
   uint32_t lo = c.offsets[texel], hi = c.offsets[texel + 1] - 1;  // the answer is in [lo, hi]
   while (lo < hi) {
     const uint32_t mid = (lo + hi) / 2;
-    if ((c.segments[mid] & kSegmentIndexMask) < i)
+    if (c.last[mid] < i)
       lo = mid + 1;
     else
       hi = mid;
   }
-  return uint16_t(c.segments[lo] >> kSegmentDepthShift);
+  return c.depth[lo];
 }
 
 int stack_test(const DualDepthStack& s, uint32_t i, size_t texel, uint32_t q) {

@@ -36,7 +36,7 @@ class StreamingFit {
   sf::coherent::StackLayout layout_;
   uint32_t next_ = 0;
   std::vector<uint32_t> lo_, hi_;
-  std::vector<std::vector<uint32_t>> runs_;
+  std::vector<std::vector<uint64_t>> runs_;  // (z_avg << 32) | i_last of each closed run
 };
 
 // z_avg of the segment of texel t that holds map i (binary search over i_last).

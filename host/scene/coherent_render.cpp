@@ -272,7 +272,7 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, double* seconds, bool pcf) {
   validate(settings);
-  // The compressed stack as the query kernels take it (offsets, segments, positions, layout).
+  // The compressed stack as the query kernels take it (offsets, last, depth, positions, layout).
   const coherent::DeviceStack maps = coherent::upload(rt, stack);
   const coherent::DeviceLayout layout = maps.device;
   const cl::Context& ctx = rt.context();
@@ -311,7 +311,8 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
   k.setArg(a++, alb);
   k.setArg(a++, sizeof(layout), &layout);
   k.setArg(a++, maps.offsets);
-  k.setArg(a++, maps.segments);
+  k.setArg(a++, maps.last);
+  k.setArg(a++, maps.depth);
   k.setArg(a++, maps.positions);
   k.setArg(a++, cl_int(env.width));
   k.setArg(a++, cl_int(env.height));

@@ -19,7 +19,8 @@ inline uint sf_coherent_upper(ushort z2) { return z2 == (ushort)65535 ? 65536u :
 // max z1 < min z2 stays true, and emits a segment (z_avg = floor((max z1 + min z2) / 2), i_last)
 // when the next map breaks it. Each map is read once: the map that breaks a run starts the next
 // one (the reference reads it again). The update is branch-free so that the lanes vectorise;
-// EMIT(cut, packed, l) stores lane l's k[l]-th segment where cut is 1. k[l] ends as the count.
+// EMIT(cut, z_avg, i_last, l) stores lane l's k[l]-th segment where cut is 1. k[l] ends as the
+// count.
 #define SF_COHERENT_WALK(LN, EMIT)                                                     \
   uint lo[SF_COHERENT_LANES], hi[SF_COHERENT_LANES], k[SF_COHERENT_LANES];                       \
   for (uint l = 0; l < (LN); ++l) {                                               \
@@ -33,18 +34,18 @@ inline uint sf_coherent_upper(ushort z2) { return z2 == (ushort)65535 ? 65536u :
       const uint a = z1[at + l], b = sf_coherent_upper(z2[at + l]);                   \
       const uint l2 = max(lo[l], a), h2 = min(hi[l], b);                          \
       const uint cut = l2 >= h2 ? 1u : 0u;                                        \
-      EMIT(cut, (((lo[l] + hi[l]) >> 1) << 16) | (i - 1), l)                      \
+      EMIT(cut, (lo[l] + hi[l]) >> 1, i - 1, l)                                  \
       k[l] += cut;                                                                \
       lo[l] = cut ? a : l2;                                                       \
       hi[l] = cut ? b : h2;                                                       \
     }                                                                             \
   }                                                                               \
   for (uint l = 0; l < (LN); ++l) {                                               \
-    EMIT(1u, (((lo[l] + hi[l]) >> 1) << 16) | (n - 1), l)                         \
+    EMIT(1u, (lo[l] + hi[l]) >> 1, n - 1, l)                                      \
     k[l] += 1;                                                                    \
   }
 
-#define SF_COHERENT_EMIT_NONE(cut, s, l)
+#define SF_COHERENT_EMIT_NONE(cut, z, i, l)
 
 // Pass 1: counts[t] = segments of texel t (counts is the offsets buffer, texels + 1 words).
 // Whole items take the constant lane count (vectorised), the last partial one the rest.
@@ -102,17 +103,20 @@ __kernel void sf_coherent_scan_add(__global uint* restrict offsets, uint texels,
   offsets[t] += (uint)sums[t / block];
 }
 
-// Pass 3: the segments of texel t at offsets[t] ..; writes past `capacity` words are dropped
-// (a caller's short buffer loses segments, never memory).
-#define SF_COHERENT_EMIT_STORE(cut, s, l)                   \
-  if (cut) {                                           \
-    const uint o = base[l] + k[l];                     \
-    if (o < capacity) segments[o] = (s);               \
+// Pass 3: the segments of texel t at offsets[t] .. (last and depth); writes past `capacity`
+// segments are dropped (a caller's short buffer loses segments, never memory).
+#define SF_COHERENT_EMIT_STORE(cut, z, i, l) \
+  if (cut) {                                 \
+    const uint o = base[l] + k[l];           \
+    if (o < capacity) {                      \
+      last[o] = (i);                         \
+      depth[o] = (ushort)(z);                \
+    }                                        \
   }
 
 __kernel void sf_coherent_write(__global const ushort* restrict z1, __global const ushort* restrict z2, uint texels,
-                           uint n, __global const uint* restrict offsets, __global uint* restrict segments,
-                           uint capacity) {
+                           uint n, __global const uint* restrict offsets, __global uint* restrict last,
+                           __global ushort* restrict depth, uint capacity) {
   const uint t0 = get_global_id(0) * SF_COHERENT_LANES;
   if (t0 >= texels) return;
   const uint lanes = min((uint)SF_COHERENT_LANES, texels - t0);

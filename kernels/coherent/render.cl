@@ -108,7 +108,7 @@ inline float3 sf_env_lookup(const sf_env E, float3 d) {
 // out: linear RGB radiance, w = 1.
 __kernel void sf_coherent_render(const int n, __global const float4* gpos, __global const float4* gnormal,
                             __global const float4* galbedo, const sf_coherent_layout L, __global const uint* offsets,
-                            __global const uint* segments, __global const uint* positions, const int env_width,
+                            __global const uint* last, __global const ushort* depth, __global const uint* positions, const int env_width,
                             const int env_height, const int env_sampled, __global const float4* env_rgb,
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
@@ -140,8 +140,8 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
       const float c = dot(N, w);
       if (c > 0.0f) {
-        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, segments, positions, p, w)
-                               : sf_coherent_visibility(L, offsets, segments, positions, p, w);
+        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p, w)
+                               : sf_coherent_visibility(L, offsets, last, depth, positions, p, w);
         if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
       }
     }
@@ -159,8 +159,8 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float cl = fabs(dot(nl, w)) / area;
       // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
       if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
-        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, segments, positions, p, d)
-                               : sf_coherent_visibility(L, offsets, segments, positions, p, d);
+        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p, d)
+                               : sf_coherent_visibility(L, offsets, last, depth, positions, p, d);
         if (v > 0.0f) sum += radiance * (v * (c * cl * area / dist2));
       }
     }

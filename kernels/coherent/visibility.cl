@@ -9,18 +9,18 @@ inline float3 sf_coherent_query_dir(float4 p, float4 s, int toward) { return tow
 
 // Nearest view, nearest texel: 0 or 1.
 __kernel void sf_coherent_visibility_points(const sf_coherent_layout L, __global const uint* restrict offsets,
-                                       __global const uint* restrict segments, __global const uint* restrict positions,
+                                       __global const uint* restrict last, __global const ushort* restrict depth, __global const uint* restrict positions,
                                        __global const float4* restrict points, __global const float4* restrict second,
                                        __global float* restrict out, uint count, int toward) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   const float4 p = points[i];
-  out[i] = sf_coherent_visibility(L, offsets, segments, positions, p.xyz, sf_coherent_query_dir(p, second[i], toward));
+  out[i] = sf_coherent_visibility(L, offsets, last, depth, positions, p.xyz, sf_coherent_query_dir(p, second[i], toward));
 }
 
 // Generalized PCF over 2x2 views x 2x2 texels: in [0, 1].
 __kernel void sf_coherent_visibility_points_pcf(const sf_coherent_layout L, __global const uint* restrict offsets,
-                                           __global const uint* restrict segments,
+                                           __global const uint* restrict last, __global const ushort* restrict depth,
                                            __global const uint* restrict positions,
                                            __global const float4* restrict points,
                                            __global const float4* restrict second, __global float* restrict out,
@@ -28,7 +28,7 @@ __kernel void sf_coherent_visibility_points_pcf(const sf_coherent_layout L, __gl
   const uint i = get_global_id(0);
   if (i >= count) return;
   const float4 p = points[i];
-  out[i] = sf_coherent_visibility_filtered(L, offsets, segments, positions, p.xyz, sf_coherent_query_dir(p, second[i], toward));
+  out[i] = sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p.xyz, sf_coherent_query_dir(p, second[i], toward));
 }
 
 // The uncompressed dual-depth test with the same view and texel (sf::ref::coherent::stack_test):

@@ -235,13 +235,14 @@ bool near_boundary(const CompressedStack& c, const std::vector<uint32_t>& pos, c
   return std::abs((l.radius - dot(r, f.dir)) * scale * kDepthMax - (z + 0.5)) < eps_depth;
 }
 
-double segments_per_texel(const CompressedStack& c) { return double(c.segments.size()) / c.layout.texels(); }
+double segments_per_texel(const CompressedStack& c) { return double(c.segment_count()) / c.layout.texels(); }
 
 // --- (1) compression ---------------------------------------------------------------------------
 
 // The device's offsets and segments equal the reference's word for word (exact: both run the
 // same integer greedy walk). Layouts: every ordering, odd grids and map sides (texel counts
-// that fill no work-group), one view, one texel, both far planes and depth pairs' test stacks.
+// that fill no work-group), one view, one texel, more views than 16 bits index, both far planes
+// and depth pairs' test stacks.
 TEST(CoherentDevice, CompressionEqualsTheReferenceByteForByte) {
   struct Case {
     StackLayout layout;
@@ -258,7 +259,8 @@ TEST(CoherentDevice, CompressionEqualsTheReferenceByteForByte) {
   cases.push_back({layout_of(5, 3, 13, Ordering::ScanLine), 2});
   cases.push_back({layout_of(1, 1, 9, Ordering::ScanLine), 1});
   cases.push_back({layout_of(4, 4, 1, Ordering::Hilbert), 2});
-  cases.push_back({layout_of(2, 7, 67, Ordering::ZigZag), 0});  // 4489 texels: > one scan block, partial
+  cases.push_back({layout_of(2, 7, 67, Ordering::ZigZag), 0});       // 4489 texels: > one scan block, partial
+  cases.push_back({layout_of(300, 300, 2, Ordering::ScanLine), 2});  // 90,000 views: indices past 16 bits
   for (size_t n = 0; n < cases.size(); ++n) {
     const Case& k = cases[n];
     const DualDepthStack s = k.generator == 0   ? sphere_scene(k.layout)
@@ -272,15 +274,16 @@ TEST(CoherentDevice, CompressionEqualsTheReferenceByteForByte) {
                              std::to_string(k.generator) + ", " + std::to_string(segments_per_texel(want)) +
                              " segments per texel)";
     ASSERT_EQ(got.offsets.size(), want.offsets.size()) << what;
-    ASSERT_EQ(got.segments.size(), want.segments.size()) << what;
+    ASSERT_EQ(got.segment_count(), want.segment_count()) << what;
     EXPECT_TRUE(got.offsets == want.offsets) << what;
-    EXPECT_TRUE(got.segments == want.segments) << what;
+    EXPECT_TRUE(got.last == want.last) << what;
+    EXPECT_TRUE(got.depth == want.depth) << what;
   }
 }
 
-// The enqueue-level passes on caller buffers: a segments buffer one word short of the total
-// keeps every segment that fits and writes nothing past its capacity (the word after it, in a
-// larger buffer, keeps its sentinel).
+// The enqueue-level passes on caller buffers: last and depth buffers one segment short of the
+// total keep every segment that fits and write nothing past their capacity (the entry after it,
+// in larger buffers, keeps its sentinel).
 TEST(CoherentDevice, CompressionPassesOnCallerBuffersRespectCapacity) {
   const StackLayout l = layout_of(4, 4, 9, Ordering::Hilbert);
   const DualDepthStack s = smooth_random(l, 3);
@@ -293,15 +296,22 @@ TEST(CoherentDevice, CompressionPassesOnCallerBuffersRespectCapacity) {
   const EventList scanned{enqueue_compress_scan(rt, l, offsets, scratch, nullptr, &counted)};
   uint64_t total = 0;
   rt.queue().enqueueReadBuffer(scratch, CL_TRUE, compress_total_offset(l), 8, &total, &scanned);
-  ASSERT_EQ(total, want.segments.size());
-  const size_t capacity = want.segments.size() - 1;
-  std::vector<uint32_t> seg(want.segments.size() + 1, 0xdeadbeefu);
-  cl::Buffer segments(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, seg.size() * 4, seg.data());
-  enqueue_compress_write(rt, l, capacity, z.z1, z.z2, offsets, segments, &scanned).wait();
-  rt.queue().enqueueReadBuffer(segments, CL_TRUE, 0, seg.size() * 4, seg.data());
-  for (size_t i = 0; i < capacity; ++i) ASSERT_EQ(seg[i], want.segments[i]) << "segment " << i;
-  EXPECT_EQ(seg[capacity], 0xdeadbeefu);
-  EXPECT_EQ(seg[capacity + 1], 0xdeadbeefu);
+  ASSERT_EQ(total, want.segment_count());
+  const size_t capacity = want.segment_count() - 1;
+  std::vector<uint32_t> last(want.segment_count() + 1, 0xdeadbeefu);
+  std::vector<uint16_t> depth(want.segment_count() + 1, 0xbeefu);
+  cl::Buffer last_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, last.size() * 4, last.data());
+  cl::Buffer depth_buffer(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, depth.size() * 2, depth.data());
+  enqueue_compress_write(rt, l, capacity, z.z1, z.z2, offsets, last_buffer, depth_buffer, &scanned).wait();
+  rt.queue().enqueueReadBuffer(last_buffer, CL_TRUE, 0, last.size() * 4, last.data());
+  rt.queue().enqueueReadBuffer(depth_buffer, CL_TRUE, 0, depth.size() * 2, depth.data());
+  for (size_t i = 0; i < capacity; ++i) {
+    ASSERT_EQ(last[i], want.last[i]) << "segment " << i;
+    ASSERT_EQ(depth[i], want.depth[i]) << "segment " << i;
+  }
+  EXPECT_EQ(last[capacity], 0xdeadbeefu);
+  EXPECT_EQ(last[capacity + 1], 0xdeadbeefu);
+  EXPECT_EQ(depth[capacity], 0xbeefu);
 }
 
 // --- (2) lossless ------------------------------------------------------------------------------
@@ -512,8 +522,8 @@ TEST(CoherentDevice, BadInputIsRefusedNamingTheField) {
   bad.offsets[5] = bad.offsets[4];  // texel 4 without a segment
   EXPECT_TRUE(has(refusal([&] { upload(rt, bad); }), "offsets must increase"));
   bad = c;
-  bad.segments.pop_back();
-  EXPECT_TRUE(has(refusal([&] { upload(rt, bad); }), "segments"));
+  bad.last.pop_back();
+  EXPECT_TRUE(has(refusal([&] { upload(rt, bad); }), "last and depth"));
   DualDepthStack bad_z = s;
   bad_z.z2.pop_back();
   EXPECT_TRUE(has(refusal([&] { upload(rt, bad_z); }), "z1 and z2"));
@@ -547,7 +557,7 @@ TEST(CoherentDevice, BadInputIsRefusedNamingTheField) {
                     enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, q.count, bad_d, b.points,
                                        b.dirs, b.out);
                   }),
-                  "segments"));
+                  "last"));
   bad_d = d;
   bad_d.positions = small;
   EXPECT_TRUE(has(refusal([&] {
@@ -572,9 +582,14 @@ TEST(CoherentDevice, BadInputIsRefusedNamingTheField) {
   EXPECT_TRUE(has(refusal([&] { compress_on_device(rt, bad_dz); }), "z1"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_count(rt, l, z.z1, z.z2, small); }), "offsets"));
   EXPECT_TRUE(has(refusal([&] { enqueue_compress_scan(rt, l, d.offsets, small); }), "scratch"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, 0, z.z1, z.z2, d.offsets, d.segments); }), "capacity"));
-  EXPECT_TRUE(has(refusal([&] { enqueue_compress_write(rt, l, c.segments.size(), z.z1, z.z2, d.offsets, small); }),
-                  "segments"));
+  EXPECT_TRUE(
+      has(refusal([&] { enqueue_compress_write(rt, l, 0, z.z1, z.z2, d.offsets, d.last, d.depth); }), "capacity"));
+  EXPECT_TRUE(
+      has(refusal([&] { enqueue_compress_write(rt, l, c.segment_count(), z.z1, z.z2, d.offsets, small, d.depth); }),
+          "last"));
+  EXPECT_TRUE(
+      has(refusal([&] { enqueue_compress_write(rt, l, c.segment_count(), z.z1, z.z2, d.offsets, d.last, small); }),
+          "depth"));
   // count 0 is not an error: a marker after `wait`.
   enqueue_visibility(rt, CoherentFilter::Nearest, CoherentToward::Direction, 0, d, cl::Buffer(), cl::Buffer(),
                      cl::Buffer())

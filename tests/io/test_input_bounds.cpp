@@ -321,20 +321,22 @@ TEST_F(InputBounds, CsmSegmentCountThatOverflowsIsTruncation) {
   file.stack.layout.views_theta = 1;
   file.stack.layout.views_phi = 1;
   file.stack.offsets = {0, 1};
-  file.stack.segments = {0};
+  file.stack.last = {0};
+  file.stack.depth = {0};
   io::write_coherent(path("one.csm"), file);
   std::string bytes = read_bytes(path("one.csm"));
-  ASSERT_EQ(io::read_coherent(path("one.csm")).stack.segments.size(), 1u);
-  // The count at byte 68 (magic 8, version 4, six u32, centre and radius), plus 2^62: 4 x count
-  // wraps to the true size in 64 bits, and a fresh CRC makes the file otherwise valid.
-  const uint64_t count = 1 + (uint64_t(1) << 62);
+  ASSERT_EQ(io::read_coherent(path("one.csm")).stack.segment_count(), 1u);
+  // The count at byte 68 (magic 8, version 4, six u32, centre and radius), plus 2^63: 4 bytes
+  // (a 16-bit index and a depth) x count wraps to the true size in 64 bits, and a fresh CRC makes
+  // the file otherwise valid.
+  const uint64_t count = 1 + (uint64_t(1) << 63);
   std::memcpy(&bytes[68], &count, 8);
   const uint32_t crc = crc32(bytes.substr(0, bytes.size() - 4));
   std::memcpy(&bytes[bytes.size() - 4], &crc, 4);
   write_bytes(path("overflow.csm"), bytes);
   expect_refusal([&] { io::read_coherent(path("overflow.csm")); },
                  {"coherent shadow map '" + path("overflow.csm") + "'", "truncated",
-                  "announces 4611686018427387905 segments for 1 texels"});
+                  "announces 9223372036854775809 segments for 1 texels"});
 }
 
 // --- lists ------------------------------------------------------------------------------------

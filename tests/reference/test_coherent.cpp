@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <set>
 #include <vector>
+
+#include <zlib.h>
 
 #include "shadowfilter/vec3.hpp"
 #include "cli_runner.hpp"
@@ -55,7 +58,7 @@ TEST(CoherentLayout, OrderingsArePermutationsWalkingToNeighbours) {
   EXPECT_THROW(enumerate_views(grid_layout(16, 8, Ordering::Hilbert)), sf::InputError);
   EXPECT_THROW(enumerate_views(grid_layout(12, 12, Ordering::Hilbert)), sf::InputError);
   EXPECT_NO_THROW(enumerate_views(grid_layout(12, 7, Ordering::ZigZag)));
-  EXPECT_THROW(validate(grid_layout(512, 512, Ordering::ScanLine)), sf::InputError);  // > 65536 views
+  EXPECT_THROW(validate(grid_layout(2049, 2048, Ordering::ScanLine)), sf::InputError);  // > 2^22 views
 }
 
 TEST(CoherentLayout, EveryViewHoldsItsOwnDirectionAndProjectsTheCentreMidMap) {
@@ -116,7 +119,7 @@ TEST(CoherentReference, SegmentsAreLongestSeparatingRunsAndLossless) {
     for (size_t t = 0; t < texels; ++t) {
       uint32_t first = 0;
       for (uint32_t k = c.offsets[t]; k < c.offsets[t + 1]; ++k) {
-        const uint32_t last = c.segments[k] & kSegmentIndexMask, z = c.segments[k] >> kSegmentDepthShift;
+        const uint32_t last = c.last[k], z = c.depth[k];
         uint32_t lo = 0, hi = 65536;
         for (uint32_t i = first; i <= last; ++i) {
           lo = std::max<uint32_t>(lo, s.z1[i * texels + t]);
@@ -162,7 +165,7 @@ TEST(CoherentReference, CoherentOrderingsCompressBetterOnARealObject) {
     StackLayout l = grid_layout(16, 16, o, 32);
     const sf::scene::SceneGeometry box = sf::scene::load_coherent_object("box");
     sf::scene::fit_bounding_sphere(box, l);
-    segments[int(o)] = compress(sf::scene::render_stack(box, l, 2)).segments.size();
+    segments[int(o)] = compress(sf::scene::render_stack(box, l, 2)).segment_count();
   }
   EXPECT_LT(segments[int(Ordering::ZigZag)], segments[int(Ordering::ScanLine)]);
   EXPECT_LT(segments[int(Ordering::Hilbert)], segments[int(Ordering::ScanLine)]);
@@ -261,7 +264,7 @@ TEST(CoherentReference, StreamedFitEqualsTheWholeStacksFit) {
   sf::scene::fit_bounding_sphere(object, l);
   const DualDepthStack stack = sf::scene::render_stack(object, l, 2);
   const CompressedStack whole = compress(stack);
-  ASSERT_GT(whole.segments.size(), 2 * l.texels());  // runs end inside the sequence
+  ASSERT_GT(whole.segment_count(), 2 * l.texels());  // runs end inside the sequence
   const size_t texels = l.texels();
   for (uint32_t chunk : {1u, 3u, 7u, 64u}) {
     sf::ref::coherent::StreamingFit fit(l);
@@ -271,7 +274,8 @@ TEST(CoherentReference, StreamedFitEqualsTheWholeStacksFit) {
     }
     const CompressedStack streamed = fit.finish();
     EXPECT_EQ(streamed.offsets, whole.offsets) << chunk;
-    EXPECT_EQ(streamed.segments, whole.segments) << chunk;
+    EXPECT_EQ(streamed.last, whole.last) << chunk;
+    EXPECT_EQ(streamed.depth, whole.depth) << chunk;
   }
   sf::ref::coherent::StreamingFit short_fit(l);
   short_fit.add(stack.z1.data(), stack.z2.data(), 10);
@@ -289,7 +293,8 @@ TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
   const sf::io::CoherentFile back = sf::io::read_coherent(path);
   EXPECT_EQ(back.source, "box");
   EXPECT_EQ(back.stack.offsets, f.stack.offsets);
-  EXPECT_EQ(back.stack.segments, f.stack.segments);
+  EXPECT_EQ(back.stack.last, f.stack.last);
+  EXPECT_EQ(back.stack.depth, f.stack.depth);
   EXPECT_EQ(back.stack.layout.views_theta, 8);
   EXPECT_EQ(back.stack.layout.ordering, Ordering::Hilbert);
   EXPECT_EQ(fs::directory_iterator(dir)->path().filename(), "s.csm");  // no temporary left
@@ -304,9 +309,9 @@ TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
   write_bytes(bad, b);
   EXPECT_NE(refusal(bad).find("CRC-32"), std::string::npos) << refusal(bad);
   b = good;
-  b[8] = 2;  // version 2
+  b[8] = 3;  // version 3
   write_bytes(bad, b);
-  EXPECT_NE(refusal(bad).find("version 2"), std::string::npos) << refusal(bad);
+  EXPECT_NE(refusal(bad).find("version 3, this build reads version 1 and 2"), std::string::npos) << refusal(bad);
   b = good;
   b[0] = 'X';
   write_bytes(bad, b);
@@ -314,6 +319,66 @@ TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
   b.assign(good.begin(), good.begin() + 20);
   write_bytes(bad, b);
   EXPECT_NE(refusal(bad).find("truncated"), std::string::npos) << refusal(bad);
+}
+
+// Little-endian words of a version 1 file (the format before 32-bit view indices): the header as
+// version 2 has it, then one word per segment, (z_avg << 16) | i_last, and the CRC.
+std::vector<char> version1_bytes(const sf::io::CoherentFile& f) {
+  std::vector<char> out;
+  auto put = [&out](uint64_t v, int bytes) {
+    for (int b = 0; b < bytes; ++b) out.push_back(char(v >> (8 * b)));
+  };
+  const char magic[8] = {'S', 'F', 'C', 'S', 'M', '\r', '\n', 0x1a};
+  out.insert(out.end(), magic, magic + 8);
+  const StackLayout& l = f.stack.layout;
+  put(1, 4);
+  for (int v : {l.resolution, l.views_theta, l.views_phi, int(l.ordering), int(l.depth_pair), int(l.far_plane)})
+    put(uint32_t(v), 4);
+  for (double v : {l.center[0], l.center[1], l.center[2], l.radius}) {
+    uint64_t bits = 0;
+    std::memcpy(&bits, &v, 8);
+    put(bits, 8);
+  }
+  put(f.stack.segment_count(), 8);
+  put(f.source.size(), 4);
+  out.insert(out.end(), f.source.begin(), f.source.end());
+  for (uint32_t v : f.stack.offsets) put(v, 4);
+  for (size_t s = 0; s < f.stack.segment_count(); ++s) put(uint32_t(f.stack.depth[s]) << 16 | f.stack.last[s], 4);
+  put(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size())), 4);
+  return out;
+}
+
+// Version 1 files still read, to the same stack; a stack of more than 65536 views stores 32-bit
+// indices (the file's segments take 6 bytes), and reads back, and the device's fit agrees.
+TEST(CoherentFile, ReadsVersionOneAndStoresWideIndices) {
+  const std::string dir = sf::test::temp_dir("coherent_versions");
+  sf::io::CoherentFile f;
+  f.stack = small_compressed();
+  f.source = "box";
+  write_bytes(dir + "/v1.csm", version1_bytes(f));
+  const sf::io::CoherentFile v1 = sf::io::read_coherent(dir + "/v1.csm");
+  EXPECT_EQ(v1.stack.offsets, f.stack.offsets);
+  EXPECT_EQ(v1.stack.last, f.stack.last);
+  EXPECT_EQ(v1.stack.depth, f.stack.depth);
+  EXPECT_EQ(v1.source, "box");
+
+  const StackLayout wide = grid_layout(300, 300, Ordering::ScanLine, 1);  // 90,000 views of 1 texel
+  ASSERT_EQ(index_bytes(wide), 4);
+  const DualDepthStack s = synthetic_stack(wide, 5);
+  sf::io::CoherentFile w;
+  w.stack = compress(s);
+  w.source = "synthetic";
+  ASSERT_GT(w.stack.last[w.stack.segment_count() - 2], 65535u);  // indices past 16 bits
+  sf::io::write_coherent(dir + "/wide.csm", w);
+  EXPECT_EQ(fs::file_size(dir + "/wide.csm"), 8 + 4 + 56 + 8 + 4 + 9 + 4 * 2 + 6 * w.stack.segment_count() + 4);
+  const sf::io::CoherentFile back = sf::io::read_coherent(dir + "/wide.csm");
+  EXPECT_EQ(back.stack.last, w.stack.last);
+  EXPECT_EQ(back.stack.depth, w.stack.depth);
+  for (uint32_t i : {0u, 65535u, 65536u, 70000u, 89999u}) {  // lookups past 16 bits find their segment
+    const uint16_t z = sf::ref::coherent::segment_depth(back.stack, 0, i);
+    EXPECT_LE(uint32_t(s.z1[i]), uint32_t(z)) << i;
+    EXPECT_TRUE(s.z2[i] == kNoSurface || z < s.z2[i]) << i;
+  }
 }
 
 TEST(CoherentCli, BuildInfoAndRefusals) {
@@ -331,7 +396,7 @@ TEST(CoherentCli, BuildInfoAndRefusals) {
   EXPECT_EQ(sf::test::count_lines(r.err), 1u) << r.err;
   for (const char* args : {"coherent build box --views 8x6 --ordering hilbert", "coherent build box --views 8x",
                            "coherent build box --depth-pair 23", "coherent build nosuch.off",
-                           "coherent build box --views 512x512 --ordering zigzag"}) {
+                           "coherent build box --views 2049x2048 --ordering zigzag"}) {
     r = sf::test::run_cli(std::string(args) + " -o " + dir + "/x.csm -q", dir);
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
     EXPECT_EQ(sf::test::count_lines(r.err), 1u) << args << ": " << r.err;
@@ -358,8 +423,8 @@ TEST(CoherentCli, ShardsMergeIntoTheUnshardedFile) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(read_bytes(dir + "/merged.csm"), read_bytes(dir + "/full.csm"));
   // The device's fit of the whole stack and the host's streamed in chunks of 5 views: one file.
-  r = sf::test::run_cli("coherent merge " + p1 + " " + p2 + " " + p3 + " -o " + dir + "/device.csm --compress device -q",
-                        dir);
+  r = sf::test::run_cli(
+      "coherent merge " + p1 + " " + p2 + " " + p3 + " -o " + dir + "/device.csm --compress device -q", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(read_bytes(dir + "/device.csm"), read_bytes(dir + "/full.csm"));
   r = sf::test::run_cli("coherent build box -o " + dir + "/chunks.csm --compress host --chunk-views 5" + common, dir);

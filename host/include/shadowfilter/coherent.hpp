@@ -26,8 +26,9 @@ namespace sf::coherent {
 // "+infinity" in z2, so that a texel that misses the object is lit for every query.
 inline constexpr uint32_t kDepthMax = 65534;
 inline constexpr uint16_t kNoSurface = 65535;
-// Views in one stack: a segment packs its last view index in 16 bits (kSegment* below).
-inline constexpr int kMaxViews = 65536;
+// Views in one stack: 2048 x 2048 (4,194,304 maps), twice the seed's largest grid. View indices
+// are 32-bit; the file stores them in 16 bits up to 65536 views (index_bytes).
+inline constexpr int kMaxViews = 1 << 22;
 
 // The enumeration of the grid's views into a sequence (Ritschel 2007 sec. 4.4, fig. 8).
 enum class Ordering : uint32_t { ScanLine = 0, ZigZag = 1, Hilbert = 2 };
@@ -96,17 +97,21 @@ struct DualDepthStack {
   std::vector<uint16_t> z1, z2;
 };
 
-// The compressed stack: texel t's segments are segments[offsets[t] .. offsets[t + 1]), in
-// sequence order; each packs (z_avg << 16) | i_last, the segment covering the maps up to and
-// including i_last. The last segment of every texel ends at views() - 1.
-inline constexpr uint32_t kSegmentDepthShift = 16;
-inline constexpr uint32_t kSegmentIndexMask = 0xffffu;
+// Bytes of a view index in the file: 2 up to 65536 views, 4 beyond.
+inline int index_bytes(const StackLayout& layout) { return layout.views() <= 65536 ? 2 : 4; }
+
+// The compressed stack: texel t's segments are s = offsets[t] .. offsets[t + 1] - 1, in sequence
+// order; segment s covers the maps up to and including last[s] at depth[s] (z_avg). The last
+// segment of every texel ends at views() - 1.
 struct CompressedStack {
   StackLayout layout;
-  std::vector<uint32_t> offsets;   // texels() + 1
-  std::vector<uint32_t> segments;  // offsets.back()
-  // Bytes of the compressed data (offsets and segments), what Table 1's "compressed" compares.
-  size_t compressed_bytes() const { return offsets.size() * 4 + segments.size() * 4; }
+  std::vector<uint32_t> offsets;  // texels() + 1
+  std::vector<uint32_t> last;     // offsets.back(): the last map of each segment
+  std::vector<uint16_t> depth;    // offsets.back(): z_avg of each segment
+  size_t segment_count() const { return last.size(); }
+  // Bytes of the compressed data as the file stores it (offsets, each segment's depth and its
+  // index in index_bytes), what Table 1's "compressed" compares.
+  size_t compressed_bytes() const { return offsets.size() * 4 + last.size() * size_t(2 + index_bytes(layout)); }
 };
 
 // The layout as kernels take it (kernels/coherent/query.clh, sf_coherent_layout).

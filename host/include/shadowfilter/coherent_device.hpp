@@ -19,10 +19,14 @@ struct DeviceStack {
   StackLayout layout;
   DeviceLayout device{};     // device_layout(layout): the kernels' sf_coherent_layout
   cl::Buffer offsets;        // uint, texels() + 1
-  cl::Buffer segments;       // uint, segment_count: (z_avg << 16) | i_last
+  cl::Buffer last;           // uint, segment_count: the last map of each segment
+  cl::Buffer depth;          // ushort, segment_count: z_avg of each segment
   cl::Buffer positions;      // uint, views(): sequence_positions(layout)
   size_t segment_count = 0;  // offsets[texels()]
-  size_t compressed_bytes() const { return (layout.texels() + 1 + segment_count) * 4; }
+  // What CompressedStack::compressed_bytes counts (the file's bytes; on the device an index takes 4).
+  size_t compressed_bytes() const {
+    return (layout.texels() + 1) * 4 + segment_count * size_t(2 + index_bytes(layout));
+  }
 };
 
 // The uncompressed stack in device memory (ushort z1, z2 of views() x texels() each, map i of the
@@ -50,8 +54,9 @@ cl::Buffer upload_positions(Runtime& rt, const StackLayout& layout);
 //   enqueue_compress_scan: the exclusive scan of those counts in place, offsets[texels] = the
 //     total; `scratch` (compress_scratch_bytes) ends with the total as a 64-bit word
 //     (compress_total_offset), which the host reads before it sizes the segments;
-//   enqueue_compress_write: the segments (capacity words at least the total; words past
-//     `capacity` are dropped, so a short buffer loses segments, never memory).
+//   enqueue_compress_write: the segments into last (uint) and depth (ushort), `capacity` segments
+//     at least the total (segments past it are dropped, so a short buffer loses segments, never
+//     memory).
 size_t compress_scratch_bytes(const StackLayout& layout);
 size_t compress_total_offset(const StackLayout& layout);  // bytes into scratch
 cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const cl::Buffer& z1, const cl::Buffer& z2,
@@ -59,8 +64,8 @@ cl::Event enqueue_compress_count(Runtime& rt, const StackLayout& layout, const c
 cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl::Buffer& offsets,
                                 const cl::Buffer& scratch, cl::Event* first = nullptr, const EventList* wait = nullptr);
 cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
-                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
-                                 const EventList* wait = nullptr);
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& last,
+                                 const cl::Buffer& depth, const EventList* wait = nullptr);
 // The three passes with the total read in between (blocks until the stack is compressed).
 // Throws InputError when the stack holds more segments than 32-bit offsets address.
 DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const EventList* wait = nullptr);

@@ -2,6 +2,7 @@
 // and the point queries (kernels/coherent/visibility.cl over coherent/query.clh).
 #include <algorithm>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <vector>
@@ -79,11 +80,11 @@ cl::Event launch(Runtime& rt, cl::Kernel& k, size_t items, const EventList* wait
   return e;
 }
 
-// The point-query kernels of coherent/visibility.cl all take (layout, a, b, positions, points,
-// second, out, count, toward), a and b the stack's pair of buffers (offsets and segments, or z1
-// and z2). A count of 0 enqueues a marker.
+// The point-query kernels of coherent/visibility.cl all take (layout, the stack's buffers,
+// positions, points, second, out, count, toward), the stack's buffers being offsets, last and
+// depth, or z1 and z2. A count of 0 enqueues a marker.
 cl::Event launch_point_queries(Runtime& rt, const char* fn, const char* kernel, const StackLayout& l,
-                               const cl::Buffer& a, const cl::Buffer& b, const cl::Buffer& positions,
+                               std::initializer_list<cl::Buffer> stack, const cl::Buffer& positions,
                                const cl::Buffer& points, const cl::Buffer& second, const cl::Buffer& out, size_t count,
                                CoherentToward toward, const EventList* wait) {
   cl::Event e;
@@ -93,11 +94,10 @@ cl::Event launch_point_queries(Runtime& rt, const char* fn, const char* kernel, 
   }
   need_queries(fn, points, second, out, count);
   cl::Kernel k(query_program(rt), kernel);
-  detail::KernelArgs(k)
-      .value(device_layout(l))
-      .buffer(a)
-      .buffer(b)
-      .buffer(positions)
+  detail::KernelArgs args(k);
+  args.value(device_layout(l));
+  for (const cl::Buffer& b : stack) args.buffer(b);
+  args.buffer(positions)
       .buffer(points)
       .buffer(second)
       .buffer(out)
@@ -127,9 +127,10 @@ DeviceStack upload(Runtime& rt, const CompressedStack& stack) try {
   if (c.offsets.size() != texels + 1)
     throw InputError("coherent::upload: offsets holds " + std::to_string(c.offsets.size()) + " words, needs " +
                      std::to_string(texels + 1) + " (texels + 1)");
-  if (c.offsets.back() != c.segments.size())
-    throw InputError("coherent::upload: offsets ends at " + std::to_string(c.offsets.back()) + ", segments holds " +
-                     std::to_string(c.segments.size()));
+  if (c.offsets.back() != c.last.size() || c.depth.size() != c.last.size())
+    throw InputError("coherent::upload: offsets ends at " + std::to_string(c.offsets.back()) +
+                     ", last and depth hold " + std::to_string(c.last.size()) + " and " +
+                     std::to_string(c.depth.size()));
   // Every texel holds a segment: the binary search reads [offsets[t], offsets[t + 1] - 1].
   if (c.offsets[0] != 0) throw InputError("coherent::upload: offsets must start at 0");
   for (size_t t = 0; t < texels; ++t)
@@ -140,9 +141,10 @@ DeviceStack upload(Runtime& rt, const CompressedStack& stack) try {
   d.layout = c.layout;
   d.device = device_layout(c.layout);
   d.offsets = copy_to_device(rt, c.offsets);
-  d.segments = copy_to_device(rt, c.segments);
+  d.last = copy_to_device(rt, c.last);
+  d.depth = copy_to_device(rt, c.depth);
   d.positions = upload_positions(rt, c.layout);
-  d.segment_count = c.segments.size();
+  d.segment_count = c.last.size();
   return d;
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::upload", e);
@@ -171,14 +173,18 @@ CompressedStack download(Runtime& rt, const DeviceStack& stack) try {
   const DeviceStack& d = stack;
   validate(d.layout);
   need_offsets("download", d.layout, d.offsets);
-  need_bytes("download", "segments", d.segments, d.segment_count * sizeof(uint32_t), "segment_count uint");
+  need_bytes("download", "last", d.last, d.segment_count * sizeof(uint32_t), "segment_count uint");
+  need_bytes("download", "depth", d.depth, d.segment_count * sizeof(uint16_t), "segment_count ushort");
   CompressedStack c;
   c.layout = d.layout;
   c.offsets.resize(d.layout.texels() + 1);
-  c.segments.resize(d.segment_count);
+  c.last.resize(d.segment_count);
+  c.depth.resize(d.segment_count);
   rt.queue().enqueueReadBuffer(d.offsets, CL_TRUE, 0, c.offsets.size() * sizeof(uint32_t), c.offsets.data());
-  if (!c.segments.empty())
-    rt.queue().enqueueReadBuffer(d.segments, CL_TRUE, 0, c.segments.size() * sizeof(uint32_t), c.segments.data());
+  if (d.segment_count) {
+    rt.queue().enqueueReadBuffer(d.last, CL_TRUE, 0, c.last.size() * sizeof(uint32_t), c.last.data());
+    rt.queue().enqueueReadBuffer(d.depth, CL_TRUE, 0, c.depth.size() * sizeof(uint16_t), c.depth.data());
+  }
   return c;
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::download", e);
@@ -228,14 +234,15 @@ cl::Event enqueue_compress_scan(Runtime& rt, const StackLayout& layout, const cl
 }
 
 cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t capacity, const cl::Buffer& z1,
-                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& segments,
-                                 const EventList* wait) try {
+                                 const cl::Buffer& z2, const cl::Buffer& offsets, const cl::Buffer& last,
+                                 const cl::Buffer& depth, const EventList* wait) try {
   need_stack_input("enqueue_compress_write", layout, z1, z2);
   need_offsets("enqueue_compress_write", layout, offsets);
   if (capacity == 0 || capacity > std::numeric_limits<uint32_t>::max())
-    throw InputError("coherent::enqueue_compress_write: capacity must be in [1, 2^32 - 1] words, got " +
+    throw InputError("coherent::enqueue_compress_write: capacity must be in [1, 2^32 - 1] segments, got " +
                      std::to_string(capacity));
-  need_bytes("enqueue_compress_write", "segments", segments, capacity * sizeof(uint32_t), "capacity uint");
+  need_bytes("enqueue_compress_write", "last", last, capacity * sizeof(uint32_t), "capacity uint");
+  need_bytes("enqueue_compress_write", "depth", depth, capacity * sizeof(uint16_t), "capacity ushort");
   cl::Kernel k(compress_program(rt), "sf_coherent_write");
   detail::KernelArgs(k)
       .buffer(z1)
@@ -243,7 +250,8 @@ cl::Event enqueue_compress_write(Runtime& rt, const StackLayout& layout, size_t 
       .value(uint32_t(layout.texels()))
       .value(uint32_t(layout.views()))
       .buffer(offsets)
-      .buffer(segments)
+      .buffer(last)
+      .buffer(depth)
       .value(uint32_t(capacity));
   const uint32_t lanes = compress_lanes(rt);
   return launch(rt, k, (layout.texels() + lanes - 1) / lanes, wait);
@@ -270,8 +278,9 @@ DeviceStack compress_on_device(Runtime& rt, const DeviceDualDepth& stack, const 
     throw InputError("coherent::compress_on_device: the stack compresses to " + std::to_string(total) +
                      " segments, more than 32-bit offsets address");
   d.segment_count = size_t(total);  // >= texels >= 1: every texel holds a segment
-  d.segments = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, d.segment_count * sizeof(uint32_t));
-  enqueue_compress_write(rt, l, d.segment_count, s.z1, s.z2, d.offsets, d.segments, &scanned).wait();
+  d.last = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, d.segment_count * sizeof(uint32_t));
+  d.depth = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, d.segment_count * sizeof(uint16_t));
+  enqueue_compress_write(rt, l, d.segment_count, s.z1, s.z2, d.offsets, d.last, d.depth, &scanned).wait();
   return d;
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::compress_on_device", e);
@@ -294,13 +303,14 @@ cl::Event enqueue_visibility(Runtime& rt, CoherentFilter filter, CoherentToward 
   if (stack.segment_count < l.texels())
     throw InputError("coherent::enqueue_visibility: segment_count " + std::to_string(stack.segment_count) +
                      " is less than one segment per texel (" + std::to_string(l.texels()) + ")");
-  need_bytes("enqueue_visibility", "segments", stack.segments, stack.segment_count * sizeof(uint32_t),
-             "segment_count uint");
+  need_bytes("enqueue_visibility", "last", stack.last, stack.segment_count * sizeof(uint32_t), "segment_count uint");
+  need_bytes("enqueue_visibility", "depth", stack.depth, stack.segment_count * sizeof(uint16_t),
+             "segment_count ushort");
   need_bytes("enqueue_visibility", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
   return launch_point_queries(
       rt, "enqueue_visibility",
       filter == CoherentFilter::Pcf ? "sf_coherent_visibility_points_pcf" : "sf_coherent_visibility_points", l,
-      stack.offsets, stack.segments, stack.positions, points, second, out, count, toward, wait);
+      {stack.offsets, stack.last, stack.depth}, stack.positions, points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_visibility", e);
 }
@@ -313,7 +323,7 @@ cl::Event enqueue_stack_test(Runtime& rt, CoherentToward toward, size_t count, c
   need_bytes("enqueue_stack_test", "positions", stack.positions, size_t(l.views()) * sizeof(uint32_t), "views uint");
   if (toward != CoherentToward::Direction && toward != CoherentToward::Point)
     throw InputError("coherent::enqueue_stack_test: unknown toward " + std::to_string(static_cast<int>(toward)));
-  return launch_point_queries(rt, "enqueue_stack_test", "sf_coherent_stack_points", l, stack.z1, stack.z2,
+  return launch_point_queries(rt, "enqueue_stack_test", "sf_coherent_stack_points", l, {stack.z1, stack.z2},
                               stack.positions, points, second, out, count, toward, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("coherent::enqueue_stack_test", e);

@@ -75,8 +75,7 @@ void validate(const StackLayout& l) {
     throw InputError("coherent: views_theta and views_phi must be >= 1, got " + std::to_string(l.views_theta) + "x" +
                      std::to_string(l.views_phi));
   if (long(l.views_theta) * l.views_phi > kMaxViews)
-    throw InputError("coherent: at most " + std::to_string(kMaxViews) +
-                     " views (a segment holds a 16-bit index), got " +
+    throw InputError("coherent: at most " + std::to_string(kMaxViews) + " views (2048x2048), got " +
                      std::to_string(long(l.views_theta) * l.views_phi));
   if (l.ordering == Ordering::Hilbert && (l.views_theta != l.views_phi || !power_of_two(l.views_theta)))
     throw InputError("coherent: the hilbert ordering needs a square grid with a power-of-two side, got " +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <utility>
 #include <vector>
 
 #include "input_file.hpp"
@@ -95,6 +96,41 @@ class HeaderReader {
   uint64_t at_ = 0;
 };
 
+// The bytes of a value of a fixed-size attribute type (OpenEXR 3.1's standard types), -1 for the
+// types whose size varies (string, stringvector, floatvector, chlist, preview, and types this walk
+// does not know, which OpenEXR reads as opaque bytes of the declared size).
+int fixed_size_of(const std::string& type) {
+  static const std::pair<const char*, int> sizes[] = {
+      {"box2i", 16},
+      {"box2f", 16},
+      {"chromaticities", 32},
+      {"compression", 1},
+      {"deepImageState", 1},
+      {"double", 8},
+      {"envmap", 1},
+      {"float", 4},
+      {"int", 4},
+      {"keycode", 28},
+      {"lineOrder", 1},
+      {"m33f", 36},
+      {"m33d", 72},
+      {"m44f", 64},
+      {"m44d", 128},
+      {"rational", 8},
+      {"tiledesc", 9},
+      {"timecode", 8},
+      {"v2i", 8},
+      {"v2f", 8},
+      {"v2d", 16},
+      {"v3i", 12},
+      {"v3f", 12},
+      {"v3d", 24},
+  };
+  for (const auto& [name, bytes] : sizes)
+    if (type == name) return bytes;
+  return -1;
+}
+
 int32_t as_int(uint32_t v) {
   int32_t s = 0;
   std::memcpy(&s, &v, 4);
@@ -113,6 +149,16 @@ bool read_part(HeaderReader& r, Part& part, bool multi_part, const std::string& 
     const uint32_t declared = r.u32("an attribute size");
     if (as_int(declared) < 0)
       fail(role, path, "corrupt header: attribute '" + one_line(name) + "' declares a negative size");
+    // OpenEXR reads a value of a fixed-size type whole, whatever size the attribute declares, and
+    // goes on from where that value ends; a preview's pixels and a string vector's strings by the
+    // sizes they state inside. A declaration that disagrees would put this walk and OpenEXR's
+    // reader at different places (and OpenEXR would allocate what the misread bytes say), so it
+    // is refused.
+    const int fixed = fixed_size_of(type);
+    if (fixed >= 0 && declared != uint32_t(fixed))
+      fail(role, path,
+           "corrupt header: attribute '" + one_line(name) + "' of type " + one_line(type) + " declares " +
+               std::to_string(declared) + " bytes, the type has " + std::to_string(fixed));
     if (name == "dataWindow" && type == "box2i" && declared == 16) {
       const int64_t x0 = as_int(r.u32("dataWindow")), y0 = as_int(r.u32("dataWindow"));
       const int64_t x1 = as_int(r.u32("dataWindow")), y1 = as_int(r.u32("dataWindow"));
@@ -139,6 +185,25 @@ bool read_part(HeaderReader& r, Part& part, bool multi_part, const std::string& 
       else
         r.skip(declared, name);
       part.tiled = value == "tiledimage";
+    } else if (type == "preview") {  // width, height, then 4 bytes a pixel
+      if (declared < 8) fail(role, path, "corrupt header: preview attribute '" + one_line(name) + "' under 8 bytes");
+      const uint64_t w = r.u32("preview"), h = r.u32("preview");
+      if (w * h > (uint64_t(declared) - 8) / 4 || 8 + 4 * w * h != declared)
+        fail(role, path,
+             "corrupt header: preview attribute '" + one_line(name) + "' of " + std::to_string(w) + "x" +
+                 std::to_string(h) + " pixels declares " + std::to_string(declared) + " bytes");
+      r.skip(declared - 8, name);
+    } else if (type == "stringvector") {  // strings, each a length and its bytes
+      const uint64_t end = r.at() + declared;
+      while (r.at() < end) {
+        if (end - r.at() < 4)
+          fail(role, path, "corrupt header: string vector '" + one_line(name) + "' ends inside a length");
+        const uint32_t n = r.u32("a string length");
+        if (as_int(n) < 0 || n > end - r.at())
+          fail(role, path,
+               "corrupt header: a string of string vector '" + one_line(name) + "' runs past the attribute");
+        r.skip(n, name);
+      }
     } else if (name == "channels" && type == "chlist") {
       // Entries: a name, then 16 bytes (type, pLinear, reserved, x and y sampling); an empty name ends it.
       const uint64_t end = r.at() + declared;

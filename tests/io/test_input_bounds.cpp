@@ -275,6 +275,40 @@ TEST_F(InputBounds, HugeExrHeaderIsRefusedBeforeAllocating) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
+// Sizes a header states and its reader allocates before it reads: a PNG chunk's length (libpng
+// allocates a text chunk's declared length) and an OpenEXR attribute of a fixed-size type whose
+// declared size differs from the type's (OpenEXR reads the value whole and goes on out of step,
+// then allocates the string size it misreads). Both took 1.9 GB and a second before they were
+// checked (found by the fuzzer).
+TEST_F(InputBounds, DeclaredSizesThatReadersAllocateAreChecked) {
+  OIIO::ImageSpec spec(8, 8, 1, OIIO::TypeDesc::UINT16);
+  std::vector<uint16_t> pixels(64, 30000);
+  for (const char* name : {"p.png", "e.exr"}) {
+    auto out = OIIO::ImageOutput::create(path(name));
+    ASSERT_TRUE(out && out->open(path(name), spec) && out->write_image(OIIO::TypeDesc::UINT16, pixels.data()) &&
+                out->close());
+  }
+  std::string png = read_bytes(path("p.png"));
+  const size_t after_ihdr = 8 + 12 + 13;  // signature, IHDR (length, type, 13 bytes, CRC)
+  png = png.substr(0, after_ihdr) + std::string("\x6e\x00\x00\x75tEXtSoftware", 16) + std::string(20, 'x');
+  write_bytes(path("text.png"), png);
+  const auto start = std::chrono::steady_clock::now();
+  expect_refusal([&] { io::load_depth_map(path("text.png"), {}); },
+                 {"shadow map '" + path("text.png") + "'", "PNG chunk 'tEXt' declares 1845493877 bytes"});
+
+  std::string exr = read_bytes(path("e.exr"));
+  const std::string key("pixelAspectRatio\0float\0\x04\0\0\0", 27);
+  const size_t at = exr.find(key);
+  ASSERT_NE(at, std::string::npos);
+  exr[at + 23] = '\0';  // declares 0 bytes
+  write_bytes(path("float0.exr"), exr);
+  expect_refusal([&] { io::load_depth_map(path("float0.exr"), {}); },
+                 {"attribute 'pixelAspectRatio' of type float declares 0 bytes, the type has 4"});
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+  EXPECT_NO_THROW(io::load_depth_map(path("p.png"), {}));  // the files as written still read
+  EXPECT_NO_THROW(io::load_depth_map(path("e.exr"), {}));
+}
+
 TEST_F(InputBounds, HugeHdrHeadersAreRefused) {
   const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
   write_bytes(path("flat.hdr"), header + "-Y 100000 +X 100000\n" + std::string(4000, '\x01'));

@@ -34,8 +34,8 @@ void check_png_chunks(const std::string& path, uint64_t file_bytes, const std::s
       if (!((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'))) c = '?';
     if (length > 0x7fffffffu || length > file_bytes - at - 12)
       fail(role, path,
-           "truncated or corrupt: PNG chunk '" + type + "' declares " + std::to_string(length) + " bytes, the file holds " +
-               std::to_string(file_bytes - at - 12) + " after its header");
+           "truncated or corrupt: PNG chunk '" + type + "' declares " + std::to_string(length) +
+               " bytes, the file holds " + std::to_string(file_bytes - at - 12) + " after its header");
     if (type == "IEND") return;
     at += 12 + length;
     in.seekg(std::streamoff(at));

@@ -10,6 +10,7 @@
 
 #include "analytic_setups.hpp"
 #include "camera_io.hpp"
+#include "expect_input_error.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/frame_filter.hpp"
@@ -23,17 +24,6 @@ namespace sf::test {
 namespace {
 
 using namespace analytic;
-
-void expect_input_error(const std::function<void()>& call, std::initializer_list<std::string> words) {
-  try {
-    call();
-    ADD_FAILURE() << "no InputError";
-  } catch (const InputError& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const std::string& w : words) EXPECT_NE(m.find(w), std::string::npos) << "'" << w << "' missing: " << m;
-  }
-}
 
 // --- a light's projection as its map's encoding -----------------------------------------------
 

@@ -6,6 +6,7 @@
 
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "test_methods_common.hpp"
 #include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/blur.hpp"
@@ -27,20 +28,6 @@ FilterOptions esm_options(float c, int radius = 0) {
   return o;
 }
 
-// Depth maps that stress the transform: exact 0 and 1, constants, a 0/1 checkerboard.
-std::vector<HostImage> structured_depths() {
-  std::vector<HostImage> out;
-  out.push_back(HostImage(17, 9, 1, 0.0f));
-  out.push_back(HostImage(17, 9, 1, 1.0f));
-  out.push_back(HostImage(17, 9, 1, 0.5f));
-  HostImage checker(33, 31, 1);
-  for (int y = 0; y < checker.height; ++y)
-    for (int x = 0; x < checker.width; ++x) checker.at(x, y) = float((x + y) % 2);
-  out.push_back(checker);
-  out.push_back(random_depth(61, 47, 7));
-  return out;
-}
-
 class EsmTransform : public ::testing::TestWithParam<float> {};
 
 // float32 exp(c (z - 1/2)): the argument is rounded to half an ulp of |c/2| <= 44, so the
@@ -48,7 +35,7 @@ class EsmTransform : public ::testing::TestWithParam<float> {};
 TEST_P(EsmTransform, MatchesReference) {
   const float c = GetParam();
   const double tol = 1e-6 + 1e-7 * c;
-  for (const HostImage& depth : structured_depths()) {
+  for (const HostImage& depth : stress_depths(0.5f)) {  // the constant: ESM's centre, exp(0) = 1
     const auto opt = esm_options(c);
     cl::Buffer z = to_device(depth.data);
     cl::Buffer basis(runtime().context(), CL_MEM_READ_WRITE, depth.texels() * sizeof(float));

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "expect_input_error.hpp"
 #include "image_io.hpp"
 
 namespace fs = std::filesystem;
@@ -23,6 +24,7 @@ using sf::Receivers;
 using sf::io::DepthEncoding;
 using sf::io::DepthLoadOptions;
 using sf::io::NonFinitePolicy;
+using sf::test::expect_input_error;
 
 namespace {
 
@@ -70,20 +72,6 @@ std::string read_text(const std::string& path) {
 }
 
 void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-// The call must throw InputError with a one-line message containing every key word.
-void expect_input_error(const std::function<void()>& call, std::initializer_list<std::string> key_words) {
-  try {
-    call();
-    ADD_FAILURE() << "no InputError thrown";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    EXPECT_EQ(message.find('\r'), std::string::npos) << message;
-    for (const std::string& word : key_words)
-      EXPECT_NE(message.find(word), std::string::npos) << "missing '" << word << "' in: " << message;
-  }
-}
 
 void expect_same_depth(const HostImage& expected, const HostImage& actual, float tolerance) {
   ASSERT_EQ(actual.width, expected.width);

@@ -84,12 +84,13 @@ inline double storage_step(double v, Storage s) {
   return 0;
 }
 
-// Depth maps that stress every method: exact 0 and 1, a constant, a 0/1 checkerboard, random.
-inline std::vector<HostImage> stress_depths() {
+// Depth maps that stress every method: exact 0 and 1, a constant (`constant`), a 0/1
+// checkerboard, random.
+inline std::vector<HostImage> stress_depths(float constant = 0.37f) {
   std::vector<HostImage> out;
   out.push_back(HostImage(17, 9, 1, 0.0f));
   out.push_back(HostImage(17, 9, 1, 1.0f));
-  out.push_back(HostImage(17, 9, 1, 0.37f));
+  out.push_back(HostImage(17, 9, 1, constant));
   HostImage checker(33, 31, 1);
   for (int y = 0; y < checker.height; ++y)
     for (int x = 0; x < checker.width; ++x) checker.at(x, y) = float((x + y) % 2);

@@ -7,14 +7,10 @@ import pytest
 
 import shadowfilter as sf
 
-OpenEXR = pytest.importorskip("OpenEXR")
-CLI = os.environ.get("SF_CLI", "")
-DATA = os.path.join(os.environ.get("SF_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..")), "data")
+from cli_files import CLI, DATA, channels
+
+pytest.importorskip("OpenEXR")
 pytestmark = pytest.mark.skipif(not CLI, reason="SF_CLI names the shadowfilter command (ctest sets it)")
-
-
-def channels(path):
-    return {k: v.pixels.astype(np.float32) for k, v in OpenEXR.File(path).channels().items()}
 
 
 def receivers_of(path):

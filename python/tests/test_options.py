@@ -1,7 +1,6 @@
 """Keyword options are generated from the library's declared parameters, and every option's bad
 value raises InputError with the CLI's message (the keyword in place of the flag)."""
 import math
-import os
 import re
 import subprocess
 
@@ -10,7 +9,8 @@ import pytest
 
 import shadowfilter as sf
 
-CLI = os.environ.get("SF_CLI", "")
+from cli_files import CLI, write_depth
+
 DEPTH = np.full((16, 16), 0.5, np.float32)
 RECEIVER_DEPTH = np.full((16, 16), 0.4, np.float32)
 
@@ -39,11 +39,9 @@ def test_every_declared_parameter_is_a_keyword():
 
 @pytest.mark.skipif(not CLI, reason="SF_CLI names the shadowfilter command (ctest sets it)")
 def test_every_bad_value_raises_with_the_cli_message(tmp_path):
-    import OpenEXR
-
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    OpenEXR.File(header, {"Z": DEPTH}).write(str(tmp_path / "map.exr"))
-    OpenEXR.File(header, {"Z": RECEIVER_DEPTH}).write(str(tmp_path / "rd.exr"))
+    pytest.importorskip("OpenEXR")
+    write_depth(tmp_path / "map.exr", DEPTH)
+    write_depth(tmp_path / "rd.exr", RECEIVER_DEPTH)
     checked = 0
     for option in sf.options():
         method = option["methods"][0] if option["methods"] else "esm"

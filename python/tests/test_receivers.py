@@ -2,7 +2,6 @@
 orthographic light from above; the package's receivers equal the CLI's bit for bit and the
 light-space depth of the plane is the analytic one."""
 import json
-import os
 import subprocess
 
 import numpy as np
@@ -10,8 +9,9 @@ import pytest
 
 import shadowfilter as sf
 
-OpenEXR = pytest.importorskip("OpenEXR")
-CLI = os.environ.get("SF_CLI", "")
+from cli_files import CLI, channels, write_depth
+
+pytest.importorskip("OpenEXR")
 
 
 def look_at(eye, target, up):
@@ -73,14 +73,13 @@ def test_the_package_equals_the_cli_and_the_analytic_depth(tmp_path):
         pytest.skip("SF_CLI names the shadowfilter command (ctest sets it)")
     for name, view in (("camera", CAMERA), ("light", LIGHT)):
         (tmp_path / f"{name}.json").write_text(json.dumps({k: v.flatten().tolist() for k, v in view.items()}))
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    OpenEXR.File(header, {"Z": depth}).write(str(tmp_path / "depth.exr"))
+    write_depth(tmp_path / "depth.exr", depth)
     subprocess.run([CLI, "receivers", "--camera", str(tmp_path / "camera.json"), "--camera-depth",
                     str(tmp_path / "depth.exr"), "--light", str(tmp_path / "light.json"), "--map-size", "256x256",
                     "-o", str(tmp_path / "rx.exr"), "-q"], check=True)
-    cli = {k: v.pixels for k, v in OpenEXR.File(str(tmp_path / "rx.exr")).channels().items()}
+    cli = channels(str(tmp_path / "rx.exr"))
     for i, k in enumerate("u v d f ndl".split()):
-        np.testing.assert_array_equal(rx[..., i], cli[k].astype(np.float32), err_msg=k)
+        np.testing.assert_array_equal(rx[..., i], cli[k], err_msg=k)
 
 
 def test_bad_views_are_refused_with_the_cli_words():

@@ -10,15 +10,9 @@ import pytest
 
 import shadowfilter as sf
 
-CLI = os.environ.get("SF_CLI", "")
-DATA = os.path.join(os.environ.get("SF_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..")), "data")
+from cli_files import CLI, DATA, channels, write_depth
+
 needs_cli = pytest.mark.skipif(not CLI, reason="SF_CLI names the shadowfilter command (ctest sets it)")
-
-
-def channels(path):
-    import OpenEXR
-
-    return {k: v.pixels.astype(np.float32) for k, v in OpenEXR.File(path).channels().items()}
 
 
 def header_light(path):
@@ -80,13 +74,11 @@ BAD = {"soft_bias": 1.5, "soft_max_width": 0.5, "cssm_order": 40, "cssm_offset":
 @needs_cli
 @pytest.mark.parametrize("keyword", sorted(BAD))
 def test_bad_values_raise_with_the_cli_message(keyword, tmp_path):
-    import OpenEXR
-
+    pytest.importorskip("OpenEXR")
     depth = np.full((16, 16), 0.5, np.float32)
     rd = np.full((16, 16), 0.4, np.float32)
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    OpenEXR.File(header, {"Z": depth}).write(str(tmp_path / "map.exr"))
-    OpenEXR.File(header, {"Z": rd}).write(str(tmp_path / "rd.exr"))
+    write_depth(tmp_path / "map.exr", depth)
+    write_depth(tmp_path / "rd.exr", rd)
     method = "ssmm" if keyword == "ssmm_n" else "cssm" if keyword.startswith("cssm") else "pcss"
     flags = {"light_size": 0.2, "light_extent": 8.0, keyword: BAD[keyword]}
     args = [CLI, "soft", "--method", method, "--shadow-map", str(tmp_path / "map.exr"), "--receiver-depth",

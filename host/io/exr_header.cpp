@@ -12,7 +12,6 @@
 namespace sf::io::detail {
 namespace {
 
-constexpr unsigned char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
 // Version field flags (OpenEXR file layout): a tiled single part, a multi-part file.
 constexpr uint32_t kTiledFlag = 0x200;
 constexpr uint32_t kMultiPartFlag = 0x1000;
@@ -233,13 +232,6 @@ uint64_t fewest_chunks(const Part& part) {
 }
 
 }  // namespace
-
-bool is_exr_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[4] = {0, 0, 0, 0};
-  in.read(reinterpret_cast<char*>(head), 4);
-  return in.gcount() == 4 && std::memcmp(head, kMagic, 4) == 0;
-}
 
 void check_exr_header(const std::string& path, uint64_t file_bytes, const std::string& role) {
   HeaderReader r(path, file_bytes, role);

@@ -7,9 +7,6 @@
 
 namespace sf::io::detail {
 
-// True when the file starts with OpenEXR's magic number.
-bool is_exr_file(const std::string& path);
-
 // Walks every header of an OpenEXR file (one, or each part of a multi-part file) without
 // allocating what it declares. InputError("<role> '<path>': ...") when an attribute's declared
 // size runs past the end of the file, a name runs on without its terminating NUL, the header

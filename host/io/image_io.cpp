@@ -28,7 +28,6 @@ using detail::check_declared_image_size;
 using detail::check_exr_header;
 using detail::details_suffix;
 using detail::fail;
-using detail::is_exr_file;
 using detail::RawImage;
 using detail::read_raw;
 
@@ -152,11 +151,11 @@ std::unique_ptr<OIIO::ImageInput> open_checked_image(const std::string& path, co
   const uint64_t file_bytes = require_regular_file(path, role);
   record_input(path);
   return with_out_of_memory_named(path, role, [&] {
-    if (is_exr_file(path)) check_exr_header(path, file_bytes, role);
-    if (detail::is_png_file(path)) detail::check_png_chunks(path, file_bytes, role);
+    const std::string format = reader_of_magic(path);
+    if (format == "openexr") check_exr_header(path, file_bytes, role);
+    if (format == "png") detail::check_png_chunks(path, file_bytes, role);
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep stored values: never premultiply
-    const std::string format = reader_of_magic(path);
     std::unique_ptr<OIIO::ImageInput> input;
     if (format.empty()) {  // content OIIO knows another way (its readers' own checks decide)
       input = OIIO::ImageInput::open(path, &config);

@@ -1,21 +1,10 @@
 #include "png_header.hpp"
 
-#include <cstring>
 #include <fstream>
 
 #include "io_detail.hpp"
 
 namespace sf::io::detail {
-namespace {
-const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-}  // namespace
-
-bool is_png_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  in.read(reinterpret_cast<char*>(head), 8);
-  return in.gcount() == 8 && std::memcmp(head, kSignature, 8) == 0;
-}
 
 void check_png_chunks(const std::string& path, uint64_t file_bytes, const std::string& role) {
   std::ifstream in(path, std::ios::binary);

@@ -8,9 +8,6 @@
 
 namespace sf::io::detail {
 
-// True when the file starts with PNG's signature.
-bool is_png_file(const std::string& path);
-
 // Walks the chunks from the signature to IEND without reading their data. InputError("<role>
 // '<path>': ...") when a chunk's length is over 2^31 - 1 (the PNG limit) or runs past the end of
 // the file, or the file ends before IEND.

@@ -56,6 +56,20 @@ void check_size(int width, int height) {
                          std::to_string(height));
 }
 
+// A single kernel's options and the basis images they make for a width x height map: the sizes
+// checked, the options validated (messages with keywords).
+struct BasisCall {
+  sf::FilterOptions options;
+  sf::ImageShape shape;
+};
+
+BasisCall basis_call(const std::string& method, const nb::dict& options, int width, int height) {
+  check_size(width, height);
+  BasisCall c{filter_options_of(method, options), {}};
+  c.shape = keyword_errors([&] { return basis_shape(c.options, width, height); });
+  return c;
+}
+
 }  // namespace
 
 void bind_device(nb::module_& m) {
@@ -125,9 +139,7 @@ void bind_device(nb::module_& m) {
   m.def(
       "basis_shape",
       [](const std::string& method, const nb::dict& options, int width, int height) {
-        check_size(width, height);
-        const sf::ImageShape s =
-            keyword_errors([&] { return basis_shape(filter_options_of(method, options), width, height); });
+        const sf::ImageShape s = basis_call(method, options, width, height).shape;
         return std::make_tuple(s.channels, s.value_bytes, s.bytes());
       },
       "method"_a, "options"_a, "width"_a, "height"_a);
@@ -135,9 +147,9 @@ void bind_device(nb::module_& m) {
       "enqueue_transform",
       [](std::shared_ptr<sf::Runtime> rt, const std::string& method, const nb::dict& options, int width, int height,
          uintptr_t depth, uintptr_t basis, const std::vector<uintptr_t>& wait) {
-        check_size(width, height);
-        const sf::FilterOptions o = filter_options_of(method, options);
-        const sf::ImageShape s = keyword_errors([&] { return basis_shape(o, width, height); });
+        const BasisCall call = basis_call(method, options, width, height);
+        const sf::FilterOptions& o = call.options;
+        const sf::ImageShape& s = call.shape;
         const cl::Buffer in = buffer_of(depth, s.plane_texels() * sizeof(float), "depth");
         const cl::Buffer out = buffer_of(basis, s.bytes(), "basis");
         const sf::EventList w = events_of(wait);
@@ -172,9 +184,9 @@ void bind_device(nb::module_& m) {
       [](std::shared_ptr<sf::Runtime> rt, const std::string& method, const nb::dict& options, int width, int height,
          size_t count, uintptr_t basis, uintptr_t u, uintptr_t v, uintptr_t d, uintptr_t visibility,
          const std::vector<uintptr_t>& wait) {
-        check_size(width, height);
-        const sf::FilterOptions o = filter_options_of(method, options);
-        const sf::ImageShape s = keyword_errors([&] { return basis_shape(o, width, height); });
+        const BasisCall call = basis_call(method, options, width, height);
+        const sf::FilterOptions& o = call.options;
+        const sf::ImageShape& s = call.shape;
         if (o.lookup.kind != sf::Lookup::Bilinear)
           throw sf::InputError(
               "lookup: the single reconstruction reads a basis bilinearly (mips and sat need their "
@@ -196,9 +208,9 @@ void bind_device(nb::module_& m) {
       "enqueue_reconstruct_grid",
       [](std::shared_ptr<sf::Runtime> rt, const std::string& method, const nb::dict& options, int width, int height,
          uintptr_t basis, uintptr_t d, uintptr_t visibility, const std::vector<uintptr_t>& wait) {
-        check_size(width, height);
-        const sf::FilterOptions o = filter_options_of(method, options);
-        const sf::ImageShape s = keyword_errors([&] { return basis_shape(o, width, height); });
+        const BasisCall call = basis_call(method, options, width, height);
+        const sf::FilterOptions& o = call.options;
+        const sf::ImageShape& s = call.shape;
         const size_t bytes = s.plane_texels() * sizeof(float);
         const cl::Buffer b = buffer_of(basis, s.bytes(), "basis");
         const cl::Buffer bd = buffer_of(d, bytes, "d"), out = buffer_of(visibility, bytes, "visibility");

@@ -3,7 +3,6 @@
 // from the compressed stack on the device (or from Embree occlusion rays with --reference
 // embree), and the synthetic sky that the repository's data/envmaps/sky.exr was written with.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -30,8 +29,10 @@ struct RenderArgs {
   std::string file, envmap, output, filter = "nearest", reference, mesh, device;
   int samples = 16, width = 512, height = 512, threads = 0;
   unsigned seed = 1;
-  std::vector<double> camera_pos, camera_look, albedo{0.8, 0.8, 0.8};
-  double camera_fov = 40.0;
+  std::vector<double> camera_pos, camera_look, albedo{0.8, 0.8, 0.8}, specular{0.0, 0.0, 0.0};
+  double camera_fov = 40.0, shininess = 32.0, time_budget = 0.0;
+  int passes = 1;
+  CLI::Option* passes_option = nullptr;  // not given: 1 pass, or as many as --time-budget allows
   std::vector<std::vector<double>> area_lights;
   bool preview = false, quiet = false;
 };
@@ -70,14 +71,19 @@ int run_render(const RenderArgs& a) {
     throw InputError("--width and --height must be in [1, 8192]");
   if (!(a.camera_fov > 0.0 && a.camera_fov < 180.0)) throw InputError("--camera-fov must be in (0, 180) degrees");
   if (a.threads < 0) throw InputError("--threads must be >= 0");
-  if (a.filter != "nearest" && a.filter != "pcf")
-    throw InputError("--filter must be nearest or pcf, got '" + a.filter + "'");
-  if (a.filter == "pcf" && a.reference == "embree")
-    throw InputError("--filter pcf is a coherent-map lookup; --reference embree has none");
+  if (a.filter != "nearest" && a.filter != "pcf" && a.filter != "roulette")
+    throw InputError("--filter must be nearest, pcf or roulette, got '" + a.filter + "'");
+  if (a.filter != "nearest" && a.reference == "embree")
+    throw InputError("--filter " + a.filter + " is a coherent-map lookup; --reference embree has none");
   if (!a.reference.empty() && a.reference != "embree")
     throw InputError("--reference must be embree, got '" + a.reference + "'");
-  for (double c : a.albedo)
-    if (!(c >= 0.0 && c <= 1.0)) throw InputError("--albedo must be within [0, 1]");
+  for (int c = 0; c < 3; ++c) {
+    if (!(a.albedo[c] >= 0.0 && a.albedo[c] <= 1.0)) throw InputError("--albedo must be within [0, 1]");
+    if (!(a.specular[c] >= 0.0 && a.specular[c] <= 1.0)) throw InputError("--specular must be within [0, 1]");
+    // The modified Phong BRDF reflects at most albedo + specular: more would create energy.
+    if (!(a.albedo[c] + a.specular[c] <= 1.0))
+      throw InputError("--albedo + --specular must be <= 1 in every channel (energy conservation)");
+  }
   for (const auto& l : a.area_lights)
     if (l.size() != 10 && l.size() != 12)
       throw InputError("--area-light takes corner, edge a, edge b (3 numbers each) and a radiance (1 or 3)");
@@ -92,6 +98,17 @@ int run_render(const RenderArgs& a) {
   settings.samples = a.samples;
   settings.seed = a.seed;
   settings.threads = a.threads;
+  settings.filter = a.filter == "pcf"        ? scene::VisibilityFilter::Pcf
+                    : a.filter == "roulette" ? scene::VisibilityFilter::Roulette
+                                             : scene::VisibilityFilter::Nearest;
+  settings.specular = {float(a.specular[0]), float(a.specular[1]), float(a.specular[2])};
+  if (!(a.shininess >= 0.0 && a.shininess <= scene::kMaxShininess))
+    throw InputError("--shininess must be within [0, " + std::to_string(int(scene::kMaxShininess)) + "]");
+  settings.shininess = float(a.shininess);
+  settings.time_budget = a.time_budget;
+  // --time-budget alone: as many passes as fit; --passes alone or with it: at most that many.
+  const bool passes_given = a.passes_option && a.passes_option->count() > 0;
+  settings.passes = passes_given || !(a.time_budget > 0.0) ? a.passes : scene::kMaxPasses;
   for (const auto& l : a.area_lights) {
     scene::AreaLight light{vec(l, 0), vec(l, 3), vec(l, 6)};
     light.radiance = l.size() == 12 ? Vec3{l[9], l[10], l[11]} : Vec3{l[9], l[9], l[9]};
@@ -122,17 +139,15 @@ int run_render(const RenderArgs& a) {
   const std::array<float, 3> albedo{float(a.albedo[0]), float(a.albedo[1]), float(a.albedo[2])};
   const scene::GBuffer g = scene::render_gbuffer(tracer, camera, layout.radius, albedo, a.threads);
 
-  double seconds = 0.0;
+  scene::RenderStats stats;
   HostImage image;
   std::string device_name;
   if (a.reference == "embree") {
-    const auto t0 = std::chrono::steady_clock::now();
-    image = scene::render_traced(tracer, g, env, settings);
-    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    image = scene::render_traced(tracer, g, env, settings, &stats);
     device_name = "Embree occlusion rays";
   } else {
     const std::shared_ptr<Runtime> rt = Runtime::create(a.device);
-    image = scene::render_coherent(*rt, file.stack, g, env, settings, &seconds, a.filter == "pcf");
+    image = scene::render_coherent(*rt, file.stack, g, env, settings, &stats);
     device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
   }
   std::vector<io::ImageToWrite> outputs{{a.output, &image}};
@@ -142,11 +157,12 @@ int run_render(const RenderArgs& a) {
   if (!preview.empty()) outputs.push_back({preview, &mapped});
   io::write_images(outputs);
   if (!a.quiet) {
-    const double queries = scene::render_queries(g, env, settings);
+    const double queries = scene::render_queries(g, env, settings, stats.passes);
     std::cout << "coherent render: " << a.output << ": " << a.width << "x" << a.height << ", " << g.hits
-              << " pixels on the object, " << a.samples << " samples (env " << (env.sampled ? "1" : "0") << " + lights "
-              << settings.lights.size() << " a sample), " << device_name << ": " << fixed(seconds, 3) << " s, "
-              << fixed(queries / std::max(seconds, 1e-9) / 1e6, 1) << " M samples/s\n";
+              << " pixels on the object, " << stats.passes << (stats.passes == 1 ? " pass" : " passes") << " of "
+              << a.samples << " samples (env " << (env.sampled ? "1" : "0") << " + lights " << settings.lights.size()
+              << " a sample), " << device_name << ": " << fixed(stats.seconds, 3) << " s, "
+              << fixed(queries / std::max(stats.seconds, 1e-9) / 1e6, 1) << " M samples/s\n";
   }
   return 0;
 }
@@ -179,8 +195,20 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
       ->expected(10, 12)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c->add_option("--albedo", r->albedo, "Diffuse albedo r g b in [0, 1]")->expected(3)->capture_default_str();
+  c->add_option("--specular", r->specular,
+                "Glossy (modified Phong) reflectance r g b in [0, 1]; albedo + specular <= 1 per channel")
+      ->expected(3)
+      ->capture_default_str();
+  c->add_option("--shininess", r->shininess, "Phong exponent of the glossy lobe, in [0, 10000]")->capture_default_str();
   c->add_option("--filter", r->filter,
-                "Visibility lookup: nearest (view and texel, 0 or 1) or pcf (2x2 views x 2x2 texels, fractional)")
+                "Visibility lookup: nearest (view and texel, 0 or 1), pcf (2x2 views x 2x2 texels, fractional) or "
+                "roulette (one of pcf's 16 tests drawn by its weight: pcf in expectation at nearest's cost)")
+      ->capture_default_str();
+  r->passes_option =
+      c->add_option("--passes", r->passes,
+                    "Progressive passes of --samples each, averaged (default 1, or as many as --time-budget allows)");
+  c->add_option("--time-budget", r->time_budget,
+                "Seconds: stop before a pass that would end past it (at least one pass; 0 = none)")
       ->capture_default_str();
   c->add_option("--reference", r->reference,
                 "embree: the same samples with Embree occlusion rays instead of the coherent maps (host threads)");

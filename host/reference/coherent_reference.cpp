@@ -20,10 +20,15 @@ constexpr double kPi = 3.14159265358979323846;
 
 double lerp(double a, double b, double f) { return a + f * (b - a); }
 
-// Bilinear PCF of the 2x2 texels nearest to p in view g: project()'s geometry without the floor
-// (continuous u M, v M, the same clamp to [-1, 2] and the same quantised depth).
-double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& positions, uint32_t g, const Vec3& p) {
-  const StackLayout& l = c.layout;
+// The 2x2 texels nearest to p in view g: project()'s geometry without the floor (continuous
+// u M - 1/2, v M - 1/2, the same clamp to [-1, 2] and the same quantised depth q); (x, y) the
+// lower texel, (fx, fy) the bilinear fractions.
+struct TexelCell {
+  int x, y;
+  double fx, fy;
+  uint32_t q;
+};
+TexelCell texel_cell(const StackLayout& l, uint32_t g, const Vec3& p) {
   const ViewFrame f = view_frame(l, g);
   const Vec3 r{p[0] - l.center[0], p[1] - l.center[1], p[2] - l.center[2]};
   auto dot = [&](const Vec3& a) { return r[0] * a[0] + r[1] * a[1] + r[2] * a[2]; };
@@ -33,12 +38,41 @@ double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& po
   const uint32_t q =
       uint32_t(std::clamp(std::nearbyint((l.radius - dot(f.dir)) * scale * kDepthMax), 0.0, double(kDepthMax)));
   const double x0 = std::floor(u), y0 = std::floor(v);
-  const int x = int(x0), y = int(y0);
-  auto lit = [&](int tx, int ty) {
-    if (tx < 0 || ty < 0 || tx >= l.resolution || ty >= l.resolution) return 1.0;
-    return compressed_lit(c, positions[g], size_t(ty) * l.resolution + tx, q) ? 1.0 : 0.0;
-  };
-  return lerp(lerp(lit(x, y), lit(x + 1, y), u - x0), lerp(lit(x, y + 1), lit(x + 1, y + 1), u - x0), v - y0);
+  return {int(x0), int(y0), u - x0, v - y0, q};
+}
+
+// Texel (x, y) of view g lit at depth q; outside the map lit.
+bool texel_lit(const CompressedStack& c, const std::vector<uint32_t>& positions, uint32_t g, int x, int y, uint32_t q) {
+  const int m = c.layout.resolution;
+  if (x < 0 || y < 0 || x >= m || y >= m) return true;
+  return compressed_lit(c, positions[g], size_t(y) * m + x, q);
+}
+
+// Bilinear PCF of the 2x2 texels nearest to p in view g.
+double texels_bilinear(const CompressedStack& c, const std::vector<uint32_t>& positions, uint32_t g, const Vec3& p) {
+  const TexelCell t = texel_cell(c.layout, g, p);
+  auto lit = [&](int dx, int dy) { return texel_lit(c, positions, g, t.x + dx, t.y + dy, t.q) ? 1.0 : 0.0; };
+  return lerp(lerp(lit(0, 0), lit(1, 0), t.fx), lerp(lit(0, 1), lit(1, 1), t.fx), t.fy);
+}
+
+// The 2x2 views nearest to direction d in continuous lat-long coordinates: rows j0, j1 (row
+// t / pi T - 1/2 clamped to [0, T - 1]), columns k0, k1 (p / (2 pi) P - 1/2, wrapping around),
+// and the bilinear fractions.
+struct ViewCell {
+  int j0, j1, k0, k1;
+  double fy, fx;
+};
+ViewCell view_cell(const StackLayout& l, const Vec3& d) {
+  const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  const double t = std::acos(std::clamp(d[1] / n, -1.0, 1.0));
+  double ph = std::atan2(d[2], d[0]);
+  if (ph < 0.0) ph += 2.0 * kPi;
+  const double rows = std::clamp(t / kPi * l.views_theta - 0.5, 0.0, double(l.views_theta - 1));
+  const double cols = ph / (2.0 * kPi) * l.views_phi - 0.5;
+  const int j0 = std::min(int(rows), l.views_theta - 1), j1 = std::min(j0 + 1, l.views_theta - 1);
+  const double c0 = std::floor(cols);
+  const int k0 = (int(c0) + l.views_phi) % l.views_phi, k1 = (k0 + 1) % l.views_phi;
+  return {j0, j1, k0, k1, rows - j0, cols - c0};
 }
 }  // namespace
 
@@ -147,18 +181,18 @@ double visibility(const CompressedStack& c, const std::vector<uint32_t>& positio
 double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
                            const Vec3& d) {
   const StackLayout& l = c.layout;
-  const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  const double t = std::acos(std::clamp(d[1] / n, -1.0, 1.0));
-  double ph = std::atan2(d[2], d[0]);
-  if (ph < 0.0) ph += 2.0 * kPi;
-  const double rows = std::clamp(t / kPi * l.views_theta - 0.5, 0.0, double(l.views_theta - 1));
-  const double cols = ph / (2.0 * kPi) * l.views_phi - 0.5;
-  const int j0 = std::min(int(rows), l.views_theta - 1), j1 = std::min(j0 + 1, l.views_theta - 1);
-  const double c0 = std::floor(cols);
-  const int k0 = (int(c0) + l.views_phi) % l.views_phi, k1 = (k0 + 1) % l.views_phi;
-  const double fy = rows - j0, fx = cols - c0;
+  const ViewCell v = view_cell(l, d);
   auto view = [&](int j, int k) { return texels_bilinear(c, positions, uint32_t(j * l.views_phi + k), p); };
-  return lerp(lerp(view(j0, k0), view(j0, k1), fx), lerp(view(j1, k0), view(j1, k1), fx), fy);
+  return lerp(lerp(view(v.j0, v.k0), view(v.j0, v.k1), v.fx), lerp(view(v.j1, v.k0), view(v.j1, v.k1), v.fx), v.fy);
+}
+
+double visibility_roulette(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
+                           const Vec3& d, const std::array<float, 4>& r) {
+  const StackLayout& l = c.layout;
+  const ViewCell v = view_cell(l, d);
+  const uint32_t g = uint32_t((r[0] < v.fy ? v.j1 : v.j0) * l.views_phi + (r[1] < v.fx ? v.k1 : v.k0));
+  const TexelCell t = texel_cell(l, g, p);
+  return texel_lit(c, positions, g, t.x + (r[2] < t.fx ? 1 : 0), t.y + (r[3] < t.fy ? 1 : 0), t.q) ? 1.0 : 0.0;
 }
 
 }  // namespace sf::ref::coherent

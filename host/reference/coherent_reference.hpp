@@ -62,4 +62,12 @@ double visibility(const CompressedStack& c, const std::vector<uint32_t>& positio
 double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
                            const Vec3& d);
 
+// Russian-roulette filtering (Ritschel 2007 sec. 4.5): one of generalized PCF's 16 (view, texel)
+// pairs, drawn with its bilinear weight as probability from four uniform numbers r in [0, 1):
+// row j1 when r[0] < fy, column k1 when r[1] < fx, then texel column x + 1 when r[2] < the texel
+// fraction in x, row y + 1 when r[3] < that in y. One binary test (0 or 1) whose expectation over r
+// is visibility_filtered(): PCF's answer at nearest's cost. Twin of sf_coherent_visibility_roulette.
+double visibility_roulette(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
+                           const Vec3& d, const std::array<float, 4>& r);
+
 }  // namespace sf::ref::coherent

@@ -81,6 +81,32 @@ void stratified(uint32_t seed, uint32_t k, uint32_t pixel, uint32_t s, uint32_t 
 
 float dot3(const F3& a, const F3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+// coherent/render.cl's constants and glossy helpers, operation for operation.
+constexpr uint32_t kRoulettePair = 128u;
+constexpr uint32_t kChoiceDim = 4096u;
+constexpr float kPiF = 3.14159265358979f;
+
+float phong_cos(const F3& R, const F3& w) { return std::max(dot3(R, w), 0.0f); }
+F3 phong_pi_f(const F3& albedo, const F3& ks, float n, const F3& R, const F3& w) {
+  const float lobe = (n + 2.0f) * 0.5f * std::pow(phong_cos(R, w), n);
+  return {albedo[0] + ks[0] * lobe, albedo[1] + ks[1] * lobe, albedo[2] + ks[2] * lobe};
+}
+float phong_pdf(float n, const F3& R, const F3& w) { return (n + 1.0f) * (0.5f / kPiF) * std::pow(phong_cos(R, w), n); }
+F3 phong_sample(float n, const F3& R, float u, float v) {
+  const float sign = std::copysign(1.0f, R[2]);
+  const float a = -1.0f / (sign + R[2]);
+  const float b = R[0] * R[1] * a;
+  const F3 T{1.0f + sign * R[0] * R[0] * a, sign * b, -sign * R[0]};
+  const F3 B{b, sign + R[1] * R[1] * a, -R[1]};
+  const float ca = std::pow(u, 1.0f / (n + 1.0f));
+  const float sa = std::sqrt(std::max(0.0f, 1.0f - ca * ca));
+  const float phi = 2.0f * kPiF * v;
+  const float x = sa * std::cos(phi), y = sa * std::sin(phi);
+  F3 w;
+  for (int k = 0; k < 3; ++k) w[k] = T[k] * x + B[k] * y + R[k] * ca;
+  return w;
+}
+
 }  // namespace
 
 void validate_area_light(const AreaLight& l, Vec3 center, double radius) {
@@ -135,6 +161,7 @@ GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera,
   g.position.assign(g.pixels() * 4, 0.0f);
   g.normal.assign(g.pixels() * 4, 0.0f);
   g.albedo.assign(g.pixels() * 4, 0.0f);
+  g.eye = {float(camera.position.x), float(camera.position.y), float(camera.position.z)};
   std::atomic<size_t> hits{0};
   const double lift = kLift * radius;
   for_each_row(g.height, threads, [&](int y) {
@@ -174,6 +201,18 @@ void validate(const RenderSettings& s) {
     throw InputError("--samples must be in [1, " + std::to_string(kMaxSamples) + "], got " + std::to_string(s.samples));
   if (s.lights.size() > size_t(kMaxLights))
     throw InputError("at most " + std::to_string(kMaxLights) + " area lights, got " + std::to_string(s.lights.size()));
+  for (float k : s.specular)
+    if (!(k >= 0.0f && k <= 1.0f)) throw InputError("--specular must be within [0, 1]");
+  if (!(s.shininess >= 0.0f && s.shininess <= kMaxShininess))
+    throw InputError("--shininess must be within [0, " + std::to_string(int(kMaxShininess)) + "]");
+  if (s.passes < 1 || s.passes > kMaxPasses)
+    throw InputError("--passes must be in [1, " + std::to_string(kMaxPasses) + "], got " + std::to_string(s.passes));
+  if (!(std::isfinite(s.time_budget) && s.time_budget >= 0.0))
+    throw InputError("--time-budget must be finite and >= 0 seconds");
+}
+
+uint32_t pass_seed(uint32_t seed, int pass) {
+  return pass == 0 ? seed : hash32(hash32(seed) ^ hash32(0x85ebca6bu + uint32_t(pass)));
 }
 
 uint32_t sample_stride(uint32_t S) {
@@ -191,10 +230,35 @@ uint32_t sample_stride(uint32_t S) {
   return k % S;
 }
 
-HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible) {
+namespace {
+
+// The progressive loop both renders share: pass after pass until `passes` ran or the next pass
+// would end past the time budget (the mean pass time so far predicts it); at least one pass.
+template <class PassFn>
+void run_passes(const RenderSettings& settings, RenderStats* stats, const PassFn& pass_fn) {
+  const auto start = std::chrono::steady_clock::now();
+  int done = 0;
+  double elapsed = 0.0;
+  while (done < settings.passes) {
+    pass_fn(done);
+    ++done;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (settings.time_budget > 0.0 && elapsed + elapsed / done > settings.time_budget) break;
+  }
+  if (stats) *stats = {elapsed, done};
+}
+
+}  // namespace
+
+HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible,
+                      RenderStats* stats) {
   validate(settings);
-  const uint32_t S = uint32_t(settings.samples), stride = sample_stride(S), seed = settings.seed;
+  const uint32_t S = uint32_t(settings.samples), stride = sample_stride(S);
   const float inv_s = 1.0f / float(S);
+  const bool roulette = settings.filter == VisibilityFilter::Roulette;
+  const F3 ks = settings.specular;
+  const float shine = settings.shininess;
+  const bool glossy = ks[0] > 0.0f || ks[1] > 0.0f || ks[2] > 0.0f;
   // The lights as the kernel reads them (float).
   struct FL {
     F3 corner, ea, eb, radiance;
@@ -208,69 +272,148 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
   HostImage out(g.width, g.height, 3);
   out.channel_names = {"R", "G", "B"};
   const float inf = std::numeric_limits<float>::infinity();
-  for_each_row(g.height, settings.threads, [&](int y) {
-    for (int x = 0; x < g.width; ++x) {
-      const size_t i = size_t(y) * g.width + x;
-      const float* P = &g.position[4 * i];
-      const F3 N{g.normal[4 * i], g.normal[4 * i + 1], g.normal[4 * i + 2]};
-      if (P[3] == 0.0f) {
-        int tx, ty;
-        envmap_texel_of(env, N, &tx, &ty);
-        const F3 c = env.texel(tx, ty);
-        for (int k = 0; k < 3; ++k) out.at(x, y, k) = c[k];
-        continue;
+  // One pixel's estimate with the pass's seed.
+  auto shade = [&](size_t i, uint32_t seed) -> F3 {
+    const float* P = &g.position[4 * i];
+    const F3 N{g.normal[4 * i], g.normal[4 * i + 1], g.normal[4 * i + 2]};
+    const F3 albedo{g.albedo[4 * i], g.albedo[4 * i + 1], g.albedo[4 * i + 2]};
+    const F3 p{P[0], P[1], P[2]};
+    const uint32_t pixel = uint32_t(i);
+    F3 R = N;
+    float q = 1.0f;
+    if (glossy) {
+      const F3 e{g.eye[0] - p[0], g.eye[1] - p[1], g.eye[2] - p[2]};
+      const float len = std::sqrt(dot3(e, e));
+      const F3 wo{e[0] / len, e[1] / len, e[2] / len};
+      const float twice = 2.0f * dot3(N, wo);
+      R = {N[0] * twice - wo[0], N[1] * twice - wo[1], N[2] * twice - wo[2]};
+      const float ld = 0.2126f * albedo[0] + 0.7152f * albedo[1] + 0.0722f * albedo[2];
+      const float ls = 0.2126f * ks[0] + 0.7152f * ks[1] + 0.0722f * ks[2];
+      q = std::clamp(ld / (ld + ls), 0.25f, 0.75f);
+    }
+    // The roulette's numbers of query pair k in sample s (zeros for the other filters).
+    auto numbers = [&](uint32_t k, uint32_t s) {
+      std::array<float, 4> r{0.0f, 0.0f, 0.0f, 0.0f};
+      if (roulette) {
+        stratified(seed, kRoulettePair + 2u * k, pixel, s, S, inv_s, stride, &r[0], &r[1]);
+        stratified(seed, kRoulettePair + 2u * k + 1u, pixel, s, S, inv_s, stride, &r[2], &r[3]);
       }
-      const F3 p{P[0], P[1], P[2]};
-      F3 sum{0.0f, 0.0f, 0.0f};
-      const uint32_t pixel = uint32_t(i);
-      for (uint32_t s = 0; s < S; ++s) {
-        if (env.sampled) {
-          float u, v;
-          stratified(seed, 0u, pixel, s, S, inv_s, stride, &u, &v);
-          const EnvSample e = sample_envmap(env, u, v);
-          const float c = dot3(N, e.dir);
-          if (c > 0.0f && visible(p, e.dir, inf)) {
+      return r;
+    };
+    F3 sum{0.0f, 0.0f, 0.0f};
+    for (uint32_t s = 0; s < S; ++s) {
+      if (env.sampled && !glossy) {
+        float u, v;
+        stratified(seed, 0u, pixel, s, S, inv_s, stride, &u, &v);
+        const EnvSample e = sample_envmap(env, u, v);
+        const float c = dot3(N, e.dir);
+        if (c > 0.0f) {
+          const float vis = visible(p, e.dir, inf, numbers(0u, s));
+          if (vis > 0.0f) {
             const F3 L = env.texel(e.x, e.y);
-            const float w = c / e.pdf;
+            const float w = vis * c / e.pdf;
             for (int k = 0; k < 3; ++k) sum[k] += L[k] * w;
           }
         }
-        for (size_t l = 0; l < lights.size(); ++l) {
-          const FL& li = lights[l];
-          float u, v;
-          stratified(seed, 1u + uint32_t(l), pixel, s, S, inv_s, stride, &u, &v);
-          F3 d;
-          for (int k = 0; k < 3; ++k) d[k] = li.corner[k] + li.ea[k] * u + li.eb[k] * v - p[k];
-          const float dist2 = dot3(d, d);
-          const F3 nl{li.ea[1] * li.eb[2] - li.ea[2] * li.eb[1], li.ea[2] * li.eb[0] - li.ea[0] * li.eb[2],
-                      li.ea[0] * li.eb[1] - li.ea[1] * li.eb[0]};
-          const float area = std::sqrt(dot3(nl, nl));
-          const float dist = std::sqrt(dist2);
-          const F3 w{d[0] / dist, d[1] / dist, d[2] / dist};
-          const float c = dot3(N, w);
-          const float cl = std::fabs(dot3(nl, w)) / area;
-          if (c > 0.0f && cl > 0.0f && dist2 > 0.0f && visible(p, w, dist)) {
-            const float f = c * cl * area / dist2;
-            for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f;
+      } else if (env.sampled) {
+        float u, v;
+        stratified(seed, 0u, pixel, s, S, inv_s, stride, &u, &v);
+        F3 w;
+        int tx, ty;
+        float pdf_env;
+        if (rand01(seed, kChoiceDim, pixel, s) < q) {
+          const EnvSample e = sample_envmap(env, u, v);
+          w = e.dir;
+          tx = e.x;
+          ty = e.y;
+          pdf_env = e.pdf;
+        } else {
+          w = phong_sample(shine, R, u, v);
+          envmap_texel_of(env, w, &tx, &ty);
+          pdf_env = envmap_pdf(env, tx, ty);
+        }
+        const float c = dot3(N, w);
+        const float pdf = q * pdf_env + (1.0f - q) * phong_pdf(shine, R, w);
+        if (c > 0.0f && pdf > 0.0f) {
+          const float vis = visible(p, w, inf, numbers(0u, s));
+          if (vis > 0.0f) {
+            const F3 L = env.texel(tx, ty);
+            const F3 f = phong_pi_f(albedo, ks, shine, R, w);
+            const float weight = vis * c / pdf;
+            for (int k = 0; k < 3; ++k) sum[k] += L[k] * f[k] * weight;
           }
         }
       }
-      const float scale = 0.31830988618379067f * inv_s;
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = g.albedo[4 * i + k] * scale * sum[k];
+      for (size_t l = 0; l < lights.size(); ++l) {
+        const FL& li = lights[l];
+        float u, v;
+        stratified(seed, 1u + uint32_t(l), pixel, s, S, inv_s, stride, &u, &v);
+        F3 d;
+        for (int k = 0; k < 3; ++k) d[k] = li.corner[k] + li.ea[k] * u + li.eb[k] * v - p[k];
+        const float dist2 = dot3(d, d);
+        const F3 nl{li.ea[1] * li.eb[2] - li.ea[2] * li.eb[1], li.ea[2] * li.eb[0] - li.ea[0] * li.eb[2],
+                    li.ea[0] * li.eb[1] - li.ea[1] * li.eb[0]};
+        const float area = std::sqrt(dot3(nl, nl));
+        const float dist = std::sqrt(dist2);
+        const F3 w{d[0] / dist, d[1] / dist, d[2] / dist};
+        const float c = dot3(N, w);
+        const float cl = std::fabs(dot3(nl, w)) / area;
+        if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+          const float vis = visible(p, w, dist, numbers(1u + uint32_t(l), s));
+          if (vis > 0.0f) {
+            const float f = vis * (c * cl * area / dist2);
+            if (glossy) {
+              const F3 b = phong_pi_f(albedo, ks, shine, R, w);
+              for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f * b[k];
+            } else {
+              for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f;
+            }
+          }
+        }
+      }
     }
+    const float scale = 0.31830988618379067f * inv_s;
+    F3 value;
+    for (int k = 0; k < 3; ++k) value[k] = glossy ? sum[k] * scale : albedo[k] * scale * sum[k];
+    return value;
+  };
+  run_passes(settings, stats, [&](int pass) {
+    const uint32_t seed = pass_seed(settings.seed, pass);
+    for_each_row(g.height, settings.threads, [&](int y) {
+      for (int x = 0; x < g.width; ++x) {
+        const size_t i = size_t(y) * g.width + x;
+        if (g.position[4 * i + 3] == 0.0f) {
+          int tx, ty;
+          envmap_texel_of(env, {g.normal[4 * i], g.normal[4 * i + 1], g.normal[4 * i + 2]}, &tx, &ty);
+          const F3 c = env.texel(tx, ty);
+          for (int k = 0; k < 3; ++k) out.at(x, y, k) = c[k];
+          continue;
+        }
+        const F3 value = shade(i, seed);
+        for (int k = 0; k < 3; ++k) {
+          float& o = out.at(x, y, k);
+          o = pass == 0 ? value[k] : o + (value[k] - o) / float(pass + 1);
+        }
+      }
+    });
   });
   return out;
 }
 
-HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings) {
-  return render_host(g, env, settings, [&](const F3& p, const F3& d, float t_max) {
-    const Ray ray{{p[0], p[1], p[2]}, normalize(Vec3{d[0], d[1], d[2]})};
-    return !object.occluded(ray, 0.0, std::isinf(t_max) ? std::numeric_limits<double>::infinity() : double(t_max));
-  });
+HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings,
+                        RenderStats* stats) {
+  return render_host(
+      g, env, settings,
+      [&](const F3& p, const F3& d, float t_max, const std::array<float, 4>&) {
+        const Ray ray{{p[0], p[1], p[2]}, normalize(Vec3{d[0], d[1], d[2]})};
+        const double reach = std::isinf(t_max) ? std::numeric_limits<double>::infinity() : double(t_max);
+        return object.occluded(ray, 0.0, reach) ? 0.0f : 1.0f;
+      },
+      stats);
 }
 
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                          const RenderSettings& settings, double* seconds, bool pcf) {
+                          const RenderSettings& settings, RenderStats* stats) {
   validate(settings);
   // The compressed stack as the query kernels take it (offsets, last, depth, positions, layout).
   const coherent::DeviceStack maps = coherent::upload(rt, stack);
@@ -300,7 +443,7 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
     for (const Vec3& v : {l.corner, l.edge_a, l.edge_b, Vec3{l.radiance[0], l.radiance[1], l.radiance[2]}})
       lights.insert(lights.end(), {float(v.x), float(v.y), float(v.z), 0.0f});
   cl::Buffer light_buf = upload(lights.data(), bytes_of(lights));
-  cl::Buffer out(ctx, CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * 4 * sizeof(float));
+  cl::Buffer out(ctx, CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * 4 * sizeof(float));  // passes > 0 read it
 
   cl::Kernel k(rt.program({"coherent/query.clh", "coherent/render.cl"}, "-cl-std=CL1.2"), "sf_coherent_render");
   const uint32_t S = uint32_t(settings.samples);
@@ -327,8 +470,13 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
   k.setArg(a++, cl_uint(S));
   k.setArg(a++, cl_float(1.0f / float(S)));
   k.setArg(a++, cl_uint(sample_stride(S)));
+  const int seed_arg = a;  // set per pass
   k.setArg(a++, cl_uint(settings.seed));
-  k.setArg(a++, cl_int(pcf ? 1 : 0));
+  k.setArg(a++, cl_int(settings.filter));
+  k.setArg(a++, cl_float4{{g.eye[0], g.eye[1], g.eye[2], 0.0f}});
+  k.setArg(a++, cl_float4{{settings.specular[0], settings.specular[1], settings.specular[2], settings.shininess}});
+  const int pass_arg = a;
+  k.setArg(a++, cl_uint(0));
   k.setArg(a++, out);
   // A multiple of the work-group size: the kernel skips the items past n.
   constexpr size_t kGroup = 64;
@@ -339,10 +487,12 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kGroup), cl::NDRange(kGroup));
   k.setArg(0, cl_int(n));
   rt.queue().finish();
-  const auto start = std::chrono::steady_clock::now();
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(kGroup));
-  rt.queue().finish();
-  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run_passes(settings, stats, [&](int pass) {
+    k.setArg(seed_arg, cl_uint(pass_seed(settings.seed, pass)));
+    k.setArg(pass_arg, cl_uint(pass));
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(kGroup));
+    rt.queue().finish();
+  });
   std::vector<float> px(n * 4);
   if (n) rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, px.size() * sizeof(float), px.data());
   HostImage img(g.width, g.height, 3);

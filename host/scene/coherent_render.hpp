@@ -1,8 +1,9 @@
 #pragma once
 // Direct lighting of one object with its coherent shadow map (Ritschel 2007 sec. 5;
 // docs/coherent_render.md): a G-buffer from Embree camera rays, then per pixel S stratified samples
-// of a lat-long environment map (drawn from its luminance) and of rectangular semi-local area
-// lights, diffuse BRDF. The visibility of every sample comes from the coherent maps on the device
+// of a lat-long environment map and of rectangular semi-local area lights, diffuse or glossy
+// (modified Phong, one-sample MIS between the map and the lobe), progressive passes (sec. 5.2). The
+// visibility of every sample comes from the coherent maps on the device
 // (render_coherent, kernels/coherent/render.cl) or, for the reference, from a host twin of the
 // same sampler with the same random numbers and Embree occlusion rays (render_traced): the two
 // differ by the coherent maps' discretisation alone.
@@ -47,7 +48,8 @@ PerspectiveCamera framing_camera(Vec3 center, double radius, int width, int heig
 struct GBuffer {
   int width = 0, height = 0;
   std::vector<float> position, normal, albedo;
-  size_t hits = 0;  // pixels on the object
+  std::array<float, 3> eye{0.0f, 0.0f, 0.0f};  // the camera's position (glossy BRDFs' view direction)
+  size_t hits = 0;                             // pixels on the object
   size_t pixels() const { return size_t(width) * size_t(height); }
 };
 inline constexpr double kLift = 1e-4;
@@ -55,37 +57,69 @@ inline constexpr double kLift = 1e-4;
 GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
                        const std::array<float, 3>& albedo, int threads = 0);
 
+// The visibility lookup of the coherent-map render (Ritschel 2007 sec. 4.5): the nearest view
+// and texel (0 or 1); generalized PCF of the 2x2 nearest views' 2x2 texels (16 tests, fractional);
+// or Russian roulette, one of those 16 drawn with its PCF weight as probability (one test, 0 or
+// 1, PCF's value in expectation). The host twin passes the roulette's numbers to its Visibility.
+enum class VisibilityFilter { Nearest = 0, Pcf = 1, Roulette = 2 };
+
 struct RenderSettings {
   int samples = 16;   // S: env samples per pixel, and S samples per area light
   uint32_t seed = 1;  // the counter-based RNG's seed (the same seed gives the same numbers)
   std::vector<AreaLight> lights;
   int threads = 0;  // host renders: 0 = all cores
+  VisibilityFilter filter = VisibilityFilter::Nearest;
+  // Modified Phong: pi f = albedo + specular (n + 2) / 2 max(0, R.w)^n, n = shininess. specular
+  // 0 is the diffuse BRDF (environment by light sampling alone); otherwise the environment
+  // sample is drawn from the map or from the lobe (one-sample MIS, balance heuristic).
+  std::array<float, 3> specular{0.0f, 0.0f, 0.0f};
+  float shininess = 32.0f;
+  // Progressive rendering (seed sec. 5.2): up to `passes` passes of S samples, each with its own
+  // seed (pass_seed), the image the mean of the passes so far; with time_budget > 0 (seconds) the
+  // render also stops before a pass that would end past the budget (at least one pass runs).
+  int passes = 1;
+  double time_budget = 0.0;
 };
-// InputError unless 1 <= samples <= kMaxSamples and at most kMaxLights lights.
+// InputError unless 1 <= samples <= kMaxSamples, at most kMaxLights lights, specular within [0, 1],
+// shininess within [0, kMaxShininess], 1 <= passes <= kMaxPasses and time_budget finite and >= 0.
 inline constexpr int kMaxSamples = 1 << 20;
 inline constexpr int kMaxLights = 64;
+inline constexpr int kMaxPasses = 1 << 16;
+inline constexpr float kMaxShininess = 1e4f;
 void validate(const RenderSettings& settings);
 // The Latin hypercube's second stride: coprime to S, near S / golden ratio (coherent/render.cl).
 uint32_t sample_stride(uint32_t samples);
+// The seed of progressive pass m: the settings' seed for pass 0, a hash of both after it.
+uint32_t pass_seed(uint32_t seed, int pass);
+
+// What a render did: its wall time (the device render alone: built program, uploaded inputs) and
+// the passes it ran.
+struct RenderStats {
+  double seconds = 0.0;
+  int passes = 0;
+};
 
 // The host twin of coherent/render.cl: the same samples and float arithmetic, visibility from
-// `visible(p, d, t_max)`: is the segment p + t d, t in (0, t_max), free (d unit length)?
-using Visibility = std::function<bool(const std::array<float, 3>& p, const std::array<float, 3>& d, float t_max)>;
-HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible);
-// render_host with Embree occlusion rays against the object: the reference of the same samples.
-HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings);
+// `visible(p, d, t_max, r)`: the fraction of the segment p + t d, t in (0, t_max), that is free
+// (d unit length; 0 or 1 for a ray, fractional for a PCF lookup); r holds the sample's four
+// roulette numbers when settings.filter is Roulette (else zeros).
+using Visibility = std::function<float(const std::array<float, 3>& p, const std::array<float, 3>& d, float t_max,
+                                       const std::array<float, 4>& r)>;
+HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible,
+                      RenderStats* stats = nullptr);
+// render_host with Embree occlusion rays against the object: the reference of the same samples
+// (settings.filter plays no part: a ray has no filter).
+HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings,
+                        RenderStats* stats = nullptr);
 
-// The device render with the compressed visibility: nearest view and texel (0 or 1, what the
-// host twin and the reference reproduce), or pcf (generalized PCF of the 2x2 nearest views' 2x2
-// texels, seed sec. 4.5: fractional visibility). seconds, when given, receives the kernel's wall
-// time (built program, uploaded inputs: the render alone).
+// The device render with the compressed visibility through settings.filter.
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
-                          const RenderSettings& settings, double* seconds = nullptr, bool pcf = false);
+                          const RenderSettings& settings, RenderStats* stats = nullptr);
 
-// Visibility queries a render makes at most: pixels on the object x S x (1 + lights) (samples
-// below the horizon of the normal skip their query).
-inline double render_queries(const GBuffer& g, const EnvMap& env, const RenderSettings& s) {
-  return double(g.hits) * s.samples * ((env.sampled ? 1 : 0) + double(s.lights.size()));
+// Visibility queries a render makes at most in `passes` passes: pixels on the object x S x
+// (1 + lights) a pass (samples below the horizon of the normal skip their query).
+inline double render_queries(const GBuffer& g, const EnvMap& env, const RenderSettings& s, int passes = 1) {
+  return double(g.hits) * s.samples * ((env.sampled ? 1 : 0) + double(s.lights.size())) * passes;
 }
 
 // Root mean square difference of two RGB images over the pixels where mask (a G-buffer) is on the

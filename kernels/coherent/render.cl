@@ -1,9 +1,11 @@
-// Direct lighting with coherent shadow maps (Ritschel 2007 sec. 5 and 5.1; docs/coherent_render.md):
-// one work-item per pixel of a G-buffer, S stratified samples of a lat-long environment map drawn
-// from its luminance distribution (plain light sampling, the seed's choice for diffuse surfaces)
-// and S samples uniform over each rectangular area light, diffuse BRDF, visibility from the coherent maps
-// (coherent/query.clh, concatenated before this file): sf_coherent_visibility (nearest view and texel,
-// 0 or 1) or with filter = 1 sf_coherent_visibility_filtered (generalized PCF, in [0, 1]). Host twin, with the same
+// Direct lighting with coherent shadow maps (Ritschel 2007 sec. 5, 5.1 and 5.2;
+// docs/coherent_render.md): one work-item per pixel of a G-buffer, S stratified samples of a lat-long
+// environment map and S samples uniform over each rectangular area light. Diffuse surfaces draw
+// the environment from its luminance distribution (plain light sampling, the seed's choice);
+// glossy ones (modified Phong) draw it from the map or from the BRDF lobe, combined by one-sample
+// multiple importance sampling. Visibility from the coherent maps (coherent/query.clh,
+// concatenated before this file): nearest view and texel, generalized PCF, or Russian roulette.
+// Progressive: each launch is one pass blended into the running mean. Host twin, with the same
 // random numbers and float arithmetic: host/scene/coherent_render.cpp (render_host).
 //
 // Contraction into fma is off: the host twin rounds every operation on its own, and equal
@@ -90,22 +92,83 @@ inline float3 sf_env_sample(const sf_env E, float2 u, float* pdf, int* texel) {
   return (float3)(st * cos(phi), ct, st * sin(phi));
 }
 
-// The radiance of direction d (nearest texel): what background pixels show.
-inline float3 sf_env_lookup(const sf_env E, float3 d) {
+// The texel whose cell holds direction d (host: envmap_texel_of).
+inline int sf_env_texel_of(const sf_env E, float3 d) {
   const float n = length(d);
   const float t = acos(clamp(d.y / n, -1.0f, 1.0f));
   float p = atan2(d.z, d.x);
   if (p < 0.0f) p += 2.0f * SF_COHERENT_PI;
   const int y = clamp((int)(t / SF_COHERENT_PI * (float)E.height), 0, E.height - 1);
   const int x = clamp((int)(p / (2.0f * SF_COHERENT_PI) * (float)E.width), 0, E.width - 1);
-  return E.rgb[y * E.width + x].xyz;
+  return y * E.width + x;
+}
+
+// The radiance of direction d (nearest texel): what background pixels show.
+inline float3 sf_env_lookup(const sf_env E, float3 d) { return E.rgb[sf_env_texel_of(E, d)].xyz; }
+
+// The solid-angle pdf with which sf_env_sample draws a direction inside texel t (host: envmap_pdf).
+inline float sf_env_pdf(const sf_env E, int t) {
+  const int y = t / E.width, x = t - y * E.width;
+  __global const float* row = E.conditional + (size_t)y * (size_t)(E.width + 1);
+  return (E.marginal[y + 1] - E.marginal[y]) * (row[x + 1] - row[x]) / E.solid_angle[y];
+}
+
+// The glossy lobe of the modified Phong BRDF (Lafortune and Willems 1994): pi f = albedo +
+// ks (n + 2) / 2 max(0, R.w)^n, R the mirror direction of the view. Energy conserving while
+// albedo + ks <= 1 per channel (the command checks it).
+inline float sf_phong_cos(float3 R, float3 w) { return max(dot(R, w), 0.0f); }
+inline float3 sf_phong_pi_f(float3 albedo, float3 ks, float n, float3 R, float3 w) {
+  return albedo + ks * ((n + 2.0f) * 0.5f * pow(sf_phong_cos(R, w), n));
+}
+// The lobe's own density, (n + 1) / (2 pi) max(0, R.w)^n in solid angle, and a direction drawn
+// from it: cos a = u^(1 / (n + 1)), phi = 2 pi v about R (Duff et al. 2017's frame).
+inline float sf_phong_pdf(float n, float3 R, float3 w) {
+  return (n + 1.0f) * (0.5f / SF_COHERENT_PI) * pow(sf_phong_cos(R, w), n);
+}
+inline float3 sf_phong_sample(float n, float3 R, float2 u) {
+  const float sign = copysign(1.0f, R.z);
+  const float a = -1.0f / (sign + R.z);
+  const float b = R.x * R.y * a;
+  const float3 T = (float3)(1.0f + sign * R.x * R.x * a, sign * b, -sign * R.x);
+  const float3 B = (float3)(b, sign + R.y * R.y * a, -R.y);
+  const float ca = pow(u.x, 1.0f / (n + 1.0f));
+  const float sa = sqrt(max(0.0f, 1.0f - ca * ca));
+  const float phi = 2.0f * SF_COHERENT_PI * u.y;
+  return T * (sa * cos(phi)) + B * (sa * sin(phi)) + R * ca;
+}
+
+// Which visibility lookup the render makes (sf::scene::VisibilityFilter).
+#define SF_FILTER_NEAREST 0
+#define SF_FILTER_PCF 1
+#define SF_FILTER_ROULETTE 2
+// Random-number dimensions beside the sample pairs (2D pair k = 0 env, 1 + l light l): the
+// roulette's two pairs of query k are pairs SF_ROULETTE_PAIR + 2k and + 2k + 1, the glossy
+// strategy choice of sample s is dimension SF_CHOICE_DIM (host twin: the same constants).
+#define SF_ROULETTE_PAIR 128u
+#define SF_CHOICE_DIM 4096u
+
+// Visibility of the query of pair k in sample s, through the render's filter.
+inline float sf_render_visibility(const int filter, const sf_coherent_layout L, __global const uint* offsets,
+                                  __global const uint* last, __global const ushort* depth,
+                                  __global const uint* positions, float3 p, float3 d, uint seed, uint k, uint pixel,
+                                  uint s, uint S, float inv_s, uint stride) {
+  if (filter == SF_FILTER_PCF) return sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p, d);
+  if (filter == SF_FILTER_ROULETTE) {
+    const float2 a = sf_stratified(seed, SF_ROULETTE_PAIR + 2u * k, pixel, s, S, inv_s, stride);
+    const float2 b = sf_stratified(seed, SF_ROULETTE_PAIR + 2u * k + 1u, pixel, s, S, inv_s, stride);
+    return sf_coherent_visibility_roulette(L, offsets, last, depth, positions, p, d, (float4)(a, b));
+  }
+  return sf_coherent_visibility(L, offsets, last, depth, positions, p, d);
 }
 
 // gpos: xyz the shading point (lifted off the surface along the normal), w 1 on the object, 0 on
 // background; gnormal: the unit normal facing the camera, or on background the camera ray's
 // direction; galbedo: diffuse albedo. lights: 4 float4 per light (corner, edge a, edge b,
 // radiance), two-sided rectangles outside the object's bounding sphere (semi-local, sec. 4.3).
-// out: linear RGB radiance, w = 1.
+// filter: SF_FILTER_*. eye: the camera's position; specular: ks (xyz) and the Phong exponent n
+// (w); ks = 0 is the diffuse BRDF with plain light sampling. pass: progressive rendering (seed
+// sec. 5.2): pass 0 writes out, pass m > 0 blends its estimate in with weight 1 / (m + 1), so out
+// holds the mean of the passes so far (each pass with its own seed). out: linear RGB, w = 1.
 __kernel void sf_coherent_render(const int n, __global const float4* gpos, __global const float4* gnormal,
                             __global const float4* galbedo, const sf_coherent_layout L, __global const uint* offsets,
                             __global const uint* last, __global const ushort* depth, __global const uint* positions, const int env_width,
@@ -113,7 +176,8 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
                             const int n_lights, __global const float4* lights, const uint samples, const float inv_s,
-                            const uint stride, const uint seed, const int filter, __global float4* out) {
+                            const uint stride, const uint seed, const int filter, const float4 eye,
+                            const float4 specular, const uint pass, __global float4* out) {
   const int i = (int)get_global_id(0);
   if (i >= n) return;  // the last work-group may be partial
   sf_env E;
@@ -131,18 +195,53 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
     return;
   }
   const float3 p = P.xyz;
+  const float3 albedo = galbedo[i].xyz;
+  const float3 ks = specular.xyz;
+  const float shine = specular.w;
+  const int glossy = ks.x > 0.0f || ks.y > 0.0f || ks.z > 0.0f;
+  // Glossy: the view's mirror direction R, and the probability q of drawing the environment
+  // sample from the map rather than from the lobe (one-sample MIS, balance heuristic).
+  float3 R = N;
+  float q = 1.0f;
+  if (glossy) {
+    const float3 e = eye.xyz - p;
+    const float3 wo = e / sqrt(dot(e, e));
+    R = N * (2.0f * dot(N, wo)) - wo;
+    const float ld = 0.2126f * albedo.x + 0.7152f * albedo.y + 0.0722f * albedo.z;
+    const float ls = 0.2126f * ks.x + 0.7152f * ks.y + 0.0722f * ks.z;
+    q = clamp(ld / (ld + ls), 0.25f, 0.75f);
+  }
   float3 sum = (float3)(0.0f);
   const uint pixel = (uint)i;
   for (uint s = 0; s < samples; ++s) {
-    if (env_sampled) {
+    if (env_sampled && !glossy) {
       float pdf;
       int texel;
       const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
       const float c = dot(N, w);
       if (c > 0.0f) {
-        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p, w)
-                               : sf_coherent_visibility(L, offsets, last, depth, positions, p, w);
+        const float v =
+            sf_render_visibility(filter, L, offsets, last, depth, positions, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
+      }
+    } else if (env_sampled) {
+      const float2 u = sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride);
+      float pdf_env;
+      int texel;
+      float3 w;
+      if (sf_rand(seed, SF_CHOICE_DIM, pixel, s) < q) {
+        w = sf_env_sample(E, u, &pdf_env, &texel);
+      } else {
+        w = sf_phong_sample(shine, R, u);
+        texel = sf_env_texel_of(E, w);
+        pdf_env = sf_env_pdf(E, texel);
+      }
+      const float c = dot(N, w);
+      const float pdf = q * pdf_env + (1.0f - q) * sf_phong_pdf(shine, R, w);
+      if (c > 0.0f && pdf > 0.0f) {
+        const float v =
+            sf_render_visibility(filter, L, offsets, last, depth, positions, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
+        if (v > 0.0f) sum += env_rgb[texel].xyz * sf_phong_pi_f(albedo, ks, shine, R, w) * (v * c / pdf);
       }
     }
     for (int l = 0; l < n_lights; ++l) {
@@ -159,12 +258,21 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float cl = fabs(dot(nl, w)) / area;
       // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
       if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
-        const float v = filter ? sf_coherent_visibility_filtered(L, offsets, last, depth, positions, p, d)
-                               : sf_coherent_visibility(L, offsets, last, depth, positions, p, d);
-        if (v > 0.0f) sum += radiance * (v * (c * cl * area / dist2));
+        const float v = sf_render_visibility(filter, L, offsets, last, depth, positions, p, d, seed, 1u + (uint)l, pixel,
+                                             s, samples, inv_s, stride);
+        if (v > 0.0f) {
+          const float3 e = radiance * (v * (c * cl * area / dist2));
+          sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
+        }
       }
     }
   }
-  const float3 albedo = galbedo[i].xyz;
-  out[i] = (float4)(albedo * (0.31830988618379067f * inv_s) * sum, 1.0f);
+  // Diffuse: sum holds L V cos / pdf, times albedo / pi here; glossy: sum holds pi f L V cos / pdf.
+  const float3 value = glossy ? sum * (0.31830988618379067f * inv_s) : albedo * (0.31830988618379067f * inv_s) * sum;
+  if (pass == 0u) {
+    out[i] = (float4)(value, 1.0f);
+  } else {
+    const float3 prev = out[i].xyz;
+    out[i] = (float4)(prev + (value - prev) / (float)(pass + 1u), 1.0f);
+  }
 }

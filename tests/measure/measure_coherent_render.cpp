@@ -1,6 +1,7 @@
 // The figures of docs/coherent_render.md: render time and samples per second of the CSM render
 // against Embree occlusion rays on the same samples (interleaved runs), and the RMSE of both
-// against a converged Embree render as samples grow.
+// against a converged Embree render as samples grow (Figures); the three visibility filters, the
+// progressive passes and the glossy BRDF (FiltersPassesGlossy).
 //
 //   SF_CSM_FILE=/tmp/bunny.csm build/tests/sf_measure --gtest_filter='CoherentRender.*'
 //
@@ -63,9 +64,9 @@ TEST(CoherentRender, Figures) {
     std::vector<double> tc, te;
     HostImage csm, traced;
     for (int run = 0; run < 3; ++run) {  // interleaved: both see the same machine load
-      double k = 0.0;
+      RenderStats k;
       csm = render_coherent(runtime(), file.stack, g, env, s, &k);
-      tc.push_back(k);
+      tc.push_back(k.seconds);
       const auto t1 = std::chrono::steady_clock::now();
       traced = render_traced(tracer, g, env, s);
       te.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
@@ -74,6 +75,71 @@ TEST(CoherentRender, Figures) {
     std::printf("| %d | %.3f | %.1f | %.3f | %.1f | %.1fx | %.4f | %.4f | %.4f |\n", S, c, q / c / 1e6, e, q / e / 1e6,
                 e / c, rmse_on_object(csm, converged, g), rmse_on_object(traced, converged, g),
                 rmse_on_object(csm, traced, g));
+  }
+}
+
+// nearest, pcf and roulette at equal samples (interleaved, median of 3), RMSE against the
+// converged Embree render; progressive passes of 16 samples; the glossy BRDF (albedo 0.3,
+// specular 0.5, n = 50) against its own converged render.
+TEST(CoherentRender, FiltersPassesGlossy) {
+  const char* path = std::getenv("SF_CSM_FILE");
+  if (!path) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
+  const io::CoherentFile file = io::read_coherent(path);
+  const char* mesh = std::getenv("SF_CSM_MESH");
+  const SceneGeometry object = load_coherent_object(mesh ? mesh : file.source);
+  const RayTracer tracer(object);
+  const coherent::StackLayout& l = file.stack.layout;
+  const Vec3 center{l.center[0], l.center[1], l.center[2]};
+  const int size = std::getenv("SF_RENDER_SIZE") ? std::atoi(std::getenv("SF_RENDER_SIZE")) : 256;
+  const EnvMap env = load_envmap(data_path("envmaps/sky.exr"));
+  for (const bool glossy : {false, true}) {
+    const std::array<float, 3> albedo =
+        glossy ? std::array<float, 3>{0.3f, 0.3f, 0.3f} : std::array<float, 3>{0.8f, 0.8f, 0.8f};
+    const GBuffer g = render_gbuffer(tracer, framing_camera(center, l.radius, size, size, 40.0), l.radius, albedo);
+    RenderSettings s;
+    if (glossy) {
+      s.specular = {0.5f, 0.5f, 0.5f};
+      s.shininess = 50.0f;
+    }
+    s.samples = 1024;
+    s.seed = 12345;
+    const HostImage converged = render_traced(tracer, g, env, s);
+    render_coherent(runtime(), file.stack, g, env, s);  // builds the program once, outside the timings
+    std::printf("\n%s BRDF, %dx%d, %zu pixels on the object, stack %dx%d views M=%d\n", glossy ? "glossy" : "diffuse",
+                size, size, g.hits, l.views_theta, l.views_phi, l.resolution);
+    std::printf(
+        "| samples | nearest s | pcf s | roulette s | roulette / nearest time | RMSE nearest | RMSE pcf | RMSE "
+        "roulette | RMSE Embree (same samples) |\n|---|---|---|---|---|---|---|---|---|\n");
+    s.seed = 1;
+    for (int S : {16, 64, 256}) {
+      s.samples = S;
+      std::vector<double> t[3];
+      HostImage img[3];
+      for (int run = 0; run < 3; ++run)
+        for (int f = 0; f < 3; ++f) {
+          s.filter = VisibilityFilter(f);
+          RenderStats k;
+          img[f] = render_coherent(runtime(), file.stack, g, env, s, &k);
+          t[f].push_back(k.seconds);
+        }
+      s.filter = VisibilityFilter::Nearest;
+      const HostImage traced = render_traced(tracer, g, env, s);
+      std::printf("| %d | %.3f | %.3f | %.3f | %.2fx | %.4f | %.4f | %.4f | %.4f |\n", S, median(t[0]), median(t[1]),
+                  median(t[2]), median(t[2]) / median(t[0]), rmse_on_object(img[0], converged, g),
+                  rmse_on_object(img[1], converged, g), rmse_on_object(img[2], converged, g),
+                  rmse_on_object(traced, converged, g));
+    }
+    std::printf("\n| passes of 16 samples (roulette) | s | RMSE | RMSE Embree (same samples) |\n|---|---|---|---|\n");
+    s.samples = 16;
+    s.filter = VisibilityFilter::Roulette;
+    for (int passes : {1, 4, 16, 64}) {
+      s.passes = passes;
+      RenderStats k;
+      const HostImage img = render_coherent(runtime(), file.stack, g, env, s, &k);
+      const HostImage traced = render_traced(tracer, g, env, s);
+      std::printf("| %d | %.3f | %.4f | %.4f |\n", passes, k.seconds, rmse_on_object(img, converged, g),
+                  rmse_on_object(traced, converged, g));
+    }
   }
 }
 

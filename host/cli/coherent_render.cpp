@@ -13,6 +13,7 @@
 #include "shadowfilter/vec3.hpp"
 #include "coherent_file.hpp"
 #include "coherent_render.hpp"
+#include "coherent_scene.hpp"
 #include "coherent_stack.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"
@@ -26,16 +27,39 @@ namespace sf::cli {
 namespace {
 
 struct RenderArgs {
-  std::string file, envmap, output, filter = "nearest", reference, mesh, device;
+  std::vector<std::string> files, meshes;
+  std::string envmap, output, filter = "nearest", reference, device;
   int samples = 16, width = 512, height = 512, threads = 0;
   unsigned seed = 1;
   std::vector<double> camera_pos, camera_look, albedo{0.8, 0.8, 0.8}, specular{0.0, 0.0, 0.0};
   double camera_fov = 40.0, shininess = 32.0, time_budget = 0.0;
   int passes = 1;
   CLI::Option* passes_option = nullptr;  // not given: 1 pass, or as many as --time-budget allows
-  std::vector<std::vector<double>> area_lights;
+  std::vector<std::vector<double>> area_lights, place, rotate, move, spin;
+  std::vector<double> ground_plane, ground_albedo{0.8, 0.8, 0.8};
+  int frames = 1;
+  double camera_orbit = 0.0;
   bool preview = false, quiet = false;
 };
+
+inline constexpr int kMaxFrames = 10000;
+
+// Frame f's output: OUTPUT itself for one frame, else OUTPUT with _%04d before its extension.
+std::string frame_path(const std::string& output, int frame, int frames) {
+  if (frames == 1) return output;
+  const size_t slash = output.find_last_of('/'), dot = output.find_last_of('.');
+  const size_t at = dot == std::string::npos || (slash != std::string::npos && dot < slash) ? output.size() : dot;
+  char tag[16];
+  std::snprintf(tag, sizeof tag, "_%04d", frame);
+  return output.substr(0, at) + tag + output.substr(at);
+}
+
+// Object index K of a per-object option (1-based on the command line), checked.
+size_t object_index(double k, size_t objects, const char* option) {
+  if (!(k >= 1.0 && k <= double(objects) && k == std::floor(k)))
+    throw InputError(std::string(option) + ": the object number must be 1 .. " + std::to_string(objects));
+  return size_t(k) - 1;
+}
 
 struct SkyArgs {
   std::string output;
@@ -87,12 +111,72 @@ int run_render(const RenderArgs& a) {
   for (const auto& l : a.area_lights)
     if (l.size() != 10 && l.size() != 12)
       throw InputError("--area-light takes corner, edge a, edge b (3 numbers each) and a radiance (1 or 3)");
+  if (a.frames < 1 || a.frames > kMaxFrames)
+    throw InputError("--frames must be in [1, " + std::to_string(kMaxFrames) + "]");
+  if (!std::isfinite(a.camera_orbit)) throw InputError("--camera-orbit must be finite");
+  if (!a.meshes.empty() && a.meshes.size() != a.files.size())
+    throw InputError("--mesh: one per .csm file (" + std::to_string(a.files.size()) + "), got " +
+                     std::to_string(a.meshes.size()));
+  if (a.files.size() > size_t(scene::kMaxObjects))
+    throw InputError("at most " + std::to_string(scene::kMaxObjects) + " objects");
+  for (double c : a.ground_albedo)
+    if (!(c >= 0.0 && c <= 1.0)) throw InputError("--ground-albedo must be within [0, 1]");
+  if (!a.ground_plane.empty() && !std::isfinite(a.ground_plane[0])) throw InputError("--ground-plane must be finite");
+  std::vector<std::string> outputs_checked, inputs{a.envmap};
+  for (int f = 0; f < a.frames; ++f) outputs_checked.push_back(frame_path(a.output, f, a.frames));
   const std::string preview = a.preview ? io::preview_path(a.output) : std::string();
-  io::check_outputs({a.output, preview}, {a.file, a.envmap, a.mesh});
+  if (a.preview)
+    for (int f = 0; f < a.frames; ++f) outputs_checked.push_back(io::preview_path(frame_path(a.output, f, a.frames)));
+  inputs.insert(inputs.end(), a.files.begin(), a.files.end());
+  inputs.insert(inputs.end(), a.meshes.begin(), a.meshes.end());
+  io::check_outputs(outputs_checked, inputs);
 
-  const io::CoherentFile file = io::read_coherent(a.file);
-  const coherent::StackLayout& layout = file.stack.layout;
-  const scene::Vec3 center{layout.center[0], layout.center[1], layout.center[2]};
+  // The objects: each file's maps, its mesh (or built-in) as the file names it or --mesh, which
+  // must lie in the maps' bounding sphere (else it is not the object the maps were built from),
+  // and its placement and motion.
+  std::vector<io::CoherentFile> files;
+  for (const std::string& f : a.files) files.push_back(io::read_coherent(f));
+  const std::array<float, 3> albedo{float(a.albedo[0]), float(a.albedo[1]), float(a.albedo[2])};
+  std::vector<scene::SceneObject> objects(files.size());
+  for (size_t k = 0; k < files.size(); ++k) {
+    scene::SceneObject& o = objects[k];
+    o.stack = &files[k].stack;
+    o.albedo = albedo;
+    const std::string source = a.meshes.empty() ? files[k].source : a.meshes[k];
+    o.geometry = scene::load_coherent_object(source);
+    const scene::Vec3 c = o.center();
+    double reach = 0.0;
+    for (const scene::TriMesh& m : o.geometry.meshes)
+      for (const scene::Vec3& v : m.vertices) reach = std::max(reach, scene::length(v - c));
+    for (const scene::Sphere& sp : o.geometry.spheres)
+      reach = std::max(reach, scene::length(sp.center - c) + sp.radius);
+    if (reach > o.radius() * 1.001 + 1e-9)
+      throw InputError("object '" + source + "' reaches outside the stack's bounding sphere: not the object " +
+                       a.files[k] + " was built from (--mesh names it)");
+  }
+  for (const auto& r : a.rotate) {
+    scene::SceneObject& o = objects[object_index(r[0], objects.size(), "--rotate")];
+    o.placement = o.placement.then(scene::rotation_about(vec(r, 1), r[4], o.placement.apply(o.center()), "--rotate"));
+  }
+  for (const auto& p : a.place) {
+    scene::SceneObject& o = objects[object_index(p[0], objects.size(), "--place")];
+    if (!std::isfinite(p[1]) || !std::isfinite(p[2]) || !std::isfinite(p[3]))
+      throw InputError("--place: the translation must be finite");
+    o.placement = o.placement.then(scene::translation_by(vec(p, 1)));
+  }
+  for (const auto& m : a.move) {
+    scene::SceneObject& o = objects[object_index(m[0], objects.size(), "--move")];
+    if (!std::isfinite(m[1]) || !std::isfinite(m[2]) || !std::isfinite(m[3]))
+      throw InputError("--move: the translation must be finite");
+    o.move = vec(m, 1);
+  }
+  for (const auto& r : a.spin) {
+    scene::SceneObject& o = objects[object_index(r[0], objects.size(), "--spin")];
+    scene::rotation_about(vec(r, 1), r[4], o.center(), "--spin");  // checks the axis and angle
+    o.spin_axis = vec(r, 1);
+    o.spin_degrees = r[4];
+  }
+
   const scene::EnvMap env = scene::load_envmap(a.envmap);
   scene::RenderSettings settings;
   settings.samples = a.samples;
@@ -112,58 +196,84 @@ int run_render(const RenderArgs& a) {
   for (const auto& l : a.area_lights) {
     scene::AreaLight light{vec(l, 0), vec(l, 3), vec(l, 6)};
     light.radiance = l.size() == 12 ? Vec3{l[9], l[10], l[11]} : Vec3{l[9], l[9], l[9]};
-    scene::validate_area_light(light, center, layout.radius);
+    // Semi-local lights lie outside every object, in every frame.
+    for (int f = 0; f < a.frames; ++f)
+      for (const scene::SceneObject& o : objects)
+        scene::validate_area_light(light, o.at_frame(f).apply(o.center()), o.radius());
     settings.lights.push_back(light);
   }
   scene::validate(settings);
 
-  scene::PerspectiveCamera camera = scene::framing_camera(center, layout.radius, a.width, a.height, a.camera_fov);
+  // The camera frames the objects at frame 0; --camera-orbit turns it about the vertical axis
+  // through the point it looks at, per frame.
+  scene::Vec3 center;
+  double radius = 0.0;
+  scene::scene_bounds(objects, 0, &center, &radius);
+  scene::PerspectiveCamera camera = scene::framing_camera(center, radius, a.width, a.height, a.camera_fov);
   if (!a.camera_pos.empty()) camera.position = vec(a.camera_pos, 0);
   if (!a.camera_look.empty()) camera.target = vec(a.camera_look, 0);
   const scene::Vec3 forward = camera.target - camera.position;
   if (!(scene::length(forward) > 0.0) || scene::length(scene::cross(scene::normalize(forward), camera.up_hint)) < 1e-6)
     throw InputError("--camera-pos and --camera-look must differ, and the view must not be vertical");
-
-  // The object: its mesh (or built-in) as the file names it, or --mesh. It must lie in the
-  // stack's bounding sphere, or it is not the object the stack was built from.
-  const std::string source = a.mesh.empty() ? file.source : a.mesh;
-  const scene::SceneGeometry object = scene::load_coherent_object(source);
-  double reach = 0.0;
-  for (const scene::TriMesh& m : object.meshes)
-    for (const scene::Vec3& v : m.vertices) reach = std::max(reach, scene::length(v - center));
-  for (const scene::Sphere& sp : object.spheres) reach = std::max(reach, scene::length(sp.center - center) + sp.radius);
-  if (reach > layout.radius * 1.001 + 1e-9)
-    throw InputError("object '" + source + "' reaches outside the stack's bounding sphere: not the object " + a.file +
-                     " was built from (--mesh names it)");
-  const scene::RayTracer tracer(object);
-  const std::array<float, 3> albedo{float(a.albedo[0]), float(a.albedo[1]), float(a.albedo[2])};
-  const scene::GBuffer g = scene::render_gbuffer(tracer, camera, layout.radius, albedo, a.threads);
-
-  scene::RenderStats stats;
-  HostImage image;
-  std::string device_name;
-  if (a.reference == "embree") {
-    image = scene::render_traced(tracer, g, env, settings, &stats);
-    device_name = "Embree occlusion rays";
-  } else {
-    const std::shared_ptr<Runtime> rt = Runtime::create(a.device);
-    image = scene::render_coherent(*rt, file.stack, g, env, settings, &stats);
-    device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
+  std::vector<scene::GroundPlane> planes;
+  if (!a.ground_plane.empty()) {
+    scene::GroundPlane p;
+    p.height = a.ground_plane[0];
+    p.half_size = 4.0 * radius;
+    p.cx = center.x;
+    p.cz = center.z;
+    p.albedo = {float(a.ground_albedo[0]), float(a.ground_albedo[1]), float(a.ground_albedo[2])};
+    planes.push_back(p);
   }
-  std::vector<io::ImageToWrite> outputs{{a.output, &image}};
-  const HostImage mapped = tone_mapped(image);
+
+  std::shared_ptr<Runtime> rt;
+  if (a.reference != "embree") rt = Runtime::create(a.device);
+  std::vector<HostImage> images, mapped;
+  images.reserve(a.frames);
+  mapped.reserve(a.frames);
   const bool png_output = a.output.size() >= 4 && a.output.compare(a.output.size() - 4, 4, ".png") == 0;
-  if (png_output) outputs[0].image = &mapped;
-  if (!preview.empty()) outputs.push_back({preview, &mapped});
-  io::write_images(outputs);
-  if (!a.quiet) {
-    const double queries = scene::render_queries(g, env, settings, stats.passes);
-    std::cout << "coherent render: " << a.output << ": " << a.width << "x" << a.height << ", " << g.hits
-              << " pixels on the object, " << stats.passes << (stats.passes == 1 ? " pass" : " passes") << " of "
-              << a.samples << " samples (env " << (env.sampled ? "1" : "0") << " + lights " << settings.lights.size()
-              << " a sample), " << device_name << ": " << fixed(stats.seconds, 3) << " s, "
-              << fixed(queries / std::max(stats.seconds, 1e-9) / 1e6, 1) << " M samples/s\n";
+  for (int f = 0; f < a.frames; ++f) {
+    scene::PerspectiveCamera cam = camera;
+    if (f > 0 && a.camera_orbit != 0.0)
+      cam.position =
+          scene::rotation_about({0.0, 1.0, 0.0}, a.camera_orbit * f, cam.target, "--camera-orbit").apply(cam.position);
+    std::vector<std::array<float, 3>> albedo_of_geometry;
+    const scene::SceneGeometry world = scene::world_geometry(objects, planes, f, &albedo_of_geometry);
+    const scene::RayTracer tracer(world);
+    const scene::GBuffer g = scene::render_gbuffer(tracer, cam, radius, albedo_of_geometry, a.threads);
+    scene::RenderStats stats;
+    std::string device_name;
+    if (a.reference == "embree") {
+      images.push_back(scene::render_traced(tracer, g, env, settings, &stats));
+      device_name = "Embree occlusion rays";
+    } else {
+      images.push_back(scene::render_coherent(*rt, scene::placed_stacks(objects, f), g, env, settings, &stats));
+      device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
+    }
+    mapped.push_back(png_output || a.preview ? tone_mapped(images.back()) : HostImage());
+    if (!a.quiet) {
+      const double queries = scene::render_queries(g, env, settings, stats.passes);
+      std::cout << "coherent render: " << frame_path(a.output, f, a.frames) << ": " << a.width << "x" << a.height
+                << ", " << objects.size() << (objects.size() == 1 ? " object, " : " objects, ") << g.hits
+                << " pixels on surfaces, " << stats.passes << (stats.passes == 1 ? " pass" : " passes") << " of "
+                << a.samples << " samples (env " << (env.sampled ? "1" : "0") << " + lights " << settings.lights.size()
+                << " a sample), " << device_name << ": " << fixed(stats.seconds, 3) << " s, "
+                << fixed(queries / std::max(stats.seconds, 1e-9) / 1e6, 1) << " M samples/s\n";
+    }
   }
+  // Every frame written together at the end: a failed run leaves none of them.
+  std::vector<io::ImageToWrite> outputs;
+  std::vector<std::string> paths;
+  paths.reserve(2 * size_t(a.frames));
+  for (int f = 0; f < a.frames; ++f) {
+    paths.push_back(frame_path(a.output, f, a.frames));
+    outputs.push_back({paths.back(), png_output ? &mapped[f] : &images[f]});
+    if (a.preview) {
+      paths.push_back(io::preview_path(frame_path(a.output, f, a.frames)));
+      outputs.push_back({paths.back(), &mapped[f]});
+    }
+  }
+  io::write_images(outputs);
   return 0;
 }
 
@@ -178,7 +288,7 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
   auto r = std::make_shared<RenderArgs>();
   CLI::App* c = coherent.add_subcommand(
       "render", "Direct lighting of a .csm file's object by an environment map and area lights (Monte Carlo)");
-  c->add_option("file", r->file, ".csm file (coherent build)")->required();
+  c->add_option("files", r->files, ".csm files (coherent build): one object each")->required();
   c->add_option("--envmap", r->envmap, "Lat-long environment map (EXR, HDR, ...; row 0 at +y)")->required();
   c->add_option("-o,--out", r->output, "Output image: .exr (linear RGB), .png (tone-mapped), .tif, .pfm")->required();
   c->add_option("--samples", r->samples, "Samples per pixel (env, and per area light)")->capture_default_str();
@@ -212,7 +322,32 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
       ->capture_default_str();
   c->add_option("--reference", r->reference,
                 "embree: the same samples with Embree occlusion rays instead of the coherent maps (host threads)");
-  c->add_option("--mesh", r->mesh, "The object's mesh, when the file's source path does not reach it");
+  c->add_option("--mesh", r->meshes,
+                "The objects' meshes, one per file in order, when the files' source paths do not reach them");
+  c->add_option("--place", r->place, "Object K (1-based) translated by x y z: K X Y Z; repeatable")
+      ->expected(4)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c->add_option("--rotate", r->rotate,
+                "Object K rotated about its maps' centre (before --place): K AX AY AZ DEGREES; repeatable")
+      ->expected(5)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c->add_option("--move", r->move, "Object K's translation per frame: K DX DY DZ; repeatable")
+      ->expected(4)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c->add_option("--spin", r->spin, "Object K's rotation per frame about its centre: K AX AY AZ DEGREES; repeatable")
+      ->expected(5)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c->add_option("--frames", r->frames, "Frames to render (OUTPUT_0000.ext, ...; one frame: OUTPUT)")
+      ->capture_default_str();
+  c->add_option("--camera-orbit", r->camera_orbit,
+                "Degrees per frame the camera turns about the vertical axis through the point it looks at")
+      ->capture_default_str();
+  c->add_option("--ground-plane", r->ground_plane,
+                "A receiver-only ground plane y = Y under the objects: takes their shadows, casts none")
+      ->expected(1);
+  c->add_option("--ground-albedo", r->ground_albedo, "The ground plane's albedo r g b")
+      ->expected(3)
+      ->capture_default_str();
   c->add_option("--seed", r->seed, "Seed of the per-pixel random numbers")->capture_default_str();
   c->add_option("--threads", r->threads, "Host threads of the G-buffer and --reference (0 = all cores)")
       ->capture_default_str();

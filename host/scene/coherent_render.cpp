@@ -154,7 +154,8 @@ PerspectiveCamera framing_camera(Vec3 center, double radius, int width, int heig
 }
 
 GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
-                       const std::array<float, 3>& albedo, int threads) {
+                       const std::vector<std::array<float, 3>>& albedo_of_geometry, int threads) {
+  if (albedo_of_geometry.empty()) throw InputError("render_gbuffer: no albedo given");
   GBuffer g;
   g.width = camera.width;
   g.height = camera.height;
@@ -186,6 +187,8 @@ GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera,
       N[0] = float(hit->normal.x);
       N[1] = float(hit->normal.y);
       N[2] = float(hit->normal.z);
+      const std::array<float, 3>& albedo =
+          albedo_of_geometry[std::min<size_t>(hit->object, albedo_of_geometry.size() - 1)];
       for (int c = 0; c < 3; ++c) g.albedo[4 * i + c] = albedo[c];
       g.albedo[4 * i + 3] = 1.0f;
       ++row_hits;
@@ -194,6 +197,78 @@ GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera,
   });
   g.hits = hits;
   return g;
+}
+
+GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
+                       const std::array<float, 3>& albedo, int threads) {
+  return render_gbuffer(object, camera, radius, std::vector<std::array<float, 3>>{albedo}, threads);
+}
+
+Vec3 RigidTransform::rotate(Vec3 d) const {
+  const auto& r = rotation;
+  return {r[0] * d.x + r[1] * d.y + r[2] * d.z, r[3] * d.x + r[4] * d.y + r[5] * d.z,
+          r[6] * d.x + r[7] * d.y + r[8] * d.z};
+}
+
+Vec3 RigidTransform::apply(Vec3 p) const { return rotate(p) + translation; }
+
+RigidTransform RigidTransform::then(const RigidTransform& next) const {
+  RigidTransform out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < 3; ++k) v += next.rotation[3 * i + k] * rotation[3 * k + j];
+      out.rotation[3 * i + j] = v;
+    }
+  out.translation = next.apply(translation);
+  return out;
+}
+
+RigidTransform rotation_about(Vec3 axis, double degrees, Vec3 pivot, const std::string& what) {
+  if (!finite(axis) || !finite(pivot) || !std::isfinite(degrees))
+    throw InputError(what + ": the axis, angle and pivot must be finite");
+  const double len = length(axis);
+  if (!(len > 1e-12)) throw InputError(what + ": the rotation axis must not be zero");
+  const Vec3 a = (1.0 / len) * axis;
+  const double t = degrees * kPi / 180.0, c = std::cos(t), s = std::sin(t), C = 1.0 - c;
+  RigidTransform r;
+  r.rotation = {c + a.x * a.x * C,       a.x * a.y * C - a.z * s, a.x * a.z * C + a.y * s,
+                a.y * a.x * C + a.z * s, c + a.y * a.y * C,       a.y * a.z * C - a.x * s,
+                a.z * a.x * C - a.y * s, a.z * a.y * C + a.x * s, c + a.z * a.z * C};
+  r.translation = pivot - r.rotate(pivot);
+  return r;
+}
+
+RigidTransform translation_by(Vec3 t) {
+  RigidTransform r;
+  r.translation = t;
+  return r;
+}
+
+ObjectRows object_rows(const RigidTransform& t) {
+  // Inverse: x_object = R^T (x_world - t) = R^T x_world - R^T t.
+  const auto& r = t.rotation;
+  ObjectRows rows{};
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 col{r[i], r[3 + i], r[6 + i]};  // row i of R^T
+    rows[4 * i] = float(col.x);
+    rows[4 * i + 1] = float(col.y);
+    rows[4 * i + 2] = float(col.z);
+    rows[4 * i + 3] = float(-dot(col, t.translation));
+  }
+  return rows;
+}
+
+std::array<float, 3> to_object_point(const ObjectRows& m, const std::array<float, 3>& p) {
+  std::array<float, 3> out;
+  for (int i = 0; i < 3; ++i) out[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
+  return out;
+}
+
+std::array<float, 3> to_object_direction(const ObjectRows& m, const std::array<float, 3>& d) {
+  std::array<float, 3> out;
+  for (int i = 0; i < 3; ++i) out[i] = m[4 * i] * d[0] + m[4 * i + 1] * d[1] + m[4 * i + 2] * d[2];
+  return out;
 }
 
 void validate(const RenderSettings& s) {
@@ -407,17 +482,48 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
       [&](const F3& p, const F3& d, float t_max, const std::array<float, 4>&) {
         const Ray ray{{p[0], p[1], p[2]}, normalize(Vec3{d[0], d[1], d[2]})};
         const double reach = std::isinf(t_max) ? std::numeric_limits<double>::infinity() : double(t_max);
-        return object.occluded(ray, 0.0, reach) ? 0.0f : 1.0f;
+        // Occluders only: ground planes are receivers without maps (coherent_scene.hpp).
+        return object.occluded(ray, 0.0, reach, kMaskOccluders) ? 0.0f : 1.0f;
       },
       stats);
 }
 
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, RenderStats* stats) {
+  return render_coherent(rt, std::vector<PlacedStack>{{&stack, RigidTransform{}}}, g, env, settings, stats);
+}
+
+HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
+                          const RenderSettings& settings, RenderStats* stats) {
   validate(settings);
-  // The compressed stack as the query kernels take it (offsets, last, depth, positions, layout).
-  const coherent::DeviceStack maps = coherent::upload(rt, stack);
-  const coherent::DeviceLayout layout = maps.device;
+  if (objects.empty() || objects.size() > size_t(kMaxObjects))
+    throw InputError("render_coherent: 1 to " + std::to_string(kMaxObjects) + " objects, got " +
+                     std::to_string(objects.size()));
+  // The objects' maps concatenated (each object's offsets index its own segments: the kernel
+  // adds the bases to the array pointers), with their layouts and world-to-object rows.
+  std::vector<uint32_t> offsets, last, positions;
+  std::vector<uint16_t> depth;
+  std::vector<coherent::DeviceLayout> layouts;
+  std::vector<float> rows;
+  std::vector<cl_uint4> bases;
+  for (const PlacedStack& o : objects) {
+    const coherent::CompressedStack& c = *o.stack;
+    coherent::validate(c.layout);
+    if (c.offsets.size() != c.layout.texels() + 1 || c.offsets.back() != c.last.size() ||
+        c.depth.size() != c.last.size())
+      throw InputError("render_coherent: an object's offsets, last and depth do not hold one stack");
+    if (offsets.size() + c.offsets.size() > 0xffffffffu || last.size() + c.last.size() > 0xffffffffu)
+      throw InputError("render_coherent: the objects' maps exceed 32-bit indices together");
+    bases.push_back({{cl_uint(offsets.size()), cl_uint(last.size()), cl_uint(positions.size()), 0u}});
+    offsets.insert(offsets.end(), c.offsets.begin(), c.offsets.end());
+    last.insert(last.end(), c.last.begin(), c.last.end());
+    depth.insert(depth.end(), c.depth.begin(), c.depth.end());
+    const std::vector<uint32_t> seq = coherent::sequence_positions(c.layout);
+    positions.insert(positions.end(), seq.begin(), seq.end());
+    layouts.push_back(coherent::device_layout(c.layout));
+    const ObjectRows r = object_rows(o.transform);
+    rows.insert(rows.end(), r.begin(), r.end());
+  }
   const cl::Context& ctx = rt.context();
   auto upload = [&](const void* data, size_t bytes) {
     // A zero-size buffer is invalid in OpenCL: empty inputs get one unused element.
@@ -427,6 +533,11 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
   };
   auto bytes_of = [](const auto& v) { return v.size() * sizeof(v[0]); };
   const size_t n = g.pixels();
+  // Named: a kernel argument does not keep its buffer alive.
+  cl::Buffer layouts_buf = upload(layouts.data(), bytes_of(layouts)), rows_buf = upload(rows.data(), bytes_of(rows)),
+             bases_buf = upload(bases.data(), bytes_of(bases)), offsets_buf = upload(offsets.data(), bytes_of(offsets)),
+             last_buf = upload(last.data(), bytes_of(last)), depth_buf = upload(depth.data(), bytes_of(depth)),
+             positions_buf = upload(positions.data(), bytes_of(positions));
   cl::Buffer pos = upload(g.position.data(), bytes_of(g.position));
   cl::Buffer nor = upload(g.normal.data(), bytes_of(g.normal));
   cl::Buffer alb = upload(g.albedo.data(), bytes_of(g.albedo));
@@ -452,11 +563,9 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
   k.setArg(a++, pos);
   k.setArg(a++, nor);
   k.setArg(a++, alb);
-  k.setArg(a++, sizeof(layout), &layout);
-  k.setArg(a++, maps.offsets);
-  k.setArg(a++, maps.last);
-  k.setArg(a++, maps.depth);
-  k.setArg(a++, maps.positions);
+  k.setArg(a++, cl_int(objects.size()));
+  for (const cl::Buffer* b : {&layouts_buf, &rows_buf, &bases_buf, &offsets_buf, &last_buf, &depth_buf, &positions_buf})
+    k.setArg(a++, *b);
   k.setArg(a++, cl_int(env.width));
   k.setArg(a++, cl_int(env.height));
   k.setArg(a++, cl_int(env.sampled ? 1 : 0));

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "shadowfilter/vec3.hpp"
@@ -56,6 +57,9 @@ inline constexpr double kLift = 1e-4;
 // Camera rays through pixel centres, rows spread over `threads` threads (0: all cores).
 GBuffer render_gbuffer(const RayTracer& object, const PerspectiveCamera& camera, double radius,
                        const std::array<float, 3>& albedo, int threads = 0);
+// The same with an albedo per geometry (Hit::object: the meshes, then the spheres).
+GBuffer render_gbuffer(const RayTracer& scene, const PerspectiveCamera& camera, double radius,
+                       const std::vector<std::array<float, 3>>& albedo_of_geometry, int threads = 0);
 
 // The visibility lookup of the coherent-map render (Ritschel 2007 sec. 4.5): the nearest view
 // and texel (0 or 1); generalized PCF of the 2x2 nearest views' 2x2 texels (16 tests, fractional);
@@ -107,12 +111,51 @@ using Visibility = std::function<float(const std::array<float, 3>& p, const std:
                                        const std::array<float, 4>& r)>;
 HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible,
                       RenderStats* stats = nullptr);
-// render_host with Embree occlusion rays against the object: the reference of the same samples
-// (settings.filter plays no part: a ray has no filter).
+// render_host with Embree occlusion rays against the occluders (kMaskOccluders: geometry marked
+// ground receives and does not occlude, as a receiver without maps): the reference of the same
+// samples (settings.filter plays no part: a ray has no filter).
 HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap& env, const RenderSettings& settings,
                         RenderStats* stats = nullptr);
 
-// The device render with the compressed visibility through settings.filter.
+// Where an object stands (seed sec. 4.6): object to world, x_world = rotation x_object +
+// translation, the rotation orthonormal (row-major). Its maps answer queries in the object's
+// frame: D' = D T^-1.
+struct RigidTransform {
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Vec3 translation{0.0, 0.0, 0.0};
+  Vec3 apply(Vec3 p) const;
+  Vec3 rotate(Vec3 d) const;
+  // This transform, then `next`.
+  RigidTransform then(const RigidTransform& next) const;
+};
+// A rotation by `degrees` about the axis through `pivot` (right-handed); InputError (naming
+// `what`) for a zero or non-finite axis or a non-finite angle or pivot.
+RigidTransform rotation_about(Vec3 axis, double degrees, Vec3 pivot, const std::string& what);
+RigidTransform translation_by(Vec3 t);
+
+// The world-to-object transform as the kernel takes it: three rows of 4 floats (the inverse
+// rotation's row, the inverse translation's component), and the same float arithmetic on the
+// host (the twins of render.cl's sf_scene_visibility).
+using ObjectRows = std::array<float, 12>;
+ObjectRows object_rows(const RigidTransform& transform);
+std::array<float, 3> to_object_point(const ObjectRows& rows, const std::array<float, 3>& p);
+std::array<float, 3> to_object_direction(const ObjectRows& rows, const std::array<float, 3>& d);
+
+// One object of the render: its compressed maps (the caller's, alive through the call) and its
+// placement.
+struct PlacedStack {
+  const coherent::CompressedStack* stack = nullptr;
+  RigidTransform transform;
+};
+
+// The device render with the compressed visibility through settings.filter: the visibility of a
+// sample is the product over the objects of its visibility in each object's maps (seed sec.
+// 4.6: objects shadow each other and themselves; receivers without maps, such as ground planes,
+// take their shadows and cast none). At most kMaxObjects objects.
+inline constexpr int kMaxObjects = 64;
+HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
+                          const RenderSettings& settings, RenderStats* stats = nullptr);
+// One object where its maps were built (the identity transform).
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, RenderStats* stats = nullptr);
 

@@ -147,7 +147,8 @@ inline float3 sf_phong_sample(float n, float3 R, float2 u) {
 #define SF_ROULETTE_PAIR 128u
 #define SF_CHOICE_DIM 4096u
 
-// Visibility of the query of pair k in sample s, through the render's filter.
+// Visibility of the query of pair k in sample s, through the render's filter, in one object's maps
+// (p and d in that object's frame).
 inline float sf_render_visibility(const int filter, const sf_coherent_layout L, __global const uint* offsets,
                                   __global const uint* last, __global const ushort* depth,
                                   __global const uint* positions, float3 p, float3 d, uint seed, uint k, uint pixel,
@@ -161,6 +162,39 @@ inline float sf_render_visibility(const int filter, const sf_coherent_layout L, 
   return sf_coherent_visibility(L, offsets, last, depth, positions, p, d);
 }
 
+// The objects of the scene (seed sec. 4.6: D' = D T^-1): object o's maps are layouts[o] over the
+// concatenated arrays from bases[o] (x: offsets, y: last and depth, z: positions), and
+// xforms[3 o .. 3 o + 2] are the rows of its world-to-object transform (xyz the inverse
+// rotation's row, w the inverse translation's component). A query's visibility is the product
+// over the objects of its visibility in each, the point and direction taken into the object's
+// frame (directions by the rotation alone); it stops at the first 0.
+typedef struct {
+  int count;
+  __global const sf_coherent_layout* layouts;
+  __global const float4* xforms;
+  __global const uint4* bases;
+  __global const uint* offsets;
+  __global const uint* last;
+  __global const ushort* depth;
+  __global const uint* positions;
+} sf_render_objects;
+
+inline float sf_scene_visibility(const int filter, const sf_render_objects O, float3 p, float3 d, uint seed, uint k,
+                                 uint pixel, uint s, uint S, float inv_s, uint stride) {
+  float v = 1.0f;
+  for (int o = 0; o < O.count && v > 0.0f; ++o) {
+    const float4 r0 = O.xforms[3 * o], r1 = O.xforms[3 * o + 1], r2 = O.xforms[3 * o + 2];
+    const float3 po = (float3)(r0.x * p.x + r0.y * p.y + r0.z * p.z + r0.w, r1.x * p.x + r1.y * p.y + r1.z * p.z + r1.w,
+                               r2.x * p.x + r2.y * p.y + r2.z * p.z + r2.w);
+    const float3 dobj = (float3)(r0.x * d.x + r0.y * d.y + r0.z * d.z, r1.x * d.x + r1.y * d.y + r1.z * d.z,
+                                 r2.x * d.x + r2.y * d.y + r2.z * d.z);
+    const uint4 b = O.bases[o];
+    v *= sf_render_visibility(filter, O.layouts[o], O.offsets + b.x, O.last + b.y, O.depth + b.y, O.positions + b.z,
+                              po, dobj, seed, k, pixel, s, S, inv_s, stride);
+  }
+  return v;
+}
+
 // gpos: xyz the shading point (lifted off the surface along the normal), w 1 on the object, 0 on
 // background; gnormal: the unit normal facing the camera, or on background the camera ray's
 // direction; galbedo: diffuse albedo. lights: 4 float4 per light (corner, edge a, edge b,
@@ -170,8 +204,10 @@ inline float sf_render_visibility(const int filter, const sf_coherent_layout L, 
 // sec. 5.2): pass 0 writes out, pass m > 0 blends its estimate in with weight 1 / (m + 1), so out
 // holds the mean of the passes so far (each pass with its own seed). out: linear RGB, w = 1.
 __kernel void sf_coherent_render(const int n, __global const float4* gpos, __global const float4* gnormal,
-                            __global const float4* galbedo, const sf_coherent_layout L, __global const uint* offsets,
-                            __global const uint* last, __global const ushort* depth, __global const uint* positions, const int env_width,
+                            __global const float4* galbedo, const int n_objects,
+                            __global const sf_coherent_layout* layouts, __global const float4* xforms,
+                            __global const uint4* bases, __global const uint* offsets, __global const uint* last,
+                            __global const ushort* depth, __global const uint* positions, const int env_width,
                             const int env_height, const int env_sampled, __global const float4* env_rgb,
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
@@ -188,6 +224,15 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
   E.conditional = env_conditional;
   E.row_cos = env_row_cos;
   E.solid_angle = env_solid_angle;
+  sf_render_objects O;
+  O.count = n_objects;
+  O.layouts = layouts;
+  O.xforms = xforms;
+  O.bases = bases;
+  O.offsets = offsets;
+  O.last = last;
+  O.depth = depth;
+  O.positions = positions;
   const float4 P = gpos[i];
   const float3 N = gnormal[i].xyz;
   if (P.w == 0.0f) {
@@ -220,8 +265,7 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float3 w = sf_env_sample(E, sf_stratified(seed, 0u, pixel, s, samples, inv_s, stride), &pdf, &texel);
       const float c = dot(N, w);
       if (c > 0.0f) {
-        const float v =
-            sf_render_visibility(filter, L, offsets, last, depth, positions, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
+        const float v = sf_scene_visibility(filter, O, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) sum += env_rgb[texel].xyz * (v * c / pdf);
       }
     } else if (env_sampled) {
@@ -239,8 +283,7 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float c = dot(N, w);
       const float pdf = q * pdf_env + (1.0f - q) * sf_phong_pdf(shine, R, w);
       if (c > 0.0f && pdf > 0.0f) {
-        const float v =
-            sf_render_visibility(filter, L, offsets, last, depth, positions, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
+        const float v = sf_scene_visibility(filter, O, p, w, seed, 0u, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) sum += env_rgb[texel].xyz * sf_phong_pi_f(albedo, ks, shine, R, w) * (v * c / pdf);
       }
     }
@@ -258,8 +301,7 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float cl = fabs(dot(nl, w)) / area;
       // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
       if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
-        const float v = sf_render_visibility(filter, L, offsets, last, depth, positions, p, d, seed, 1u + (uint)l, pixel,
-                                             s, samples, inv_s, stride);
+        const float v = sf_scene_visibility(filter, O, p, d, seed, 1u + (uint)l, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) {
           const float3 e = radiance * (v * (c * cl * area / dist2));
           sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;

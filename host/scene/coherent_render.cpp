@@ -82,7 +82,7 @@ void stratified(uint32_t seed, uint32_t k, uint32_t pixel, uint32_t s, uint32_t 
 float dot3(const F3& a, const F3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // coherent/render.cl's constants and glossy helpers, operation for operation.
-constexpr uint32_t kRoulettePair = 128u;
+constexpr uint32_t kRouletteDim = 1024u;
 constexpr uint32_t kChoiceDim = 4096u;
 constexpr float kPiF = 3.14159265358979f;
 
@@ -369,10 +369,8 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
     // The roulette's numbers of query pair k in sample s (zeros for the other filters).
     auto numbers = [&](uint32_t k, uint32_t s) {
       std::array<float, 4> r{0.0f, 0.0f, 0.0f, 0.0f};
-      if (roulette) {
-        stratified(seed, kRoulettePair + 2u * k, pixel, s, S, inv_s, stride, &r[0], &r[1]);
-        stratified(seed, kRoulettePair + 2u * k + 1u, pixel, s, S, inv_s, stride, &r[2], &r[3]);
-      }
+      if (roulette)
+        for (uint32_t j = 0; j < 4; ++j) r[j] = rand01(seed, kRouletteDim + 4u * k + j, pixel, s);
       return r;
     };
     F3 sum{0.0f, 0.0f, 0.0f};

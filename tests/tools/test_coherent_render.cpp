@@ -375,7 +375,7 @@ TEST(CoherentRender, RouletteMeanIsGeneralizedPcf) {
 // The kernel's roulette and glossy paths against the host twin with the scalar lookups (the same
 // random numbers): equal on >= 99% of pixels (relative 1e-4, measured 100%); roulette's render
 // approaches PCF's on the same samples as S grows (the roulette's own noise: 4 -> 64 samples at
-// least 2x less; measured 2.5x).
+// least 3x less; measured 4.4x, the 1/sqrt(S) of independent draws).
 TEST(CoherentRender, RouletteAndGlossyMatchTheirHostTwin) {
   const SceneGeometry geometry = balls_geometry();
   const RayTracer tracer(geometry);
@@ -432,7 +432,7 @@ TEST(CoherentRender, RouletteAndGlossyMatchTheirHostTwin) {
   }
   std::printf("roulette vs pcf on the same samples: rmse %.4f (4 samples) -> %.4f (64), x%.2f\n", gap[0], gap[1],
               gap[0] / gap[1]);
-  EXPECT_GT(gap[0] / gap[1], 2.0);
+  EXPECT_GT(gap[0] / gap[1], 3.0);
 }
 
 // The glossy estimator is unbiased: a lone sphere (convex: every direction above the horizon is

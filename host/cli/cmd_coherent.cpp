@@ -15,6 +15,7 @@
 #include "coherent_file.hpp"
 #include "coherent_reference.hpp"
 #include "coherent_stack.hpp"
+#include "view_raster_device.hpp"
 #include "commands.hpp"
 #include "frame_list.hpp"
 #include "output_file.hpp"
@@ -134,9 +135,11 @@ int run_build(const BuildArgs& a) {
   if (!coherent::parse_far_plane(a.far_plane, &layout.far_plane))
     throw InputError("--far-plane must be sphere or infinite, got '" + a.far_plane + "'");
   if (a.threads < 0 || a.threads > 1024) throw InputError("--threads must be in [0, 1024]");
-  if (a.renderer != "auto" && a.renderer != "embree")
-    throw InputError("--renderer must be auto or embree, got '" + a.renderer + "'");
+  if (a.renderer != "auto" && a.renderer != "embree" && a.renderer != "device")
+    throw InputError("--renderer must be auto, embree or device, got '" + a.renderer + "'");
   const bool sharded = !a.shard.empty();
+  if (sharded && a.renderer == "device")
+    throw InputError("--renderer device renders the whole stack on one device; --shard renders a part on the host");
   if (sharded && ((a.compress_option && a.compress_option->count()) || (a.device_option && a.device_option->count())))
     throw InputError("--compress and --device are for the compression: with --shard, give them to coherent merge");
   std::shared_ptr<Runtime> runtime = sharded ? nullptr : compression_runtime(a.compress, a.device);
@@ -168,7 +171,32 @@ int run_build(const BuildArgs& a) {
   double render_s = 0.0, fit_s = 0.0;
   io::CoherentFile file;
   file.source = a.source;
-  if (sharded || runtime) {
+  if (a.renderer == "device") {
+    // The views rasterised on the device (the host renderer's bytes); with device compression
+    // the maps never leave it, else they are read back and fitted on the host.
+    progress.reset();
+    check_memory(layout, size_t(layout.views()));
+    const std::shared_ptr<Runtime> device = runtime ? runtime : Runtime::create(a.device);
+    scene::DeviceRasterStats stats;
+    const coherent::DeviceDualDepth maps = scene::render_stack_on_device(*device, object, layout, &stats);
+    render_s = stats.seconds;
+    const auto t1 = std::chrono::steady_clock::now();
+    if (runtime) {
+      file.stack = coherent::download(*runtime, coherent::compress_on_device(*runtime, maps));
+    } else {
+      const size_t values = size_t(layout.views()) * layout.texels();
+      std::vector<uint16_t> z1(values), z2(values);
+      device->queue().enqueueReadBuffer(maps.z1, CL_TRUE, 0, values * sizeof(uint16_t), z1.data());
+      device->queue().enqueueReadBuffer(maps.z2, CL_TRUE, 0, values * sizeof(uint16_t), z2.data());
+      ref::coherent::StreamingFit fit(layout);
+      fit.add(z1.data(), z2.data(), uint32_t(layout.views()));
+      file.stack = fit.finish();
+    }
+    fit_s = seconds_since(t1);
+    if (!a.quiet && stats.host_views)
+      std::cout << "coherent build: " << stats.host_views << " of " << layout.views()
+                << " views had texels of more crossings than the device's lists and were rendered on the host\n";
+  } else if (sharded || runtime) {
     const auto t0 = std::chrono::steady_clock::now();
     scene::StackPart part = render(range);
     render_s = seconds_since(t0);
@@ -323,8 +351,9 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
                 "A missing upper surface: sphere (the bounding sphere's exit) or infinite")
       ->capture_default_str();
   b->add_option("--renderer", build->renderer,
-                "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast) or embree (every view "
-                "ray-cast; the same depths at texel centres)")
+                "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast), embree (every view "
+                "ray-cast; the same depths at texel centres) or device (meshes rasterised on the OpenCL device: "
+                "auto's bytes; needs cl_khr_fp64)")
       ->capture_default_str();
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")
       ->capture_default_str()

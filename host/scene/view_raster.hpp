@@ -32,6 +32,11 @@ class ViewRasterizer {
   // covered by exactly one of them and a closed mesh has no cracks or doubled surfaces.
   void render(const OrthoView& view, int hits, double gap, std::vector<double>& t) const;
 
+  // The meshes as render() walks them (vertices in Morton order, triangles by their first
+  // vertex): the device rasteriser takes the same order (view_raster_device.hpp).
+  const std::vector<Vec3>& vertices() const { return vertices_; }
+  const std::vector<std::array<uint32_t, 3>>& triangles() const { return triangles_; }
+
  private:
   std::vector<Vec3> vertices_;
   std::vector<std::array<uint32_t, 3>> triangles_;

@@ -390,13 +390,26 @@ TEST(CoherentCli, BuildInfoAndRefusals) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("8x8 views (64), M = 16, hilbert"), std::string::npos) << r.out;
   const std::vector<char> good = read_bytes(out);
+  // The device's rasteriser writes the host's file, compressed on either side.
+  for (const char* compress : {"host", "device"}) {
+    r = sf::test::run_cli("coherent build box -o " + dir +
+                              "/box_device.csm --views 8x8 --res 16 -q --renderer device "
+                              "--compress " +
+                              compress,
+                          dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_bytes(dir + "/box_device.csm"), good) << compress;
+    fs::remove(dir + "/box_device.csm");
+  }
   write_bytes(dir + "/cut.csm", std::vector<char>(good.begin(), good.end() - 1));
   r = sf::test::run_cli("coherent info " + dir + "/cut.csm", dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(sf::test::count_lines(r.err), 1u) << r.err;
-  for (const char* args : {"coherent build box --views 8x6 --ordering hilbert", "coherent build box --views 8x",
-                           "coherent build box --depth-pair 23", "coherent build nosuch.off",
-                           "coherent build box --views 2049x2048 --ordering zigzag"}) {
+  for (const char* args :
+       {"coherent build box --views 8x6 --ordering hilbert", "coherent build box --views 8x",
+        "coherent build box --depth-pair 23", "coherent build nosuch.off",
+        "coherent build box --views 2049x2048 --ordering zigzag", "coherent build box --renderer gpu",
+        "coherent build sphere --renderer device", "coherent build box --renderer device --shard 1/2"}) {
     r = sf::test::run_cli(std::string(args) + " -o " + dir + "/x.csm -q", dir);
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
     EXPECT_EQ(sf::test::count_lines(r.err), 1u) << args << ": " << r.err;

@@ -160,7 +160,9 @@ std::vector<unsigned char> read_versioned(const std::string& path, const char* r
       uint32_t(bytes[8]) | uint32_t(bytes[9]) << 8 | uint32_t(bytes[10]) << 16 | uint32_t(bytes[11]) << 24;
   if (std::find(versions.begin(), versions.end(), v) == versions.end()) {
     std::string known;
-    for (uint32_t k : versions) known += (known.empty() ? "" : " and ") + std::to_string(k);
+    size_t k = 0;
+    for (uint32_t version : versions)
+      known += (k++ == 0 ? "" : k == versions.size() ? " and " : ", ") + std::to_string(version);
     fail(role, path, "version " + std::to_string(v) + ", this build reads version " + known);
   }
   return bytes;
@@ -181,12 +183,26 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
     fail(kOutputRole, path, "the offsets do not match the layout and segments");
   Writer w;
   w.bytes.reserve(c.compressed_bytes() + 256 + file.source.size());
+  if (file.local) {
+    coherent::validate(*file.local);
+    if (c.layout.views_theta != 6 || c.layout.views_phi != file.local->count())
+      fail(kOutputRole, path, "a local light's stack holds 6 maps per sampling point");
+  }
   w.raw(kMagic, sizeof kMagic);
-  w.u32(kCoherentFileVersion);
+  w.u32(file.local ? kCoherentLocalVersion : kCoherentFileVersion);
   put_layout(w, c.layout);
   w.u64(c.last.size());
   w.u32(uint32_t(file.source.size()));
   w.raw(file.source.data(), file.source.size());
+  if (file.local) {
+    const coherent::LocalLight& l = *file.local;
+    for (const Vec3& v : {l.corner, l.edge_a, l.edge_b})
+      for (int axis = 0; axis < 3; ++axis) w.f64(v[axis]);
+    w.u32(uint32_t(l.samples_a));
+    w.u32(uint32_t(l.samples_b));
+    w.u32(uint32_t(l.ordering));
+    w.f64(l.far);
+  }
   for (uint32_t v : c.offsets) w.u32(v);
   const bool wide = coherent::index_bytes(c.layout) == 4;
   for (uint32_t v : c.last) wide ? w.u32(v) : w.u16(uint16_t(v));
@@ -200,7 +216,7 @@ namespace {
 
 CoherentFile read_coherent_bytes(const std::string& path) {
   const std::vector<unsigned char> bytes =
-      read_versioned(path, kInputRole, kMagic, {1, kCoherentFileVersion}, "coherent shadow map");
+      read_versioned(path, kInputRole, kMagic, {1, kCoherentFileVersion, kCoherentLocalVersion}, "coherent shadow map");
   Reader r(bytes, path);
   r.str(sizeof kMagic, "magic");
   const uint32_t version = r.u32("header");
@@ -215,6 +231,23 @@ CoherentFile read_coherent_bytes(const std::string& path) {
   if (source_size > kMaxSource)
     fail(kInputRole, path, "corrupted: a source name of " + std::to_string(source_size) + " bytes");
   file.source = r.str(source_size, "header");
+  if (version == kCoherentLocalVersion) {
+    coherent::LocalLight light;
+    for (Vec3* v : {&light.corner, &light.edge_a, &light.edge_b})
+      for (int axis = 0; axis < 3; ++axis) (*v)[axis] = r.f64("header");
+    light.samples_a = int(std::min<uint32_t>(r.u32("header"), 1u << 30));
+    light.samples_b = int(std::min<uint32_t>(r.u32("header"), 1u << 30));
+    light.ordering = coherent::Ordering(r.u32("header"));
+    light.far = r.f64("header");
+    try {
+      coherent::validate(light);
+    } catch (const InputError& e) {
+      fail(kInputRole, path, std::string("corrupted header: ") + e.what());
+    }
+    if (l.views_theta != 6 || l.views_phi != light.count())
+      fail(kInputRole, path, "corrupted header: a local light's stack holds 6 maps per sampling point");
+    file.local = light;
+  }
   try {
     coherent::validate(l);
   } catch (const InputError& e) {

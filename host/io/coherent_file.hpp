@@ -4,6 +4,7 @@
 // a CRC-32 of everything before it. Written atomically; a truncated, corrupted or other-version
 // file is refused with InputError (one line).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,13 +12,19 @@
 
 namespace sf::io {
 
-// Version 2 (written): 32-bit view indices, stored in 2 bytes up to 65536 views and 4 beyond, then
-// the depths. Version 1 (read): one word per segment, (z_avg << 16) | i_last.
+// Version 2 (written for distant maps): 32-bit view indices, stored in 2 bytes up to 65536 views
+// and 4 beyond, then the depths. Version 3 (written for a local light's depth cube maps): version
+// 2 with the light after the source (corner, edge a, edge b: 9 doubles; samples a, b and the
+// ordering: 3 uint32; far: a double). Version 1 (read): one word per segment,
+// (z_avg << 16) | i_last.
 inline constexpr uint32_t kCoherentFileVersion = 2;
+inline constexpr uint32_t kCoherentLocalVersion = 3;
 
 struct CoherentFile {
   coherent::CompressedStack stack;
   std::string source;  // the object: a mesh path as given to `coherent build`, or a built-in name
+  // A local light's cube maps (stack.layout is coherent::cube_layout of it); none: distant maps.
+  std::optional<coherent::LocalLight> local;
 };
 
 void write_coherent(const std::string& path, const CoherentFile& file);

@@ -195,4 +195,11 @@ double visibility_roulette(const CompressedStack& c, const std::vector<uint32_t>
   return texel_lit(c, positions, g, t.x + (r[2] < t.fx ? 1 : 0), t.y + (r[3] < t.fy ? 1 : 0), t.q) ? 1.0 : 0.0;
 }
 
+double local_visibility(const CompressedStack& c, const LocalLight& light, const std::vector<uint32_t>& positions,
+                        uint32_t grid, const Vec3& p) {
+  const CubePoint cp = cube_project(light, c.layout.resolution, light.sample_point(grid), p);
+  const uint32_t map = uint32_t(cp.face) * uint32_t(light.count()) + positions[grid];
+  return compressed_lit(c, map, size_t(cp.y) * c.layout.resolution + size_t(cp.x), cp.q) ? 1.0 : 0.0;
+}
+
 }  // namespace sf::ref::coherent

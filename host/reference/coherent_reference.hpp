@@ -70,4 +70,10 @@ double visibility_filtered(const CompressedStack& c, const std::vector<uint32_t>
 double visibility_roulette(const CompressedStack& c, const std::vector<uint32_t>& positions, const Vec3& p,
                            const Vec3& d, const std::array<float, 4>& r);
 
+// Visibility of point p from sampling point `grid` of a local light (Ritschel 2007 sec. 3.3 and
+// 4.2): the cube face, texel and planar depth of p - s (cube_project), the compressed test in map
+// face N + positions[grid] of the light's stack (c.layout: cube_layout). 1 lit, 0 blocked.
+double local_visibility(const CompressedStack& c, const sf::coherent::LocalLight& light,
+                        const std::vector<uint32_t>& positions, uint32_t grid, const Vec3& p);
+
 }  // namespace sf::ref::coherent

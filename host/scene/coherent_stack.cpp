@@ -174,4 +174,67 @@ StackPart render_stack_part(const SceneGeometry& object, const StackLayout& layo
   return stack;
 }
 
+coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent::LocalLight& light, int resolution,
+                                           int threads, const std::function<void(size_t)>& progress) {
+  coherent::StackLayout sphere;
+  fit_bounding_sphere(object, sphere);
+  const Vec3 center{sphere.center[0], sphere.center[1], sphere.center[2]};
+  light.far = coherent::light_far(light, center, sphere.radius);
+  const coherent::StackLayout layout = coherent::cube_layout(light, resolution, center, sphere.radius);
+  const std::vector<uint32_t> positions = coherent::light_positions(light);
+  const size_t texels = layout.texels(), n = size_t(light.count());
+  const int m = resolution;
+  const double gap = 2.0 * sphere.radius * 1e-7;  // as render_stack_part: far below a depth step
+  coherent::DualDepthStack stack;
+  stack.layout = layout;
+  stack.z1.assign(6 * n * texels, kNoSurface);
+  stack.z2.assign(6 * n * texels, kNoSurface);
+  const RayTracer tracer(object);
+  std::atomic<size_t> next{0};
+  auto work = [&]() {
+    std::vector<Ray> rays(static_cast<size_t>(m));
+    std::vector<double> inv_length(static_cast<size_t>(m));
+    std::vector<double> t(static_cast<size_t>(m) * 2);
+    for (size_t g = next++; g < n; g = next++) {
+      const Vec3 s = light.sample_point(uint32_t(g));
+      for (int k = 0; k < 6; ++k) {
+        const coherent::CubeFace f = coherent::cube_face(k);
+        const size_t map = size_t(k) * n + positions[g];
+        for (int y = 0; y < m; ++y) {
+          const double b = (y + 0.5) * 2.0 / m - 1.0;
+          for (int x = 0; x < m; ++x) {
+            const double a = (x + 0.5) * 2.0 / m - 1.0;
+            const Vec3 d = f.n + a * f.u + b * f.v;
+            const double len = length(d);
+            inv_length[size_t(x)] = 1.0 / len;
+            rays[size_t(x)] = {s, (1.0 / len) * d};
+          }
+          tracer.hits_along(rays.data(), size_t(m), 2, gap, t.data());
+          for (int x = 0; x < m; ++x) {
+            const double* h = t.data() + size_t(x) * 2;
+            if (!std::isfinite(h[0])) continue;  // a miss: lit for every query
+            // Planar depth: the distance along the ray times the cosine to the face's axis.
+            auto q = [&](double dist) {
+              return uint32_t(std::clamp(std::nearbyint(dist * inv_length[size_t(x)] / light.far * kDepthMax), 0.0,
+                                         double(kDepthMax)));
+            };
+            const uint32_t first = q(h[0]);
+            const uint32_t second = std::isfinite(h[1]) ? q(h[1]) : kNoSurface;
+            const size_t at = map * texels + size_t(y) * m + size_t(x);
+            stack.z1[at] = uint16_t(first);
+            stack.z2[at] = uint16_t(std::max<uint32_t>(second, first + 1));
+          }
+        }
+      }
+      if (progress) progress(1);
+    }
+  };
+  const int workers = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int k = 1; k < workers; ++k) pool.emplace_back(work);
+  work();
+  for (std::thread& th : pool) th.join();
+  return stack;
+}
+
 }  // namespace sf::scene

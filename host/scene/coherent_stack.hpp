@@ -54,4 +54,13 @@ StackPart render_stack_part(const SceneGeometry& object, const coherent::StackLa
                             int threads, const std::function<void(size_t)>& progress = {},
                             StackRenderer renderer = StackRenderer::Auto);
 
+// The depth cube maps of a fixed local light around `object` (Ritschel 2007 sec. 3.3 and 4.2):
+// light.far set from the object's bounding sphere (light_far), and the 6 N maps of
+// cube_layout(light, resolution, ...) ray-cast with Embree from each sampling point through
+// every texel centre (the first and second crossing, planar depth quantised over [0, far]; a
+// missing second crossing is +infinity). Map k N + i is face k of the i-th cube map in the
+// light's ordering. threads <= 0: all hardware threads; progress(cube maps done).
+coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent::LocalLight& light, int resolution,
+                                           int threads, const std::function<void(size_t)>& progress = {});
+
 }  // namespace sf::scene

@@ -236,6 +236,111 @@ TEST(CoherentReference, AgreesWithEmbreeOnASphereABoxAndSpheresShadowingEachOthe
   EXPECT_GE(spheres.blocked_found, 0.9);
 }
 
+// Depth cube maps of a fixed local light (sec. 3.3, 4.2), M = 128: the query of a surface point
+// from a sampling point against an Embree ray between the two. The point is lifted along its
+// normal by the half-texel rule of the distant maps (a texel is 2 d / M wide at planar depth d)
+// and both answer for the lifted point, as a renderer's shading point. Measured: 99.71% (boxes)
+// and 99.39% (spheres) equal; at M = 64, 99.3% and 97.9% (the small sphere's shadow edge, a
+// texel wide, is most of the rest).
+struct LocalCase {
+  const char* name;
+  sf::scene::SceneGeometry object;
+  LocalLight light;
+};
+// Two boxes, the small one floating over the big one, the light above both inside the bounding
+// sphere (where a semi-local light is refused); two spheres likewise, the light above the
+// bounding sphere. The upper object shadows the lower one.
+std::vector<LocalCase> local_cases() {
+  std::vector<LocalCase> cases(2);
+  cases[0].name = "boxes";
+  sf::scene::add_box(cases[0].object, "big", {-1.0, -0.5, -0.75}, {1.0, 0.5, 0.75});
+  sf::scene::add_box(cases[0].object, "small", {-0.3, 0.7, -0.3}, {0.3, 0.8, 0.3});
+  cases[0].light.corner = {-0.5, 1.1, -0.5};
+  cases[0].light.edge_a = {1.0, 0.0, 0.0};
+  cases[0].light.edge_b = {0.0, 0.0, 1.0};
+  cases[1].name = "spheres";
+  sf::scene::add_sphere(cases[1].object, "big", {0.0, 0.0, 0.0}, 0.6);
+  sf::scene::add_sphere(cases[1].object, "small", {0.2, 0.9, 0.1}, 0.25);
+  cases[1].light.corner = {-0.3, 1.6, -0.4};
+  cases[1].light.edge_a = {0.8, 0.0, 0.0};
+  cases[1].light.edge_b = {0.0, 0.1, 0.8};
+  for (LocalCase& c : cases) c.light.samples_a = c.light.samples_b = 4;
+  return cases;
+}
+
+Agreement local_agreement_with_embree(const LocalCase& lc, size_t queries, double offset_texels) {
+  const sf::scene::SceneGeometry& object = lc.object;
+  LocalLight light = lc.light;
+  StackLayout sphere;
+  sf::scene::fit_bounding_sphere(object, sphere);
+  const sf::scene::Vec3 c{sphere.center[0], sphere.center[1], sphere.center[2]};
+  const double R = sphere.radius;
+  const int m = 128;
+  const CompressedStack stack = compress(sf::scene::render_cube_stack(object, light, m, 2));
+  EXPECT_EQ(stack.layout.views(), 6 * light.count());
+  const std::vector<uint32_t> pos = light_positions(light);
+  const sf::scene::RayTracer tracer(object);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_int_distribution<uint32_t> cell(0, uint32_t(light.count() - 1));
+  size_t agree = 0, blocked = 0, found = 0, total = 0;
+  while (total < queries) {
+    const sf::scene::Vec3 d = sf::scene::normalize(sf::scene::Vec3{n(rng), n(rng), n(rng)});
+    const sf::scene::Ray probe{c - (2.0 * R) * d, d};
+    const auto hit = tracer.closest(probe, 0.0, 4.0 * R);
+    if (!hit) continue;
+    const sf::scene::Vec3 p = probe.at(hit->t);
+    const uint32_t g = cell(rng);
+    const sf::scene::Vec3 s = light.sample_point(g);
+    const sf::scene::Vec3 to = s - p;
+    const double dist = sf::scene::length(to);
+    if (sf::scene::dot(to, hit->normal) <= 0.0) continue;
+    const double planar = std::max({std::fabs(to.x), std::fabs(to.y), std::fabs(to.z)});
+    const sf::scene::Vec3 q = p + (offset_texels * 2.0 * planar / m) * hit->normal;
+    // The ray from the point the maps answer for (lifted, as a renderer lifts its shading points).
+    const sf::scene::Vec3 qs = s - q;
+    const bool embree_lit = !tracer.occluded({q, sf::scene::normalize(qs)}, 1e-4 * R, sf::scene::length(qs) - 1e-4 * R);
+    const bool maps_lit = sf::ref::coherent::local_visibility(stack, light, pos, g, q) > 0.5;
+    agree += embree_lit == maps_lit;
+    blocked += !embree_lit;
+    found += !embree_lit && !maps_lit;
+    ++total;
+  }
+  return {double(agree) / double(total), double(blocked) / double(total),
+          blocked > 0 ? double(found) / double(blocked) : 0.0};
+}
+
+TEST(CoherentReference, LocalLightCubeMapsAgreeWithEmbree) {
+  for (const LocalCase& c : local_cases()) {
+    const Agreement a = local_agreement_with_embree(c, 10000, 0.5);
+    printf("%s: agreement %.4f, blocked %.3f, of which found %.3f\n", c.name, a.agree, a.blocked, a.blocked_found);
+    RecordProperty(std::string(c.name) + "_local_agreement", std::to_string(a.agree));
+    EXPECT_GE(a.agree, 0.99) << c.name;
+    EXPECT_GT(a.blocked, 0.02) << c.name;  // the light is shadowed: the test can fail
+    EXPECT_GE(a.blocked_found, 0.9) << c.name;
+  }
+  // The geometry: every direction lands on one face, inside it, at its planar depth.
+  LocalLight l;
+  l.far = 10.0;
+  const sf::Vec3 s{0.0, 0.0, 0.0};
+  const CubePoint px = cube_project(l, 8, s, {2.0, 0.5, -1.0}), nz = cube_project(l, 8, s, {0.1, 0.2, -3.0});
+  EXPECT_EQ(px.face, 0);
+  EXPECT_EQ(px.x, 5);  // u = y / 2 = 0.25: (0.25 + 1) / 2 * 8 = 5
+  EXPECT_EQ(px.y, 2);  // v = z / 2 = -0.5: 2
+  EXPECT_EQ(px.q, uint32_t(std::nearbyint(2.0 / 10.0 * kDepthMax)));
+  EXPECT_EQ(nz.face, 5);
+  LocalLight bad = l;
+  bad.samples_a = 3;  // Hilbert needs a square power-of-two grid
+  EXPECT_THROW(validate(bad), sf::InputError);
+  bad = l;
+  bad.edge_b = {0.0, 0.0, 0.0};
+  EXPECT_THROW(validate(bad), sf::InputError);
+  bad.samples_a = 8;
+  bad.samples_b = 1;
+  bad.ordering = Ordering::ScanLine;
+  EXPECT_NO_THROW(validate(bad));  // a linear light
+}
+
 // --- the .csm file -----------------------------------------------------------------------
 CompressedStack small_compressed() { return compress(synthetic_stack(grid_layout(8, 8, Ordering::Hilbert, 4), 3)); }
 
@@ -309,9 +414,9 @@ TEST(CoherentFile, RoundTripsAndRefusesDamagedFiles) {
   write_bytes(bad, b);
   EXPECT_NE(refusal(bad).find("CRC-32"), std::string::npos) << refusal(bad);
   b = good;
-  b[8] = 3;  // version 3
+  b[8] = 4;  // version 4
   write_bytes(bad, b);
-  EXPECT_NE(refusal(bad).find("version 3, this build reads version 1 and 2"), std::string::npos) << refusal(bad);
+  EXPECT_NE(refusal(bad).find("version 4, this build reads version 1, 2 and 3"), std::string::npos) << refusal(bad);
   b = good;
   b[0] = 'X';
   write_bytes(bad, b);

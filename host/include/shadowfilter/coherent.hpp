@@ -89,6 +89,52 @@ struct ViewPoint {
 };
 ViewPoint project(const StackLayout& layout, uint32_t grid_index, const Vec3& p);
 
+// --- depth cube maps of a fixed local light (Ritschel 2007 sec. 3.3 and 4.2) -----------------------
+// A rectangular light corner + s edge_a + t edge_b (a linear light: samples_b = 1 and edge_b
+// zero), sampled at the centres of a samples_a x samples_b grid of cells: grid cell g = b
+// samples_a + a has its sampling point at corner + (a + 1/2)/A edge_a + (b + 1/2)/B edge_b and
+// its depth cube map, six perspective maps of 90 degrees. The N = A B cube maps are one stack
+// of 6 N maps (cube_layout: views_theta 6, views_phi N), map k N + i being face k of the i-th
+// cube map in the grid's ordering, so that each texel's depth functions of the six faces are
+// concatenated as the seed concatenates them (fig. 5). Depths are planar (along the face's
+// axis), quantised over [0, far]: far is the farthest the object reaches from a sampling point.
+struct LocalLight {
+  Vec3 corner{0.0, 0.0, 0.0}, edge_a{1.0, 0.0, 0.0}, edge_b{0.0, 0.0, 1.0};
+  int samples_a = 8, samples_b = 8;
+  Ordering ordering = Ordering::Hilbert;  // of the sampling grid (Hilbert: square, power of two)
+  double far = 1.0;
+
+  int count() const { return samples_a * samples_b; }
+  Vec3 sample_point(uint32_t grid) const;
+};
+inline constexpr int kMaxLightSamples = 1 << 16;
+// InputError naming the field: finite corner and edges, a non-zero edge_a, edge_b non-zero unless
+// samples_b is 1, 1 <= samples, count() <= kMaxLightSamples, the ordering valid for the grid,
+// far finite and > 0.
+void validate(const LocalLight& light);
+// The stack of the light's cube maps around an object's bounding sphere (center, radius):
+// 6 x N maps of resolution^2, ordering ScanLine (the faces), FirstSecond, far plane Infinite.
+StackLayout cube_layout(const LocalLight& light, int resolution, const Vec3& center, double radius);
+// position[g]: where grid cell g stands in the light's ordering (the sequence of its cube maps).
+std::vector<uint32_t> light_positions(const LocalLight& light);
+// The farthest the bounding sphere reaches from a sampling point: max |s - center| + radius.
+double light_far(const LocalLight& light, const Vec3& center, double radius);
+
+// Face k of a cube map: 0 +x, 1 -x, 2 +y, 3 -y, 4 +z, 5 -z; texel (x, y) of the face looks along
+// n + ((x + 1/2) 2/M - 1) u + ((y + 1/2) 2/M - 1) v.
+struct CubeFace {
+  Vec3 n, u, v;
+};
+CubeFace cube_face(int k);
+// The face, texel and quantised planar depth of point p seen from sampling point s: the face of
+// the largest |component| of p - s (ties: x before y before z), texel coordinates clamped to the
+// face.
+struct CubePoint {
+  int face = 0, x = 0, y = 0;
+  uint32_t q = 0;
+};
+CubePoint cube_project(const LocalLight& light, int resolution, const Vec3& s, const Vec3& p);
+
 // The uncompressed stack: z1 and z2 of map i (position in the sequence) at texel t are
 // z1[i * texels() + t], z2[...]. Invariant per element: z1 < z2, or z1 == z2 == kNoSurface (a
 // surface pair thinner than one depth step is stored as z2 = z1 + 1).

@@ -161,6 +161,105 @@ ViewPoint project(const StackLayout& l, uint32_t g, const Vec3& p) {
   return vp;
 }
 
+Vec3 LocalLight::sample_point(uint32_t grid) const {
+  const int a = int(grid % uint32_t(samples_a)), b = int(grid / uint32_t(samples_a));
+  return corner + ((a + 0.5) / samples_a) * edge_a + ((b + 0.5) / samples_b) * edge_b;
+}
+
+namespace {
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+// The sampling grid as a layout of views (rows b, columns a): its orderings are the stacks'.
+StackLayout grid_of(const LocalLight& l) {
+  StackLayout g;
+  g.views_theta = l.samples_b;
+  g.views_phi = l.samples_a;
+  g.ordering = l.ordering;
+  g.resolution = 1;
+  return g;
+}
+}  // namespace
+
+void validate(const LocalLight& l) {
+  if (!finite3(l.corner) || !finite3(l.edge_a) || !finite3(l.edge_b))
+    throw InputError("local light: the corner and edges must be finite");
+  if (!(dot(l.edge_a, l.edge_a) > 0.0)) throw InputError("local light: edge a must not be zero");
+  if (l.samples_a < 1 || l.samples_b < 1 || long(l.samples_a) * l.samples_b > kMaxLightSamples)
+    throw InputError("local light: 1 to " + std::to_string(kMaxLightSamples) + " sampling points, got " +
+                     std::to_string(l.samples_a) + "x" + std::to_string(l.samples_b));
+  if (l.samples_b > 1 && !(dot(l.edge_b, l.edge_b) > 0.0))
+    throw InputError("local light: edge b must not be zero with more than one row of sampling points");
+  if (!std::isfinite(l.far) || l.far <= 0.0) throw InputError("local light: far must be finite and > 0");
+  try {
+    validate(grid_of(l));
+  } catch (const InputError& e) {
+    throw InputError(std::string("local light's sampling grid: ") + e.what());
+  }
+}
+
+StackLayout cube_layout(const LocalLight& light, int resolution, const Vec3& center, double radius) {
+  validate(light);
+  StackLayout l;
+  l.views_theta = 6;
+  l.views_phi = light.count();
+  l.resolution = resolution;
+  l.ordering = Ordering::ScanLine;
+  l.depth_pair = DepthPair::FirstSecond;
+  l.far_plane = FarPlane::Infinite;
+  l.center = center;
+  l.radius = radius;
+  validate(l);
+  return l;
+}
+
+std::vector<uint32_t> light_positions(const LocalLight& light) {
+  validate(light);
+  return sequence_positions(grid_of(light));
+}
+
+double light_far(const LocalLight& light, const Vec3& center, double radius) {
+  double far = 0.0;
+  for (uint32_t g = 0; g < uint32_t(light.count()); ++g)
+    far = std::max(far, std::sqrt(dot(light.sample_point(g) - center, light.sample_point(g) - center)) + radius);
+  return far;
+}
+
+CubeFace cube_face(int k) {
+  const double s = (k % 2 == 0) ? 1.0 : -1.0;
+  switch (k / 2) {
+    case 0:
+      return {{s, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+    case 1:
+      return {{0.0, s, 0.0}, {0.0, 0.0, 1.0}, {1.0, 0.0, 0.0}};
+    default:
+      return {{0.0, 0.0, s}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}};
+  }
+}
+
+CubePoint cube_project(const LocalLight& light, int resolution, const Vec3& s, const Vec3& p) {
+  const Vec3 d = p - s;
+  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+  CubePoint c;
+  double major;
+  if (ax >= ay && ax >= az) {
+    c.face = d.x >= 0.0 ? 0 : 1;
+    major = ax;
+  } else if (ay >= az) {
+    c.face = d.y >= 0.0 ? 2 : 3;
+    major = ay;
+  } else {
+    c.face = d.z >= 0.0 ? 4 : 5;
+    major = az;
+  }
+  const CubeFace f = cube_face(c.face);
+  // A point at the sampling point itself (major 0) reads the face's middle at depth 0.
+  const double inv = major > 0.0 ? 1.0 / major : 0.0;
+  const double u = dot(d, f.u) * inv, v = dot(d, f.v) * inv;
+  c.x = std::clamp(int(std::floor((u + 1.0) * 0.5 * resolution)), 0, resolution - 1);
+  c.y = std::clamp(int(std::floor((v + 1.0) * 0.5 * resolution)), 0, resolution - 1);
+  c.q = uint32_t(std::clamp(std::nearbyint(major / light.far * kDepthMax), 0.0, double(kDepthMax)));
+  return c;
+}
+
 DeviceLayout device_layout(const StackLayout& l) {
   validate(l);
   return {float(l.center[0]), float(l.center[1]), float(l.center[2]), float(l.radius),

@@ -339,7 +339,11 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
     F3 corner, ea, eb, radiance;
   };
   std::vector<FL> lights;
-  for (const AreaLight& l : settings.lights)
+  // The local light last: the kernel draws it as pair 1 + the area lights' count, with the area
+  // lights' arithmetic (only its visibility differs, and that is `visible`'s).
+  std::vector<AreaLight> all = settings.lights;
+  if (settings.local_light) all.push_back(*settings.local_light);
+  for (const AreaLight& l : all)
     lights.push_back({{float(l.corner.x), float(l.corner.y), float(l.corner.z)},
                       {float(l.edge_a.x), float(l.edge_a.y), float(l.edge_a.z)},
                       {float(l.edge_b.x), float(l.edge_b.y), float(l.edge_b.z)},
@@ -381,7 +385,7 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
         const EnvSample e = sample_envmap(env, u, v);
         const float c = dot3(N, e.dir);
         if (c > 0.0f) {
-          const float vis = visible(p, e.dir, inf, numbers(0u, s));
+          const float vis = visible({p, e.dir, inf, numbers(0u, s)});
           if (vis > 0.0f) {
             const F3 L = env.texel(e.x, e.y);
             const float w = vis * c / e.pdf;
@@ -408,7 +412,7 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
         const float c = dot3(N, w);
         const float pdf = q * pdf_env + (1.0f - q) * phong_pdf(shine, R, w);
         if (c > 0.0f && pdf > 0.0f) {
-          const float vis = visible(p, w, inf, numbers(0u, s));
+          const float vis = visible({p, w, inf, numbers(0u, s)});
           if (vis > 0.0f) {
             const F3 L = env.texel(tx, ty);
             const F3 f = phong_pi_f(albedo, ks, shine, R, w);
@@ -432,7 +436,11 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
         const float c = dot3(N, w);
         const float cl = std::fabs(dot3(nl, w)) / area;
         if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
-          const float vis = visible(p, w, dist, numbers(1u + uint32_t(l), s));
+          VisibilityQuery query{p, w, dist, numbers(1u + uint32_t(l), s)};
+          query.light = int(l);
+          query.u = u;
+          query.v = v;
+          const float vis = visible(query);
           if (vis > 0.0f) {
             const float f = vis * (c * cl * area / dist2);
             if (glossy) {
@@ -477,9 +485,9 @@ HostImage render_traced(const RayTracer& object, const GBuffer& g, const EnvMap&
                         RenderStats* stats) {
   return render_host(
       g, env, settings,
-      [&](const F3& p, const F3& d, float t_max, const std::array<float, 4>&) {
-        const Ray ray{{p[0], p[1], p[2]}, normalize(Vec3{d[0], d[1], d[2]})};
-        const double reach = std::isinf(t_max) ? std::numeric_limits<double>::infinity() : double(t_max);
+      [&](const VisibilityQuery& q) {
+        const Ray ray{{q.p[0], q.p[1], q.p[2]}, normalize(Vec3{q.d[0], q.d[1], q.d[2]})};
+        const double reach = std::isinf(q.t_max) ? std::numeric_limits<double>::infinity() : double(q.t_max);
         // Occluders only: ground planes are receivers without maps (coherent_scene.hpp).
         return object.occluded(ray, 0.0, reach, kMaskOccluders) ? 0.0f : 1.0f;
       },
@@ -492,8 +500,37 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
 }
 
 HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
-                          const RenderSettings& settings, RenderStats* stats) {
+                          const RenderSettings& settings, RenderStats* stats, const LocalLightMaps* local) {
   validate(settings);
+  if (settings.local_light.has_value() != (local != nullptr && local->stack != nullptr))
+    throw InputError("render_coherent: a local light needs its cube maps, and cube maps their light");
+  // The local light's rectangle, radiance and far (13 floats), its grid and maps; one unused
+  // element each without one (OpenCL has no empty buffers).
+  std::vector<float> local_params(13, 0.0f);
+  cl_int4 local_dims{{1, 1, 1, 1}};
+  std::vector<uint32_t> local_offsets{0, 1}, local_last{0}, local_positions{0};
+  std::vector<uint16_t> local_depth{0};
+  if (local) {
+    const coherent::LocalLight& l = local->light;
+    coherent::validate(l);
+    const AreaLight& a = *settings.local_light;
+    if (!(length(a.corner - l.corner) <= 1e-9 * (1.0 + length(l.corner)) && length(a.edge_a - l.edge_a) <= 1e-9 * (1.0 + length(l.edge_a)) &&
+          length(a.edge_b - l.edge_b) <= 1e-9 * (1.0 + length(l.edge_b))))
+      throw InputError("render_coherent: the local light's rectangle is not the one its cube maps were built for");
+    const coherent::CompressedStack& c = *local->stack;
+    if (c.layout.views_theta != 6 || c.layout.views_phi != l.count() || c.offsets.size() != c.layout.texels() + 1 ||
+        c.offsets.back() != c.last.size() || c.depth.size() != c.last.size())
+      throw InputError("render_coherent: the local light's maps are not 6 faces of its sampling points");
+    const Vec3 v[4] = {l.corner, l.edge_a, l.edge_b, a.radiance};
+    for (int k = 0; k < 4; ++k)
+      for (int axis = 0; axis < 3; ++axis) local_params[3 * k + axis] = float(v[k][axis]);
+    local_params[12] = float(l.far);
+    local_dims = {{l.samples_a, l.samples_b, c.layout.resolution, l.count()}};
+    local_offsets = c.offsets;
+    local_last = c.last;
+    local_depth = c.depth;
+    local_positions = coherent::light_positions(l);
+  }
   if (objects.empty() || objects.size() > size_t(kMaxObjects))
     throw InputError("render_coherent: 1 to " + std::to_string(kMaxObjects) + " objects, got " +
                      std::to_string(objects.size()));
@@ -536,6 +573,11 @@ HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, 
              bases_buf = upload(bases.data(), bytes_of(bases)), offsets_buf = upload(offsets.data(), bytes_of(offsets)),
              last_buf = upload(last.data(), bytes_of(last)), depth_buf = upload(depth.data(), bytes_of(depth)),
              positions_buf = upload(positions.data(), bytes_of(positions));
+  cl::Buffer local_params_buf = upload(local_params.data(), bytes_of(local_params)),
+             local_offsets_buf = upload(local_offsets.data(), bytes_of(local_offsets)),
+             local_last_buf = upload(local_last.data(), bytes_of(local_last)),
+             local_depth_buf = upload(local_depth.data(), bytes_of(local_depth)),
+             local_positions_buf = upload(local_positions.data(), bytes_of(local_positions));
   cl::Buffer pos = upload(g.position.data(), bytes_of(g.position));
   cl::Buffer nor = upload(g.normal.data(), bytes_of(g.normal));
   cl::Buffer alb = upload(g.albedo.data(), bytes_of(g.albedo));
@@ -574,6 +616,11 @@ HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, 
   k.setArg(a++, env_sa);
   k.setArg(a++, cl_int(settings.lights.size()));
   k.setArg(a++, light_buf);
+  k.setArg(a++, cl_int(local ? 1 : 0));
+  k.setArg(a++, local_params_buf);
+  k.setArg(a++, local_dims);
+  for (const cl::Buffer* b : {&local_offsets_buf, &local_last_buf, &local_depth_buf, &local_positions_buf})
+    k.setArg(a++, *b);
   k.setArg(a++, cl_uint(S));
   k.setArg(a++, cl_float(1.0f / float(S)));
   k.setArg(a++, cl_uint(sample_stride(S)));

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,10 @@ struct RenderSettings {
   // render also stops before a pass that would end past the budget (at least one pass runs).
   int passes = 1;
   double time_budget = 0.0;
+  // A fixed local light (seed sec. 4.2): its rectangle and radiance, the geometry of the
+  // LocalLight whose depth cube maps render_coherent is given (they answer its visibility), an
+  // area light for the host renders.
+  std::optional<AreaLight> local_light;
 };
 // InputError unless 1 <= samples <= kMaxSamples, at most kMaxLights lights, specular within [0, 1],
 // shininess within [0, kMaxShininess], 1 <= passes <= kMaxPasses and time_budget finite and >= 0.
@@ -104,11 +109,19 @@ struct RenderStats {
 };
 
 // The host twin of coherent/render.cl: the same samples and float arithmetic, visibility from
-// `visible(p, d, t_max, r)`: the fraction of the segment p + t d, t in (0, t_max), that is free
-// (d unit length; 0 or 1 for a ray, fractional for a PCF lookup); r holds the sample's four
-// roulette numbers when settings.filter is Roulette (else zeros).
-using Visibility = std::function<float(const std::array<float, 3>& p, const std::array<float, 3>& d, float t_max,
-                                       const std::array<float, 4>& r)>;
+// `visible(query)`: the fraction of the segment p + t d, t in (0, t_max), that is free (d unit
+// length; 0 or 1 for a ray, fractional for a PCF lookup). r holds the sample's four roulette
+// numbers when settings.filter is Roulette (else zeros); light is -1 for the environment, l for
+// area light l, and settings.lights.size() for the local light, whose sample is (u, v) on its
+// rectangle.
+struct VisibilityQuery {
+  std::array<float, 3> p, d;
+  float t_max = 0.0f;
+  std::array<float, 4> r{0.0f, 0.0f, 0.0f, 0.0f};
+  int light = -1;
+  float u = 0.0f, v = 0.0f;
+};
+using Visibility = std::function<float(const VisibilityQuery& query)>;
 HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings& settings, const Visibility& visible,
                       RenderStats* stats = nullptr);
 // render_host with Embree occlusion rays against the occluders (kMaskOccluders: geometry marked
@@ -141,6 +154,13 @@ ObjectRows object_rows(const RigidTransform& transform);
 std::array<float, 3> to_object_point(const ObjectRows& rows, const std::array<float, 3>& p);
 std::array<float, 3> to_object_direction(const ObjectRows& rows, const std::array<float, 3>& d);
 
+// A fixed local light's depth cube maps (coherent::cube_layout of `light`; the caller's, alive
+// through the call).
+struct LocalLightMaps {
+  const coherent::CompressedStack* stack = nullptr;
+  coherent::LocalLight light;
+};
+
 // One object of the render: its compressed maps (the caller's, alive through the call) and its
 // placement.
 struct PlacedStack {
@@ -153,8 +173,12 @@ struct PlacedStack {
 // 4.6: objects shadow each other and themselves; receivers without maps, such as ground planes,
 // take their shadows and cast none). At most kMaxObjects objects.
 inline constexpr int kMaxObjects = 64;
+// With settings.local_light, `local` holds its cube maps (InputError otherwise, or when the
+// rectangles differ); the local light's visibility is its cube map's alone (the objects of its
+// maps, unmoved).
 HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
-                          const RenderSettings& settings, RenderStats* stats = nullptr);
+                          const RenderSettings& settings, RenderStats* stats = nullptr,
+                          const LocalLightMaps* local = nullptr);
 // One object where its maps were built (the identity transform).
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, RenderStats* stats = nullptr);
@@ -162,7 +186,8 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
 // Visibility queries a render makes at most in `passes` passes: pixels on the object x S x
 // (1 + lights) a pass (samples below the horizon of the normal skip their query).
 inline double render_queries(const GBuffer& g, const EnvMap& env, const RenderSettings& s, int passes = 1) {
-  return double(g.hits) * s.samples * ((env.sampled ? 1 : 0) + double(s.lights.size())) * passes;
+  return double(g.hits) * s.samples * ((env.sampled ? 1 : 0) + double(s.lights.size()) + (s.local_light ? 1 : 0)) *
+         passes;
 }
 
 // Root mean square difference of two RGB images over the pixels where mask (a G-buffer) is on the

@@ -200,6 +200,54 @@ inline float sf_scene_visibility(const int filter, const sf_render_objects O, fl
   return v;
 }
 
+// A fixed local light's depth cube maps (Ritschel 2007 sec. 3.3 and 4.2; host:
+// sf::coherent::cube_project and sf::ref::coherent::local_visibility): params holds the
+// rectangle (corner, edge a, edge b), its radiance and far (13 floats); dims the sampling grid A,
+// B, the resolution M and N = A B; the stack holds face k of the i-th cube map (in the grid's
+// ordering: positions) at map k N + i.
+typedef struct {
+  float3 corner, ea, eb, radiance;
+  float far;
+  int A, B, M, N;
+  __global const uint* offsets;
+  __global const uint* last;
+  __global const ushort* depth;
+  __global const uint* positions;
+} sf_local_light;
+
+// 1 when point p is lit from sampling point s of grid cell g, else 0: the face of the largest
+// |component| of p - s (ties: x, y, z), the texel of its face coordinates, the planar depth.
+inline float sf_local_visibility(const sf_local_light Q, int g, float3 s, float3 p) {
+  const float3 d = p - s;
+  const float ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
+  int face;
+  float major, u, v;
+  // Faces: 0 +x, 1 -x (u = y, v = z); 2 +y, 3 -y (u = z, v = x); 4 +z, 5 -z (u = x, v = y).
+  if (ax >= ay && ax >= az) {
+    face = d.x >= 0.0f ? 0 : 1;
+    major = ax;
+    u = d.y;
+    v = d.z;
+  } else if (ay >= az) {
+    face = d.y >= 0.0f ? 2 : 3;
+    major = ay;
+    u = d.z;
+    v = d.x;
+  } else {
+    face = d.z >= 0.0f ? 4 : 5;
+    major = az;
+    u = d.x;
+    v = d.y;
+  }
+  const float inv = major > 0.0f ? 1.0f / major : 0.0f;
+  const int x = clamp((int)floor((u * inv + 1.0f) * 0.5f * (float)Q.M), 0, Q.M - 1);
+  const int y = clamp((int)floor((v * inv + 1.0f) * 0.5f * (float)Q.M), 0, Q.M - 1);
+  const uint q = (uint)clamp(rint(major / Q.far * SF_COHERENT_DEPTH_MAX), 0.0f, SF_COHERENT_DEPTH_MAX);
+  const uint map = (uint)face * (uint)Q.N + Q.positions[g];
+  const uint t = (uint)(y * Q.M + x);
+  return q <= sf_coherent_segment_depth(Q.offsets, Q.last, Q.depth, t, map) ? 1.0f : 0.0f;
+}
+
 // gpos: xyz the shading point (lifted off the surface along the normal), w 1 on the object, 0 on
 // background; gnormal: the unit normal facing the camera, or on background the camera ray's
 // direction; galbedo: diffuse albedo. lights: 4 float4 per light (corner, edge a, edge b,
@@ -216,7 +264,11 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
                             const int env_height, const int env_sampled, __global const float4* env_rgb,
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
-                            const int n_lights, __global const float4* lights, const uint samples, const float inv_s,
+                            const int n_lights, __global const float4* lights, const int has_local,
+                            __global const float* local_params, const int4 local_dims,
+                            __global const uint* local_offsets, __global const uint* local_last,
+                            __global const ushort* local_depth, __global const uint* local_positions,
+                            const uint samples, const float inv_s,
                             const uint stride, const uint seed, const int filter, const float4 eye,
                             const float4 specular, const uint pass, __global float4* out) {
   const int i = (int)get_global_id(0);
@@ -238,6 +290,20 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
   O.last = last;
   O.depth = depth;
   O.positions = positions;
+  sf_local_light Q;
+  Q.corner = vload3(0, local_params);
+  Q.ea = vload3(1, local_params);
+  Q.eb = vload3(2, local_params);
+  Q.radiance = vload3(3, local_params);
+  Q.far = local_params[12];
+  Q.A = local_dims.x;
+  Q.B = local_dims.y;
+  Q.M = local_dims.z;
+  Q.N = local_dims.w;
+  Q.offsets = local_offsets;
+  Q.last = local_last;
+  Q.depth = local_depth;
+  Q.positions = local_positions;
   const float4 P = gpos[i];
   const float3 N = gnormal[i].xyz;
   if (P.w == 0.0f) {
@@ -309,6 +375,28 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
         const float v = sf_scene_visibility(filter, O, p, d, seed, 1u + (uint)l, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) {
           const float3 e = radiance * (v * (c * cl * area / dist2));
+          sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
+        }
+      }
+    }
+    if (has_local) {
+      // The local light: a point uniform over the rectangle (pair 1 + n_lights), its visibility
+      // from the cube map of the grid cell that holds it.
+      const float2 u = sf_stratified(seed, 1u + (uint)n_lights, pixel, s, samples, inv_s, stride);
+      const float3 d = Q.corner + Q.ea * u.x + Q.eb * u.y - p;
+      const float dist2 = dot(d, d);
+      const float3 nl = cross(Q.ea, Q.eb);
+      const float area = length(nl);
+      const float dist = sqrt(dist2);
+      const float3 w = d / dist;
+      const float c = dot(N, w);
+      const float cl = fabs(dot(nl, w)) / area;
+      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+        const int a = min((int)(u.x * (float)Q.A), Q.A - 1), b = min((int)(u.y * (float)Q.B), Q.B - 1);
+        const float3 sp = Q.corner + Q.ea * (((float)a + 0.5f) / (float)Q.A) + Q.eb * (((float)b + 0.5f) / (float)Q.B);
+        const float v = sf_local_visibility(Q, b * Q.A + a, sp, p);
+        if (v > 0.0f) {
+          const float3 e = Q.radiance * (v * (c * cl * area / dist2));
           sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
         }
       }

@@ -34,6 +34,11 @@ struct BuildArgs {
   bool quiet = false;
   const CLI::Option* compress_option = nullptr;  // given: with --shard, refused (the merge compresses)
   const CLI::Option* device_option = nullptr;
+  // A fixed local light's depth cube maps instead of the distant views: its rectangle and grid.
+  std::vector<double> local_light;
+  std::string light_samples = "8x8";
+  // Options of the distant views, refused with --local-light when given.
+  std::vector<const CLI::Option*> distant_options;
 };
 
 struct MergeArgs {
@@ -68,9 +73,17 @@ void parse_views(const std::string& s, coherent::StackLayout& l) {
 }
 
 // The sizes a .csm holds, as one line (Table 1's columns: uncompressed, compressed, ratio).
-std::string size_summary(const coherent::CompressedStack& c) {
+std::string size_summary(const coherent::CompressedStack& c, const std::optional<coherent::LocalLight>& local = {}) {
   const double mib = 1024.0 * 1024.0;
   const double unc = double(c.layout.uncompressed_bytes()), comp = double(c.compressed_bytes());
+  if (local)
+    return "local light, " + std::to_string(local->samples_a) + "x" + std::to_string(local->samples_b) +
+           " sampling points (" + std::to_string(local->count()) + " cube maps, " + std::to_string(c.layout.views()) +
+           " maps), M = " + std::to_string(c.layout.resolution) + ", " + coherent::ordering_name(local->ordering) +
+           ", far " + fixed(local->far, 4) + ": " + std::to_string(c.segment_count()) + " segments (" +
+           fixed(double(c.segment_count()) / double(c.layout.texels()), 1) + " per texel), uncompressed " +
+           fixed(unc / mib, 1) + " MiB, compressed " + fixed(comp / mib, 2) + " MiB, ratio " + fixed(unc / comp, 1) +
+           ":1";
   return std::to_string(c.layout.views_theta) + "x" + std::to_string(c.layout.views_phi) + " views (" +
          std::to_string(c.layout.views()) + "), M = " + std::to_string(c.layout.resolution) + ", " +
          coherent::ordering_name(c.layout.ordering) + ", depth pair " + std::to_string(uint32_t(c.layout.depth_pair)) +
@@ -110,10 +123,13 @@ void write_compressed(io::CoherentFile file, const std::shared_ptr<Runtime>& run
                       const std::string& command, double before_s, double fit_s, bool quiet) {
   io::write_coherent(output, file);
   if (!quiet)
-    std::cout << "coherent " << command << ": " << output << ": " << size_summary(file.stack) << "; "
+    std::cout << "coherent " << command << ": " << output << ": " << size_summary(file.stack, file.local) << "; "
               << (command == "build" ? "render " : "read ") << fixed(before_s, 2) << " s, compress " << fixed(fit_s, 2)
               << " s, total " << fixed(before_s + fit_s, 2) << " s, compressed on "
-              << (runtime ? runtime->info().device_name : std::string("the host, streamed")) << "\n";
+              << (runtime      ? runtime->info().device_name
+                  : file.local ? std::string("the host")
+                               : std::string("the host, streamed"))
+              << "\n";
 }
 
 // Views per chunk of a streamed build: 256 MiB of z1 and z2 (4096 views at M = 128), so that the
@@ -123,8 +139,48 @@ uint32_t chunk_views(const coherent::StackLayout& layout) {
   return uint32_t(std::clamp<size_t>((size_t(256) << 20) / per_view, 1, size_t(layout.views())));
 }
 
+// `coherent build --local-light`: the depth cube maps of a fixed light (Ritschel 2007 sec. 3.3,
+// 4.2) around the object, ray-cast with Embree from every sampling point, compressed as one stack
+// of 6 N maps (docs/coherent.md, "Local lights").
+int run_build_local(const BuildArgs& a) {
+  for (const CLI::Option* o : a.distant_options)
+    if (o->count() > 0)
+      throw InputError(o->get_name() + " is an option of the distant views; --local-light builds depth cube maps");
+  coherent::LocalLight light;
+  light.corner = {a.local_light[0], a.local_light[1], a.local_light[2]};
+  light.edge_a = {a.local_light[3], a.local_light[4], a.local_light[5]};
+  light.edge_b = {a.local_light[6], a.local_light[7], a.local_light[8]};
+  coherent::StackLayout grid;
+  parse_views(a.light_samples, grid);
+  light.samples_a = grid.views_phi;
+  light.samples_b = grid.views_theta;
+  if (!coherent::parse_ordering(a.ordering, &light.ordering))
+    throw InputError("--ordering must be scanline, zigzag or hilbert, got '" + a.ordering + "'");
+  if (a.resolution < 1 || a.resolution > 4096) throw InputError("--res must be in [1, 4096]");
+  if (a.threads < 0 || a.threads > 1024) throw InputError("--threads must be in [0, 1024]");
+  coherent::validate(light);
+  std::shared_ptr<Runtime> runtime = compression_runtime(a.compress, a.device);
+  check_memory(coherent::cube_layout(light, a.resolution, {0.0, 0.0, 0.0}, 1.0), size_t(6 * light.count()));
+  const scene::SceneGeometry object = scene::load_coherent_object(a.source);
+  std::optional<scene::Progress> progress;
+  progress.emplace("rendering cube maps", size_t(light.count()), !a.quiet);
+  const auto t0 = std::chrono::steady_clock::now();
+  const coherent::DualDepthStack stack =
+      scene::render_cube_stack(object, light, a.resolution, a.threads, [&](size_t n) { progress->add(n); });
+  const double render_s = seconds_since(t0);
+  progress.reset();
+  const auto t1 = std::chrono::steady_clock::now();
+  io::CoherentFile file;
+  file.source = a.source;
+  file.local = light;
+  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
+  write_compressed(std::move(file), runtime, a.output, "build", render_s, seconds_since(t1), a.quiet);
+  return 0;
+}
+
 int run_build(const BuildArgs& a) {
   io::check_outputs({a.output}, {a.source});
+  if (!a.local_light.empty()) return run_build_local(a);
   coherent::StackLayout layout;
   parse_views(a.views, layout);
   layout.resolution = a.resolution;
@@ -321,8 +377,14 @@ int run_info(const InfoArgs& a) {
   const io::CoherentFile file = io::read_coherent(a.file);
   const coherent::StackLayout& l = file.stack.layout;
   std::cout << a.file << ": object '" << file.source << "', bounding sphere centre (" << l.center[0] << ", "
-            << l.center[1] << ", " << l.center[2] << ") radius " << l.radius << "; " << size_summary(file.stack)
-            << "\n";
+            << l.center[1] << ", " << l.center[2] << ") radius " << l.radius << "; "
+            << size_summary(file.stack, file.local) << "\n";
+  if (file.local) {
+    const coherent::LocalLight& g = *file.local;
+    std::cout << "  light: corner (" << g.corner.x << ", " << g.corner.y << ", " << g.corner.z << "), edge a ("
+              << g.edge_a.x << ", " << g.edge_a.y << ", " << g.edge_a.z << "), edge b (" << g.edge_b.x << ", "
+              << g.edge_b.y << ", " << g.edge_b.z << ")\n";
+  }
   return 0;
 }
 
@@ -340,21 +402,32 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
                 "Mesh file (OBJ, PLY, OFF, STL) or built-in object (sphere, box, a scene name)")
       ->required();
   b->add_option("-o,--out", build->output, "Output .csm file (written atomically)")->required();
-  b->add_option("--views", build->views, "Lat-long grid of view directions, ROWSxCOLUMNS")->capture_default_str();
+  build->distant_options.push_back(
+      b->add_option("--views", build->views, "Lat-long grid of view directions, ROWSxCOLUMNS")->capture_default_str());
   b->add_option("--res", build->resolution, "Texels per side of each depth map (M)")->capture_default_str();
   b->add_option("--ordering", build->ordering, "Enumeration of the views: scanline|zigzag|hilbert")
       ->capture_default_str();
-  b->add_option("--depth-pair", build->depth_pair,
-                "Surfaces the stored depth separates: 12 (first, second) or 13 (first, third: closed meshes)")
+  build->distant_options.push_back(
+      b->add_option("--depth-pair", build->depth_pair,
+                    "Surfaces the stored depth separates: 12 (first, second) or 13 (first, third: closed meshes)")
+          ->capture_default_str());
+  build->distant_options.push_back(
+      b->add_option("--far-plane", build->far_plane,
+                    "A missing upper surface: sphere (the bounding sphere's exit) or infinite")
+          ->capture_default_str());
+  b->add_option("--local-light", build->local_light,
+                "Depth cube maps of a fixed local light instead of the distant views: a rectangle, corner, edge a, "
+                "edge b (x y z each; a segment: edge b 0 0 0 with --light-samples Nx1)")
+      ->expected(9);
+  b->add_option("--light-samples", build->light_samples,
+                "The local light's sampling points, AxB across edge a and edge b (a cube map each)")
       ->capture_default_str();
-  b->add_option("--far-plane", build->far_plane,
-                "A missing upper surface: sphere (the bounding sphere's exit) or infinite")
-      ->capture_default_str();
-  b->add_option("--renderer", build->renderer,
-                "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast), embree (every view "
-                "ray-cast; the same depths at texel centres) or device (meshes rasterised on the OpenCL device: "
-                "auto's bytes; needs cl_khr_fp64)")
-      ->capture_default_str();
+  build->distant_options.push_back(
+      b->add_option("--renderer", build->renderer,
+                    "How views are rendered: auto (meshes rasterised, analytic spheres ray-cast), embree (every view "
+                    "ray-cast; the same depths at texel centres) or device (meshes rasterised on the OpenCL device: "
+                    "auto's bytes; needs cl_khr_fp64)")
+          ->capture_default_str());
   b->add_option("--threads", build->threads, "Rendering threads (0 = all cores)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
@@ -364,14 +437,16 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
   build->compress_option = b->add_option("--compress", build->compress, compress_help)->capture_default_str();
   build->device_option =
       b->add_option("--device", build->device, "OpenCL device of --compress device (as filter's --device)");
-  b->add_option("--chunk-views", build->chunk_views,
-                "Views rendered and fitted at a time when the host compresses (the build holds one chunk, not the "
-                "stack; 0: 256 MiB of maps)")
-      ->capture_default_str();
-  b->add_option("--shard", build->shard,
-                "Render part K of N, views floor((K-1)V/N) .. floor(KV/N) of the sequence, into a stack part "
-                "(-o, .csmpart) that coherent merge compresses with the other parts")
-      ->type_name("K/N");
+  build->distant_options.push_back(
+      b->add_option("--chunk-views", build->chunk_views,
+                    "Views rendered and fitted at a time when the host compresses (the build holds one chunk, not the "
+                    "stack; 0: 256 MiB of maps)")
+          ->capture_default_str());
+  build->distant_options.push_back(
+      b->add_option("--shard", build->shard,
+                    "Render part K of N, views floor((K-1)V/N) .. floor(KV/N) of the sequence, into a stack part "
+                    "(-o, .csmpart) that coherent merge compresses with the other parts")
+          ->type_name("K/N"));
   b->add_flag("-q,--quiet", build->quiet, "No progress bar or summary");
   out.subcommands.push_back({b, [build] { return run_build(*build); }});
 

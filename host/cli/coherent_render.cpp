@@ -37,6 +37,8 @@ struct RenderArgs {
   CLI::Option* passes_option = nullptr;  // not given: 1 pass, or as many as --time-budget allows
   std::vector<std::vector<double>> area_lights, place, rotate, move, spin;
   std::vector<double> ground_plane, ground_albedo{0.8, 0.8, 0.8};
+  std::string local_light;
+  std::vector<double> local_radiance{1.0};
   int frames = 1;
   double camera_orbit = 0.0;
   bool preview = false, quiet = false;
@@ -128,6 +130,7 @@ int run_render(const RenderArgs& a) {
   if (a.preview)
     for (int f = 0; f < a.frames; ++f) outputs_checked.push_back(io::preview_path(frame_path(a.output, f, a.frames)));
   inputs.insert(inputs.end(), a.files.begin(), a.files.end());
+  inputs.push_back(a.local_light);
   inputs.insert(inputs.end(), a.meshes.begin(), a.meshes.end());
   io::check_outputs(outputs_checked, inputs);
 
@@ -135,7 +138,13 @@ int run_render(const RenderArgs& a) {
   // must lie in the maps' bounding sphere (else it is not the object the maps were built from),
   // and its placement and motion.
   std::vector<io::CoherentFile> files;
-  for (const std::string& f : a.files) files.push_back(io::read_coherent(f));
+  for (const std::string& f : a.files) {
+    files.push_back(io::read_coherent(f));
+    if (files.back().local)
+      throw InputError("'" + f +
+                       "' holds a local light's depth cube maps, not an object's views (--local-light "
+                       "takes it)");
+  }
   const std::array<float, 3> albedo{float(a.albedo[0]), float(a.albedo[1]), float(a.albedo[2])};
   std::vector<scene::SceneObject> objects(files.size());
   for (size_t k = 0; k < files.size(); ++k) {
@@ -202,6 +211,37 @@ int run_render(const RenderArgs& a) {
         scene::validate_area_light(light, o.at_frame(f).apply(o.center()), o.radius());
     settings.lights.push_back(light);
   }
+  // A fixed local light: its depth cube maps around the one object they were built for, unmoved.
+  io::CoherentFile local_file;
+  std::optional<scene::LocalLightMaps> local;
+  if (!a.local_light.empty()) {
+    local_file = io::read_coherent(a.local_light);
+    if (!local_file.local)
+      throw InputError("--local-light: '" + a.local_light + "' holds distant views, not a local light's cube maps");
+    const coherent::StackLayout& ll = local_file.stack.layout;
+    const coherent::StackLayout& ol = files[0].stack.layout;
+    if (files.size() != 1 || !a.place.empty() || !a.rotate.empty() || !a.move.empty() || !a.spin.empty())
+      throw InputError(
+          "--local-light lights the one object its cube maps were built around, where it was built (no "
+          "other objects, --place, --rotate, --move or --spin)");
+    if (local_file.source != files[0].source || ll.center[0] != ol.center[0] || ll.center[1] != ol.center[1] ||
+        ll.center[2] != ol.center[2] || ll.radius != ol.radius)
+      throw InputError("--local-light: '" + a.local_light + "' was built around '" + local_file.source + "', not " +
+                       a.files[0] + "'s object");
+    const coherent::LocalLight& g = *local_file.local;
+    if (!(scene::length(scene::cross(g.edge_a, g.edge_b)) > 0.0))
+      throw InputError("--local-light: the render takes rectangular lights (this one is a segment)");
+    if (a.local_radiance.size() != 1 && a.local_radiance.size() != 3)
+      throw InputError("--local-radiance takes a grey or an r g b radiance");
+    scene::AreaLight light{g.corner, g.edge_a, g.edge_b};
+    light.radiance = a.local_radiance.size() == 3 ? Vec3{a.local_radiance[0], a.local_radiance[1], a.local_radiance[2]}
+                                                  : Vec3{a.local_radiance[0], a.local_radiance[0], a.local_radiance[0]};
+    for (int c = 0; c < 3; ++c)
+      if (!(light.radiance[c] >= 0.0 && light.radiance[c] <= scene::kMaxRadiance))
+        throw InputError("--local-radiance must be finite, >= 0 and <= 1e20");
+    settings.local_light = light;
+    local = scene::LocalLightMaps{&local_file.stack, g};
+  }
   scene::validate(settings);
 
   // The camera frames the objects at frame 0; --camera-orbit turns it about the vertical axis
@@ -247,7 +287,8 @@ int run_render(const RenderArgs& a) {
       images.push_back(scene::render_traced(tracer, g, env, settings, &stats));
       device_name = "Embree occlusion rays";
     } else {
-      images.push_back(scene::render_coherent(*rt, scene::placed_stacks(objects, f), g, env, settings, &stats));
+      images.push_back(scene::render_coherent(*rt, scene::placed_stacks(objects, f), g, env, settings, &stats,
+                                              local ? &*local : nullptr));
       device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
     }
     mapped.push_back(png_output || a.preview ? tone_mapped(images.back()) : HostImage());
@@ -257,8 +298,9 @@ int run_render(const RenderArgs& a) {
                 << ", " << objects.size() << (objects.size() == 1 ? " object, " : " objects, ") << g.hits
                 << " pixels on surfaces, " << stats.passes << (stats.passes == 1 ? " pass" : " passes") << " of "
                 << a.samples << " samples (env " << (env.sampled ? "1" : "0") << " + lights " << settings.lights.size()
-                << " a sample), " << device_name << ": " << fixed(stats.seconds, 3) << " s, "
-                << fixed(queries / std::max(stats.seconds, 1e-9) / 1e6, 1) << " M samples/s\n";
+                << (settings.local_light ? " + local 1" : "") << " a sample), " << device_name << ": "
+                << fixed(stats.seconds, 3) << " s, " << fixed(queries / std::max(stats.seconds, 1e-9) / 1e6, 1)
+                << " M samples/s\n";
     }
   }
   // Every frame written together at the end: a failed run leaves none of them.
@@ -337,6 +379,12 @@ void add_coherent_render_commands(CLI::App& coherent, CoherentCommands& out) {
   c->add_option("--spin", r->spin, "Object K's rotation per frame about its centre: K AX AY AZ DEGREES; repeatable")
       ->expected(5)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c->add_option("--local-light", r->local_light,
+                "A fixed local light's depth cube maps (coherent build --local-light) around the object: lights it "
+                "with that rectangle");
+  c->add_option("--local-radiance", r->local_radiance, "The local light's radiance (grey or r g b)")
+      ->expected(1, 3)
+      ->capture_default_str();
   c->add_option("--frames", r->frames, "Frames to render (OUTPUT_0000.ext, ...; one frame: OUTPUT)")
       ->capture_default_str();
   c->add_option("--camera-orbit", r->camera_orbit,

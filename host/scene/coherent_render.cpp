@@ -514,7 +514,8 @@ HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, 
     const coherent::LocalLight& l = local->light;
     coherent::validate(l);
     const AreaLight& a = *settings.local_light;
-    if (!(length(a.corner - l.corner) <= 1e-9 * (1.0 + length(l.corner)) && length(a.edge_a - l.edge_a) <= 1e-9 * (1.0 + length(l.edge_a)) &&
+    if (!(length(a.corner - l.corner) <= 1e-9 * (1.0 + length(l.corner)) &&
+          length(a.edge_a - l.edge_a) <= 1e-9 * (1.0 + length(l.edge_a)) &&
           length(a.edge_b - l.edge_b) <= 1e-9 * (1.0 + length(l.edge_b))))
       throw InputError("render_coherent: the local light's rectangle is not the one its cube maps were built for");
     const coherent::CompressedStack& c = *local->stack;

@@ -847,6 +847,20 @@ TEST(CoherentRender, CommandWritesImageAndPreview) {
               dir);
   ASSERT_EQ(frames.exit_code, 0) << frames.err;
   EXPECT_NE(frames.out.find("2 objects"), std::string::npos) << frames.out;
+  // A fixed local light's cube maps, built and rendered with.
+  const RunResult built = run_cli("coherent build sphere -o " + dir +
+                                      "/light.csm --local-light -0.5 1.5 -0.5 1 0 0 0 "
+                                      "0 1 --light-samples 2x2 --res 16 -q",
+                                  dir);
+  ASSERT_EQ(built.exit_code, 0) << built.err;
+  const RunResult info = run_cli("coherent info " + dir + "/light.csm", dir);
+  EXPECT_NE(info.out.find("2x2 sampling points (4 cube maps, 24 maps)"), std::string::npos) << info.out;
+  const RunResult lit = run_cli("coherent render " + dir + "/sphere.csm --local-light " + dir + "/light.csm " +
+                                    "--local-radiance 3 --envmap " + dir + "/sky.exr -o " + dir +
+                                    "/local.exr --width 12 --height 12 --samples 2",
+                                dir);
+  ASSERT_EQ(lit.exit_code, 0) << lit.err;
+  EXPECT_NE(lit.out.find("+ local 1"), std::string::npos) << lit.out;
   EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0000.exr"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0001.exr"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/frame.exr"));
@@ -889,6 +903,7 @@ TEST(CoherentRender, CommandRefusesBadInputWritingNothing) {
       csm + env + out + " --spin 1 0 0 0 10",  // no axis
       csm + env + out + " --rotate 1 0 1 0 inf",
       csm + env + out + " --ground-albedo 2 0 0 --ground-plane -1",
+      csm + env + out + " --local-light " + csm,  // distant views, not cube maps
       // The light lies outside object 2 at frame 0, and inside it at frame 1.
       csm + " " + csm + env + out + " --place 2 0 4 0 --move 2 0 2 0 --frames 2 --area-light -1 6 -1 2 0 0 0 0 2 5",
   };

@@ -15,6 +15,7 @@
 #include "coherent_file.hpp"
 #include "coherent_reference.hpp"
 #include "coherent_stack.hpp"
+#include "mesh_file.hpp"
 #include "view_raster_device.hpp"
 #include "commands.hpp"
 #include "frame_list.hpp"
@@ -36,7 +37,7 @@ struct BuildArgs {
   const CLI::Option* device_option = nullptr;
   // A fixed local light's depth cube maps instead of the distant views: its rectangle and grid.
   std::vector<double> local_light;
-  std::string light_samples = "8x8";
+  std::string local_light_mesh, light_samples = "8x8";
   // Options of the distant views, refused with --local-light when given.
   std::vector<const CLI::Option*> distant_options;
 };
@@ -126,10 +127,7 @@ void write_compressed(io::CoherentFile file, const std::shared_ptr<Runtime>& run
     std::cout << "coherent " << command << ": " << output << ": " << size_summary(file.stack, file.local) << "; "
               << (command == "build" ? "render " : "read ") << fixed(before_s, 2) << " s, compress " << fixed(fit_s, 2)
               << " s, total " << fixed(before_s + fit_s, 2) << " s, compressed on "
-              << (runtime      ? runtime->info().device_name
-                  : file.local ? std::string("the host")
-                               : std::string("the host, streamed"))
-              << "\n";
+              << (runtime ? runtime->info().device_name : std::string("the host, streamed")) << "\n";
 }
 
 // Views per chunk of a streamed build: 256 MiB of z1 and z2 (4096 views at M = 128), so that the
@@ -146,41 +144,67 @@ int run_build_local(const BuildArgs& a) {
   for (const CLI::Option* o : a.distant_options)
     if (o->count() > 0)
       throw InputError(o->get_name() + " is an option of the distant views; --local-light builds depth cube maps");
-  coherent::LocalLight light;
-  light.corner = {a.local_light[0], a.local_light[1], a.local_light[2]};
-  light.edge_a = {a.local_light[3], a.local_light[4], a.local_light[5]};
-  light.edge_b = {a.local_light[6], a.local_light[7], a.local_light[8]};
+  if (!a.local_light.empty() && !a.local_light_mesh.empty())
+    throw InputError("--local-light and --local-light-mesh: one light a build");
   coherent::StackLayout grid;
   parse_views(a.light_samples, grid);
-  light.samples_a = grid.views_phi;
-  light.samples_b = grid.views_theta;
-  if (!coherent::parse_ordering(a.ordering, &light.ordering))
-    throw InputError("--ordering must be scanline, zigzag or hilbert, got '" + a.ordering + "'");
+  coherent::LocalLight light;
+  if (!a.local_light_mesh.empty()) {
+    // The mesh's own coordinates: the object's frame as `coherent info` shows it.
+    if (long(grid.views_theta) * grid.views_phi > coherent::kMaxLightSamples || grid.views_theta < 1 ||
+        grid.views_phi < 1)
+      throw InputError("--light-samples: 1 to " + std::to_string(coherent::kMaxLightSamples) + " sampling points");
+    light = scene::mesh_light(scene::read_mesh_file(a.local_light_mesh), grid.views_theta * grid.views_phi);
+  } else {
+    light.corner = {a.local_light[0], a.local_light[1], a.local_light[2]};
+    light.edge_a = {a.local_light[3], a.local_light[4], a.local_light[5]};
+    light.edge_b = {a.local_light[6], a.local_light[7], a.local_light[8]};
+    light.samples_a = grid.views_phi;
+    light.samples_b = grid.views_theta;
+    if (!coherent::parse_ordering(a.ordering, &light.ordering))
+      throw InputError("--ordering must be scanline, zigzag or hilbert, got '" + a.ordering + "'");
+  }
   if (a.resolution < 1 || a.resolution > 4096) throw InputError("--res must be in [1, 4096]");
   if (a.threads < 0 || a.threads > 1024) throw InputError("--threads must be in [0, 1024]");
   coherent::validate(light);
   std::shared_ptr<Runtime> runtime = compression_runtime(a.compress, a.device);
-  check_memory(coherent::cube_layout(light, a.resolution, {0.0, 0.0, 0.0}, 1.0), size_t(6 * light.count()));
   const scene::SceneGeometry object = scene::load_coherent_object(a.source);
+  const coherent::StackLayout layout = scene::fit_local_light(object, light, a.resolution);
+  // Held at once: the whole stack for the device's fit; a chunk of maps for the host's (streamed,
+  // in sequence order: the same bytes).
+  const uint32_t chunk = runtime ? uint32_t(layout.views()) : chunk_views(layout);
+  check_memory(layout, chunk);
   std::optional<scene::Progress> progress;
-  progress.emplace("rendering cube maps", size_t(light.count()), !a.quiet);
-  const auto t0 = std::chrono::steady_clock::now();
-  const coherent::DualDepthStack stack =
-      scene::render_cube_stack(object, light, a.resolution, a.threads, [&](size_t n) { progress->add(n); });
-  const double render_s = seconds_since(t0);
-  progress.reset();
-  const auto t1 = std::chrono::steady_clock::now();
+  progress.emplace("rendering cube maps", size_t(layout.views()), !a.quiet);
+  double render_s = 0.0, fit_s = 0.0;
   io::CoherentFile file;
   file.source = a.source;
   file.local = light;
-  file.stack = runtime ? coherent::compress_on_device(*runtime, stack) : ref::coherent::compress(stack);
-  write_compressed(std::move(file), runtime, a.output, "build", render_s, seconds_since(t1), a.quiet);
+  ref::coherent::StreamingFit fit(layout);
+  for (uint32_t first = 0; first < uint32_t(layout.views()); first += chunk) {
+    const auto t0 = std::chrono::steady_clock::now();
+    scene::StackPart part =
+        scene::render_cube_stack_part(object, light, layout, {first, std::min(uint32_t(layout.views()), first + chunk)},
+                                      a.threads, [&](size_t n) { progress->add(n); });
+    render_s += seconds_since(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (runtime)
+      file.stack = coherent::compress_on_device(*runtime, {layout, std::move(part.z1), std::move(part.z2)});
+    else
+      fit.add(part.z1.data(), part.z2.data(), part.range.count());
+    fit_s += seconds_since(t1);
+  }
+  progress.reset();
+  const auto t1 = std::chrono::steady_clock::now();
+  if (!runtime) file.stack = fit.finish();
+  fit_s += seconds_since(t1);
+  write_compressed(std::move(file), runtime, a.output, "build", render_s, fit_s, a.quiet);
   return 0;
 }
 
 int run_build(const BuildArgs& a) {
-  io::check_outputs({a.output}, {a.source});
-  if (!a.local_light.empty()) return run_build_local(a);
+  io::check_outputs({a.output}, {a.source, a.local_light_mesh});
+  if (!a.local_light.empty() || !a.local_light_mesh.empty()) return run_build_local(a);
   coherent::StackLayout layout;
   parse_views(a.views, layout);
   layout.resolution = a.resolution;
@@ -419,8 +443,12 @@ void add_coherent_command(CLI::App& app, CoherentCommands& out) {
                 "Depth cube maps of a fixed local light instead of the distant views: a rectangle, corner, edge a, "
                 "edge b (x y z each; a segment: edge b 0 0 0 with --light-samples Nx1)")
       ->expected(9);
+  b->add_option("--local-light-mesh", build->local_light_mesh,
+                "Depth cube maps of a fixed mesh light (OBJ, PLY, OFF, STL in the object's frame, as coherent info "
+                "shows it): A B sampling points stratified by area over its triangles");
   b->add_option("--light-samples", build->light_samples,
-                "The local light's sampling points, AxB across edge a and edge b (a cube map each)")
+                "The local light's sampling points, AxB across edge a and edge b (a cube map each; a mesh light: "
+                "A B points)")
       ->capture_default_str();
   build->distant_options.push_back(
       b->add_option("--renderer", build->renderer,

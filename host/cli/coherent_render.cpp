@@ -213,7 +213,6 @@ int run_render(const RenderArgs& a) {
   }
   // A fixed local light: its depth cube maps around the one object they were built for, unmoved.
   io::CoherentFile local_file;
-  std::optional<scene::LocalLightMaps> local;
   if (!a.local_light.empty()) {
     local_file = io::read_coherent(a.local_light);
     if (!local_file.local)
@@ -229,18 +228,17 @@ int run_render(const RenderArgs& a) {
       throw InputError("--local-light: '" + a.local_light + "' was built around '" + local_file.source + "', not " +
                        a.files[0] + "'s object");
     const coherent::LocalLight& g = *local_file.local;
-    if (!(scene::length(scene::cross(g.edge_a, g.edge_b)) > 0.0))
-      throw InputError("--local-light: the render takes rectangular lights (this one is a segment)");
+    if (!g.is_mesh() && !(scene::length(scene::cross(g.edge_a, g.edge_b)) > 0.0))
+      throw InputError("--local-light: the render takes rectangles and meshes (this light is a segment)");
     if (a.local_radiance.size() != 1 && a.local_radiance.size() != 3)
       throw InputError("--local-radiance takes a grey or an r g b radiance");
-    scene::AreaLight light{g.corner, g.edge_a, g.edge_b};
-    light.radiance = a.local_radiance.size() == 3 ? Vec3{a.local_radiance[0], a.local_radiance[1], a.local_radiance[2]}
-                                                  : Vec3{a.local_radiance[0], a.local_radiance[0], a.local_radiance[0]};
+    const Vec3 radiance = a.local_radiance.size() == 3
+                              ? Vec3{a.local_radiance[0], a.local_radiance[1], a.local_radiance[2]}
+                              : Vec3{a.local_radiance[0], a.local_radiance[0], a.local_radiance[0]};
     for (int c = 0; c < 3; ++c)
-      if (!(light.radiance[c] >= 0.0 && light.radiance[c] <= scene::kMaxRadiance))
+      if (!(radiance[c] >= 0.0 && radiance[c] <= scene::kMaxRadiance))
         throw InputError("--local-radiance must be finite, >= 0 and <= 1e20");
-    settings.local_light = light;
-    local = scene::LocalLightMaps{&local_file.stack, g};
+    settings.local_light = scene::RenderSettings::LocalLightSource{g, radiance};
   }
   scene::validate(settings);
 
@@ -288,7 +286,7 @@ int run_render(const RenderArgs& a) {
       device_name = "Embree occlusion rays";
     } else {
       images.push_back(scene::render_coherent(*rt, scene::placed_stacks(objects, f), g, env, settings, &stats,
-                                              local ? &*local : nullptr));
+                                              settings.local_light ? &local_file.stack : nullptr));
       device_name = "coherent maps (" + a.filter + ") on " + rt->info().device_name;
     }
     mapped.push_back(png_output || a.preview ? tone_mapped(images.back()) : HostImage());

@@ -202,6 +202,11 @@ void write_coherent(const std::string& path, const CoherentFile& file) {
     w.u32(uint32_t(l.samples_b));
     w.u32(uint32_t(l.ordering));
     w.f64(l.far);
+    w.u32(uint32_t(l.points.size()));
+    for (size_t k = 0; k < l.points.size(); ++k)
+      for (const Vec3& v : {l.points[k], l.normals[k]})
+        for (int axis = 0; axis < 3; ++axis) w.f64(v[axis]);
+    if (l.is_mesh()) w.f64(l.area);
   }
   for (uint32_t v : c.offsets) w.u32(v);
   const bool wide = coherent::index_bytes(c.layout) == 4;
@@ -239,6 +244,16 @@ CoherentFile read_coherent_bytes(const std::string& path) {
     light.samples_b = int(std::min<uint32_t>(r.u32("header"), 1u << 30));
     light.ordering = coherent::Ordering(r.u32("header"));
     light.far = r.f64("header");
+    const uint32_t points = r.u32("header");
+    if (points > uint32_t(coherent::kMaxLightSamples))
+      fail(kInputRole, path, "corrupted header: a mesh light of " + std::to_string(points) + " sampling points");
+    r.need(size_t(points) * 48, "header");
+    light.points.resize(points);
+    light.normals.resize(points);
+    for (uint32_t k = 0; k < points; ++k)
+      for (Vec3* v : {&light.points[k], &light.normals[k]})
+        for (int axis = 0; axis < 3; ++axis) (*v)[axis] = r.f64("header");
+    if (points > 0) light.area = r.f64("header");
     try {
       coherent::validate(light);
     } catch (const InputError& e) {

@@ -15,7 +15,8 @@ namespace sf::io {
 // Version 2 (written for distant maps): 32-bit view indices, stored in 2 bytes up to 65536 views
 // and 4 beyond, then the depths. Version 3 (written for a local light's depth cube maps): version
 // 2 with the light after the source (corner, edge a, edge b: 9 doubles; samples a, b and the
-// ordering: 3 uint32; far: a double). Version 1 (read): one word per segment,
+// ordering: 3 uint32; far: a double; a mesh light's point count P: uint32, then P points and P
+// normals, 6 doubles each, and the area: a double). Version 1 (read): one word per segment,
 // (z_avg << 16) | i_last.
 inline constexpr uint32_t kCoherentFileVersion = 2;
 inline constexpr uint32_t kCoherentLocalVersion = 3;

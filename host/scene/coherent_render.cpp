@@ -342,7 +342,23 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
   // The local light last: the kernel draws it as pair 1 + the area lights' count, with the area
   // lights' arithmetic (only its visibility differs, and that is `visible`'s).
   std::vector<AreaLight> all = settings.lights;
-  if (settings.local_light) all.push_back(*settings.local_light);
+  const coherent::LocalLight* local = settings.local_light ? &settings.local_light->light : nullptr;
+  if (local && !local->is_mesh())
+    all.push_back({local->corner, local->edge_a, local->edge_b, settings.local_light->radiance});
+  // A mesh light's points, normals and radiance as the kernel reads them.
+  std::vector<F3> mesh_points, mesh_normals;
+  F3 mesh_radiance{0.0f, 0.0f, 0.0f};
+  float mesh_area = 0.0f;
+  if (local && local->is_mesh()) {
+    for (size_t k = 0; k < local->points.size(); ++k) {
+      const Vec3 &q = local->points[k], &n = local->normals[k];
+      mesh_points.push_back({float(q.x), float(q.y), float(q.z)});
+      mesh_normals.push_back({float(n.x), float(n.y), float(n.z)});
+    }
+    const Vec3& r = settings.local_light->radiance;
+    mesh_radiance = {float(r.x), float(r.y), float(r.z)};
+    mesh_area = float(local->area);
+  }
   for (const AreaLight& l : all)
     lights.push_back({{float(l.corner.x), float(l.corner.y), float(l.corner.z)},
                       {float(l.edge_a.x), float(l.edge_a.y), float(l.edge_a.z)},
@@ -452,6 +468,37 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
           }
         }
       }
+      if (!mesh_points.empty()) {
+        // The mesh light: sampling point j of the pair's first number, standing for area / count.
+        float u, v;
+        stratified(seed, 1u + uint32_t(lights.size()), pixel, s, S, inv_s, stride, &u, &v);
+        const int count = int(mesh_points.size());
+        const int j = std::min(int(u * float(count)), count - 1);
+        const F3& sp = mesh_points[size_t(j)];
+        const F3& nl = mesh_normals[size_t(j)];
+        const F3 d{sp[0] - p[0], sp[1] - p[1], sp[2] - p[2]};
+        const float dist2 = dot3(d, d);
+        const float dist = std::sqrt(dist2);
+        const F3 w{d[0] / dist, d[1] / dist, d[2] / dist};
+        const float c = dot3(N, w);
+        const float cl = std::fabs(dot3(nl, w));
+        if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+          VisibilityQuery query{p, w, dist, numbers(1u + uint32_t(lights.size()), s)};
+          query.light = int(lights.size());
+          query.u = u;
+          query.v = v;
+          const float vis = visible(query);
+          if (vis > 0.0f) {
+            const float f = vis * (c * cl * mesh_area / dist2);
+            if (glossy) {
+              const F3 b = phong_pi_f(albedo, ks, shine, R, w);
+              for (int k = 0; k < 3; ++k) sum[k] += mesh_radiance[k] * f * b[k];
+            } else {
+              for (int k = 0; k < 3; ++k) sum[k] += mesh_radiance[k] * f;
+            }
+          }
+        }
+      }
     }
     const float scale = 0.31830988618379067f * inv_s;
     F3 value;
@@ -500,33 +547,41 @@ HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, c
 }
 
 HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
-                          const RenderSettings& settings, RenderStats* stats, const LocalLightMaps* local) {
+                          const RenderSettings& settings, RenderStats* stats,
+                          const coherent::CompressedStack* local_maps) {
   validate(settings);
-  if (settings.local_light.has_value() != (local != nullptr && local->stack != nullptr))
+  if (settings.local_light.has_value() != (local_maps != nullptr))
     throw InputError("render_coherent: a local light needs its cube maps, and cube maps their light");
-  // The local light's rectangle, radiance and far (13 floats), its grid and maps; one unused
-  // element each without one (OpenCL has no empty buffers).
-  std::vector<float> local_params(13, 0.0f);
+  // The local light's rectangle, radiance, far and mesh area (14 floats), its grid, mesh points
+  // (position and normal, a float4 each) and maps; one unused element each without one (OpenCL
+  // has no empty buffers).
+  std::vector<float> local_params(14, 0.0f), local_points(8, 0.0f);
   cl_int4 local_dims{{1, 1, 1, 1}};
+  int local_kind = 0;  // 0 none, 1 rectangle, 2 mesh
   std::vector<uint32_t> local_offsets{0, 1}, local_last{0}, local_positions{0};
   std::vector<uint16_t> local_depth{0};
-  if (local) {
-    const coherent::LocalLight& l = local->light;
+  if (local_maps) {
+    const coherent::LocalLight& l = settings.local_light->light;
     coherent::validate(l);
-    const AreaLight& a = *settings.local_light;
-    if (!(length(a.corner - l.corner) <= 1e-9 * (1.0 + length(l.corner)) &&
-          length(a.edge_a - l.edge_a) <= 1e-9 * (1.0 + length(l.edge_a)) &&
-          length(a.edge_b - l.edge_b) <= 1e-9 * (1.0 + length(l.edge_b))))
-      throw InputError("render_coherent: the local light's rectangle is not the one its cube maps were built for");
-    const coherent::CompressedStack& c = *local->stack;
+    const coherent::CompressedStack& c = *local_maps;
     if (c.layout.views_theta != 6 || c.layout.views_phi != l.count() || c.offsets.size() != c.layout.texels() + 1 ||
         c.offsets.back() != c.last.size() || c.depth.size() != c.last.size())
       throw InputError("render_coherent: the local light's maps are not 6 faces of its sampling points");
-    const Vec3 v[4] = {l.corner, l.edge_a, l.edge_b, a.radiance};
+    const Vec3 v[4] = {l.corner, l.edge_a, l.edge_b, settings.local_light->radiance};
     for (int k = 0; k < 4; ++k)
       for (int axis = 0; axis < 3; ++axis) local_params[3 * k + axis] = float(v[k][axis]);
     local_params[12] = float(l.far);
+    local_params[13] = float(l.area);
     local_dims = {{l.samples_a, l.samples_b, c.layout.resolution, l.count()}};
+    local_kind = l.is_mesh() ? 2 : 1;
+    if (l.is_mesh()) {
+      local_points.assign(8 * l.points.size(), 0.0f);
+      for (size_t k = 0; k < l.points.size(); ++k)
+        for (int axis = 0; axis < 3; ++axis) {
+          local_points[8 * k + axis] = float(l.points[k][axis]);
+          local_points[8 * k + 4 + axis] = float(l.normals[k][axis]);
+        }
+    }
     local_offsets = c.offsets;
     local_last = c.last;
     local_depth = c.depth;
@@ -574,6 +629,7 @@ HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, 
              bases_buf = upload(bases.data(), bytes_of(bases)), offsets_buf = upload(offsets.data(), bytes_of(offsets)),
              last_buf = upload(last.data(), bytes_of(last)), depth_buf = upload(depth.data(), bytes_of(depth)),
              positions_buf = upload(positions.data(), bytes_of(positions));
+  cl::Buffer local_points_buf = upload(local_points.data(), bytes_of(local_points));
   cl::Buffer local_params_buf = upload(local_params.data(), bytes_of(local_params)),
              local_offsets_buf = upload(local_offsets.data(), bytes_of(local_offsets)),
              local_last_buf = upload(local_last.data(), bytes_of(local_last)),
@@ -617,9 +673,10 @@ HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, 
   k.setArg(a++, env_sa);
   k.setArg(a++, cl_int(settings.lights.size()));
   k.setArg(a++, light_buf);
-  k.setArg(a++, cl_int(local ? 1 : 0));
+  k.setArg(a++, cl_int(local_kind));
   k.setArg(a++, local_params_buf);
   k.setArg(a++, local_dims);
+  k.setArg(a++, local_points_buf);
   for (const cl::Buffer* b : {&local_offsets_buf, &local_last_buf, &local_depth_buf, &local_positions_buf})
     k.setArg(a++, *b);
   k.setArg(a++, cl_uint(S));

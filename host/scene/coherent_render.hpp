@@ -84,10 +84,15 @@ struct RenderSettings {
   // render also stops before a pass that would end past the budget (at least one pass runs).
   int passes = 1;
   double time_budget = 0.0;
-  // A fixed local light (seed sec. 4.2): its rectangle and radiance, the geometry of the
-  // LocalLight whose depth cube maps render_coherent is given (they answer its visibility), an
-  // area light for the host renders.
-  std::optional<AreaLight> local_light;
+  // A fixed local light (seed sec. 4.2): a rectangle (sampled uniformly; the cube map of the
+  // sample's grid cell answers its visibility) or a mesh light (a sample is one of its sampling
+  // points, each standing for area / count of the mesh, with its normal), and its radiance;
+  // render_coherent takes its depth cube maps beside.
+  struct LocalLightSource {
+    coherent::LocalLight light;
+    Vec3 radiance{1.0, 1.0, 1.0};
+  };
+  std::optional<LocalLightSource> local_light;
 };
 // InputError unless 1 <= samples <= kMaxSamples, at most kMaxLights lights, specular within [0, 1],
 // shininess within [0, kMaxShininess], 1 <= passes <= kMaxPasses and time_budget finite and >= 0.
@@ -112,8 +117,8 @@ struct RenderStats {
 // `visible(query)`: the fraction of the segment p + t d, t in (0, t_max), that is free (d unit
 // length; 0 or 1 for a ray, fractional for a PCF lookup). r holds the sample's four roulette
 // numbers when settings.filter is Roulette (else zeros); light is -1 for the environment, l for
-// area light l, and settings.lights.size() for the local light, whose sample is (u, v) on its
-// rectangle.
+// area light l, and settings.lights.size() for the local light, whose sample is (u, v) (on its
+// rectangle; for a mesh light, point min(u count, count - 1)).
 struct VisibilityQuery {
   std::array<float, 3> p, d;
   float t_max = 0.0f;
@@ -154,13 +159,6 @@ ObjectRows object_rows(const RigidTransform& transform);
 std::array<float, 3> to_object_point(const ObjectRows& rows, const std::array<float, 3>& p);
 std::array<float, 3> to_object_direction(const ObjectRows& rows, const std::array<float, 3>& d);
 
-// A fixed local light's depth cube maps (coherent::cube_layout of `light`; the caller's, alive
-// through the call).
-struct LocalLightMaps {
-  const coherent::CompressedStack* stack = nullptr;
-  coherent::LocalLight light;
-};
-
 // One object of the render: its compressed maps (the caller's, alive through the call) and its
 // placement.
 struct PlacedStack {
@@ -173,12 +171,12 @@ struct PlacedStack {
 // 4.6: objects shadow each other and themselves; receivers without maps, such as ground planes,
 // take their shadows and cast none). At most kMaxObjects objects.
 inline constexpr int kMaxObjects = 64;
-// With settings.local_light, `local` holds its cube maps (InputError otherwise, or when the
-// rectangles differ); the local light's visibility is its cube map's alone (the objects of its
-// maps, unmoved).
+// With settings.local_light, `local_maps` holds its depth cube maps (coherent::cube_layout of the
+// light; InputError otherwise); the local light's visibility is its cube maps' alone (the object
+// they were built around, unmoved).
 HostImage render_coherent(Runtime& rt, const std::vector<PlacedStack>& objects, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, RenderStats* stats = nullptr,
-                          const LocalLightMaps* local = nullptr);
+                          const coherent::CompressedStack* local_maps = nullptr);
 // One object where its maps were built (the identity transform).
 HostImage render_coherent(Runtime& rt, const coherent::CompressedStack& stack, const GBuffer& g, const EnvMap& env,
                           const RenderSettings& settings, RenderStats* stats = nullptr);

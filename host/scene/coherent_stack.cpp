@@ -174,56 +174,129 @@ StackPart render_stack_part(const SceneGeometry& object, const StackLayout& layo
   return stack;
 }
 
-coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent::LocalLight& light, int resolution,
-                                           int threads, const std::function<void(size_t)>& progress) {
+coherent::LocalLight mesh_light(const TriMesh& mesh, int count) {
+  if (count < 1 || count > coherent::kMaxLightSamples)
+    throw InputError("mesh light: 1 to " + std::to_string(coherent::kMaxLightSamples) + " sampling points, got " +
+                     std::to_string(count));
+  std::vector<double> cdf{0.0};
+  std::vector<size_t> tris;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
+    const double area = 0.5 * length(cross(b - a, c - a));
+    if (!(area > 0.0)) continue;  // degenerate: emits nothing
+    cdf.push_back(cdf.back() + area);
+    tris.push_back(t);
+  }
+  if (tris.empty()) throw InputError("mesh light '" + mesh.name + "' has no area");
+  coherent::LocalLight l;
+  l.area = cdf.back();
+  std::vector<std::pair<Vec3, Vec3>> samples;
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (int k = 0; k < count; ++k) {
+    const double target = (k + 0.5) / count * l.area;
+    const size_t i =
+        std::min(tris.size() - 1, size_t(std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin()) - 1);
+    const auto& tri = mesh.triangles[tris[i]];
+    const Vec3 a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
+    const double r1 = std::clamp((target - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0, 1.0);
+    const double g = k * 0.6180339887498949;
+    const double r2 = g - std::floor(g);
+    const double s = std::sqrt(r1);
+    const Vec3 p = (1.0 - s) * a + (s * (1.0 - r2)) * b + (s * r2) * c;
+    samples.push_back({p, normalize(cross(b - a, c - a))});
+    for (int axis = 0; axis < 3; ++axis) {
+      lo[axis] = std::min(lo[axis], p[axis]);
+      hi[axis] = std::max(hi[axis], p[axis]);
+    }
+  }
+  auto cell = [&](const Vec3& p, int axis) {
+    const double span = hi[axis] - lo[axis];
+    return uint32_t(span > 0.0 ? std::clamp((p[axis] - lo[axis]) / span * 1023.0, 0.0, 1023.0) : 0.0);
+  };
+  std::stable_sort(samples.begin(), samples.end(), [&](const auto& x, const auto& y) {
+    return morton(cell(x.first, 0), cell(x.first, 1), cell(x.first, 2)) <
+           morton(cell(y.first, 0), cell(y.first, 1), cell(y.first, 2));
+  });
+  for (const auto& [p, n] : samples) {
+    l.points.push_back(p);
+    l.normals.push_back(n);
+  }
+  l.samples_a = count;
+  l.samples_b = 1;
+  l.ordering = coherent::Ordering::ScanLine;
+  return l;
+}
+
+coherent::StackLayout fit_local_light(const SceneGeometry& object, coherent::LocalLight& light, int resolution) {
   coherent::StackLayout sphere;
   fit_bounding_sphere(object, sphere);
   const Vec3 center{sphere.center[0], sphere.center[1], sphere.center[2]};
   light.far = coherent::light_far(light, center, sphere.radius);
-  const coherent::StackLayout layout = coherent::cube_layout(light, resolution, center, sphere.radius);
-  const std::vector<uint32_t> positions = coherent::light_positions(light);
-  const size_t texels = layout.texels(), n = size_t(light.count());
-  const int m = resolution;
-  const double gap = 2.0 * sphere.radius * 1e-7;  // as render_stack_part: far below a depth step
-  coherent::DualDepthStack stack;
-  stack.layout = layout;
-  stack.z1.assign(6 * n * texels, kNoSurface);
-  stack.z2.assign(6 * n * texels, kNoSurface);
+  return coherent::cube_layout(light, resolution, center, sphere.radius);
+}
+
+StackPart render_cube_stack_part(const SceneGeometry& object, const coherent::LocalLight& light,
+                                 const coherent::StackLayout& layout, ViewRange range, int threads,
+                                 const std::function<void(size_t)>& progress) {
+  coherent::validate(light);
+  coherent::validate(layout);
+  const size_t n = size_t(light.count());
+  if (layout.views_theta != 6 || size_t(layout.views_phi) != n || range.first > range.end ||
+      range.end > uint32_t(6 * n))
+    throw InputError("cube maps " + std::to_string(range.first) + ".." + std::to_string(range.end) +
+                     " of a local light's stack of " + std::to_string(6 * n));
+  const std::vector<uint32_t> grid =
+      coherent::enumerate_views([&] {  // the sampling grid as a layout: rows b, columns a, the light's ordering
+        coherent::StackLayout g;
+        g.views_theta = light.samples_b;
+        g.views_phi = light.samples_a;
+        g.ordering = light.ordering;
+        g.resolution = 1;
+        return g;
+      }());
+  const size_t texels = layout.texels();
+  const int m = layout.resolution;
+  const double gap = 2.0 * layout.radius * 1e-7;  // as render_stack_part: far below a depth step
+  StackPart part;
+  part.range = range;
+  part.z1.assign(size_t(range.count()) * texels, kNoSurface);
+  part.z2.assign(size_t(range.count()) * texels, kNoSurface);
   const RayTracer tracer(object);
-  std::atomic<size_t> next{0};
+  std::atomic<size_t> next{range.first};
   auto work = [&]() {
     std::vector<Ray> rays(static_cast<size_t>(m));
     std::vector<double> inv_length(static_cast<size_t>(m));
     std::vector<double> t(static_cast<size_t>(m) * 2);
-    for (size_t g = next++; g < n; g = next++) {
-      const Vec3 s = light.sample_point(uint32_t(g));
-      for (int k = 0; k < 6; ++k) {
-        const coherent::CubeFace f = coherent::cube_face(k);
-        const size_t map = size_t(k) * n + positions[g];
-        for (int y = 0; y < m; ++y) {
-          const double b = (y + 0.5) * 2.0 / m - 1.0;
-          for (int x = 0; x < m; ++x) {
-            const double a = (x + 0.5) * 2.0 / m - 1.0;
-            const Vec3 d = f.n + a * f.u + b * f.v;
-            const double len = length(d);
-            inv_length[size_t(x)] = 1.0 / len;
-            rays[size_t(x)] = {s, (1.0 / len) * d};
-          }
-          tracer.hits_along(rays.data(), size_t(m), 2, gap, t.data());
-          for (int x = 0; x < m; ++x) {
-            const double* h = t.data() + size_t(x) * 2;
-            if (!std::isfinite(h[0])) continue;  // a miss: lit for every query
-            // Planar depth: the distance along the ray times the cosine to the face's axis.
-            auto q = [&](double dist) {
-              return uint32_t(std::clamp(std::nearbyint(dist * inv_length[size_t(x)] / light.far * kDepthMax), 0.0,
-                                         double(kDepthMax)));
-            };
-            const uint32_t first = q(h[0]);
-            const uint32_t second = std::isfinite(h[1]) ? q(h[1]) : kNoSurface;
-            const size_t at = map * texels + size_t(y) * m + size_t(x);
-            stack.z1[at] = uint16_t(first);
-            stack.z2[at] = uint16_t(std::max<uint32_t>(second, first + 1));
-          }
+    for (size_t map = next++; map < range.end; map = next++) {
+      const int k = int(map / n);
+      const Vec3 s = light.sample_point(grid[map % n]);
+      const coherent::CubeFace f = coherent::cube_face(k);
+      uint16_t* z1 = part.z1.data() + (map - range.first) * texels;
+      uint16_t* z2 = part.z2.data() + (map - range.first) * texels;
+      for (int y = 0; y < m; ++y) {
+        const double b = (y + 0.5) * 2.0 / m - 1.0;
+        for (int x = 0; x < m; ++x) {
+          const double a = (x + 0.5) * 2.0 / m - 1.0;
+          const Vec3 d = f.n + a * f.u + b * f.v;
+          const double len = length(d);
+          inv_length[size_t(x)] = 1.0 / len;
+          rays[size_t(x)] = {s, (1.0 / len) * d};
+        }
+        tracer.hits_along(rays.data(), size_t(m), 2, gap, t.data());
+        for (int x = 0; x < m; ++x) {
+          const double* h = t.data() + size_t(x) * 2;
+          if (!std::isfinite(h[0])) continue;  // a miss: lit for every query
+          // Planar depth: the distance along the ray times the cosine to the face's axis.
+          auto q = [&](double dist) {
+            return uint32_t(std::clamp(std::nearbyint(dist * inv_length[size_t(x)] / light.far * kDepthMax), 0.0,
+                                       double(kDepthMax)));
+          };
+          const uint32_t first = q(h[0]);
+          const uint32_t second = std::isfinite(h[1]) ? q(h[1]) : kNoSurface;
+          const size_t at = size_t(y) * m + size_t(x);
+          z1[at] = uint16_t(first);
+          z2[at] = uint16_t(std::max<uint32_t>(second, first + 1));
         }
       }
       if (progress) progress(1);
@@ -231,9 +304,20 @@ coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent
   };
   const int workers = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
-  for (int k = 1; k < workers; ++k) pool.emplace_back(work);
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
   work();
   for (std::thread& th : pool) th.join();
+  return part;
+}
+
+coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent::LocalLight& light, int resolution,
+                                           int threads, const std::function<void(size_t)>& progress) {
+  const coherent::StackLayout layout = fit_local_light(object, light, resolution);
+  StackPart part = render_cube_stack_part(object, light, layout, {0, uint32_t(layout.views())}, threads, progress);
+  coherent::DualDepthStack stack;
+  stack.layout = layout;
+  stack.z1 = std::move(part.z1);
+  stack.z2 = std::move(part.z2);
   return stack;
 }
 

@@ -55,11 +55,24 @@ StackPart render_stack_part(const SceneGeometry& object, const coherent::StackLa
                             StackRenderer renderer = StackRenderer::Auto);
 
 // The depth cube maps of a fixed local light around `object` (Ritschel 2007 sec. 3.3 and 4.2):
-// light.far set from the object's bounding sphere (light_far), and the 6 N maps of
-// cube_layout(light, resolution, ...) ray-cast with Embree from each sampling point through
-// every texel centre (the first and second crossing, planar depth quantised over [0, far]; a
-// missing second crossing is +infinity). Map k N + i is face k of the i-th cube map in the
-// light's ordering. threads <= 0: all hardware threads; progress(cube maps done).
+// fit_local_light sets light.far from the object's bounding sphere (light_far) and returns the
+// stack's layout (cube_layout). Map m of the stack, in sequence order, is face m / N of the cube
+// map at position m % N of the light's ordering, ray-cast with Embree from its sampling point
+// through every texel centre: the first and second crossing, planar depth quantised over
+// [0, far]; a missing second crossing is +infinity.
+coherent::StackLayout fit_local_light(const SceneGeometry& object, coherent::LocalLight& light, int resolution);
+// Maps [range.first, range.end) of the sequence (a streamed build renders and fits them a chunk
+// at a time, in order); threads <= 0: all hardware threads; progress(maps done).
+StackPart render_cube_stack_part(const SceneGeometry& object, const coherent::LocalLight& light,
+                                 const coherent::StackLayout& layout, ViewRange range, int threads,
+                                 const std::function<void(size_t)>& progress = {});
+// A mesh light's sampling points: `count` points stratified by area over the mesh's triangles
+// (point k in the triangle holding area (k + 1/2) A / count of the area's running sum, spread
+// across it by a golden-ratio sequence), each with its triangle's unit normal, sorted along a
+// Morton curve through the mesh's bounding box so that neighbouring cube maps see alike.
+// InputError when the mesh has no area or count is outside [1, kMaxLightSamples].
+coherent::LocalLight mesh_light(const TriMesh& mesh, int count);
+// Every map: fit_local_light, then the part of all 6 N maps.
 coherent::DualDepthStack render_cube_stack(const SceneGeometry& object, coherent::LocalLight& light, int resolution,
                                            int threads, const std::function<void(size_t)>& progress = {});
 

@@ -4,6 +4,7 @@
 // shadow maps take it for meshes (thousands of views of one object: the vertices are projected
 // once a view, and most triangles cover no texel centre and are rejected by their bounds), and
 // Embree ray casts for analytic spheres; both give the same depths at texel centres.
+#include <cstdint>
 #include <vector>
 
 #include "scene_geometry.hpp"
@@ -18,6 +19,9 @@ struct OrthoView {
   double half_depth = 1.0;  // where depth 0 lies along dir from the centre
   int resolution = 1;       // M
 };
+
+// 10 bits of each coordinate interleaved (x lowest): nearby points get nearby codes.
+uint32_t morton(uint32_t x, uint32_t y, uint32_t z);
 
 class ViewRasterizer {
  public:

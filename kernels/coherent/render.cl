@@ -202,9 +202,9 @@ inline float sf_scene_visibility(const int filter, const sf_render_objects O, fl
 
 // A fixed local light's depth cube maps (Ritschel 2007 sec. 3.3 and 4.2; host:
 // sf::coherent::cube_project and sf::ref::coherent::local_visibility): params holds the
-// rectangle (corner, edge a, edge b), its radiance and far (13 floats); dims the sampling grid A,
-// B, the resolution M and N = A B; the stack holds face k of the i-th cube map (in the grid's
-// ordering: positions) at map k N + i.
+// rectangle (corner, edge a, edge b), its radiance, far and a mesh light's area (14 floats);
+// dims the sampling grid A, B, the resolution M and N = A B (a mesh light: N x 1); the stack
+// holds face k of the i-th cube map (in the grid's ordering: positions) at map k N + i.
 typedef struct {
   float3 corner, ea, eb, radiance;
   float far;
@@ -264,8 +264,9 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
                             const int env_height, const int env_sampled, __global const float4* env_rgb,
                             __global const float* env_marginal, __global const float* env_conditional,
                             __global const float* env_row_cos, __global const float* env_solid_angle,
-                            const int n_lights, __global const float4* lights, const int has_local,
+                            const int n_lights, __global const float4* lights, const int local_kind,
                             __global const float* local_params, const int4 local_dims,
+                            __global const float4* local_points,
                             __global const uint* local_offsets, __global const uint* local_last,
                             __global const ushort* local_depth, __global const uint* local_positions,
                             const uint samples, const float inv_s,
@@ -379,7 +380,26 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
         }
       }
     }
-    if (has_local) {
+    if (local_kind == 2) {
+      // A mesh light: sampling point j of the pair's first number (pair 1 + n_lights), standing
+      // for area / N of the mesh, seen from its own cube map.
+      const float2 u = sf_stratified(seed, 1u + (uint)n_lights, pixel, s, samples, inv_s, stride);
+      const int j = min((int)(u.x * (float)Q.N), Q.N - 1);
+      const float3 sp = local_points[2 * j].xyz, nl = local_points[2 * j + 1].xyz;
+      const float3 d = sp - p;
+      const float dist2 = dot(d, d);
+      const float dist = sqrt(dist2);
+      const float3 w = d / dist;
+      const float c = dot(N, w);
+      const float cl = fabs(dot(nl, w));
+      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+        const float v = sf_local_visibility(Q, j, sp, p);
+        if (v > 0.0f) {
+          const float3 e = Q.radiance * (v * (c * cl * local_params[13] / dist2));
+          sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
+        }
+      }
+    } else if (local_kind == 1) {
       // The local light: a point uniform over the rectangle (pair 1 + n_lights), its visibility
       // from the cube map of the grid cell that holds it.
       const float2 u = sf_stratified(seed, 1u + (uint)n_lights, pixel, s, samples, inv_s, stride);

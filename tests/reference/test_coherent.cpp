@@ -341,6 +341,28 @@ TEST(CoherentReference, LocalLightCubeMapsAgreeWithEmbree) {
   EXPECT_NO_THROW(validate(bad));  // a linear light
 }
 
+// A local light's maps rendered and fitted a few at a time, in sequence order (the streamed
+// build), give the whole stack's segments; and a part outside the stack is refused.
+TEST(CoherentReference, LocalLightStreamedEqualsWhole) {
+  LocalCase c = local_cases()[0];
+  c.light.samples_a = 4;
+  c.light.samples_b = 2;
+  c.light.ordering = Ordering::ZigZag;
+  const CompressedStack whole = compress(sf::scene::render_cube_stack(c.object, c.light, 24, 2));
+  const StackLayout layout = sf::scene::fit_local_light(c.object, c.light, 24);
+  sf::ref::coherent::StreamingFit fit(layout);
+  for (uint32_t first = 0; first < uint32_t(layout.views()); first += 5) {
+    const sf::scene::StackPart part = sf::scene::render_cube_stack_part(
+        c.object, c.light, layout, {first, std::min<uint32_t>(layout.views(), first + 5)}, 2);
+    fit.add(part.z1.data(), part.z2.data(), part.range.count());
+  }
+  const CompressedStack streamed = fit.finish();
+  EXPECT_EQ(streamed.offsets, whole.offsets);
+  EXPECT_EQ(streamed.last, whole.last);
+  EXPECT_EQ(streamed.depth, whole.depth);
+  EXPECT_THROW(sf::scene::render_cube_stack_part(c.object, c.light, layout, {40, 49}, 1), sf::InputError);
+}
+
 // --- the .csm file -----------------------------------------------------------------------
 CompressedStack small_compressed() { return compress(synthetic_stack(grid_layout(8, 8, Ordering::Hilbert, 4), 3)); }
 

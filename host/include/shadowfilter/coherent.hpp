@@ -103,14 +103,21 @@ struct LocalLight {
   int samples_a = 8, samples_b = 8;
   Ordering ordering = Ordering::Hilbert;  // of the sampling grid (Hilbert: square, power of two)
   double far = 1.0;
+  // A mesh light instead of a rectangle: its sampling points on the surface (unit normals beside
+  // them), already in the order of their cube maps, each standing for area / count() of it; then
+  // samples_a = count(), samples_b = 1, ordering ScanLine, and the rectangle is unused.
+  std::vector<Vec3> points, normals;
+  double area = 0.0;
 
-  int count() const { return samples_a * samples_b; }
+  bool is_mesh() const { return !points.empty(); }
+  int count() const { return is_mesh() ? int(points.size()) : samples_a * samples_b; }
   Vec3 sample_point(uint32_t grid) const;
 };
 inline constexpr int kMaxLightSamples = 1 << 16;
 // InputError naming the field: finite corner and edges, a non-zero edge_a, edge_b non-zero unless
 // samples_b is 1, 1 <= samples, count() <= kMaxLightSamples, the ordering valid for the grid,
-// far finite and > 0.
+// far finite and > 0; a mesh light: as many finite unit normals as finite points, samples_a =
+// count(), samples_b = 1, ScanLine, area finite and > 0.
 void validate(const LocalLight& light);
 // The stack of the light's cube maps around an object's bounding sphere (center, radius):
 // 6 x N maps of resolution^2, ordering ScanLine (the faces), FirstSecond, far plane Infinite.

@@ -162,6 +162,7 @@ ViewPoint project(const StackLayout& l, uint32_t g, const Vec3& p) {
 }
 
 Vec3 LocalLight::sample_point(uint32_t grid) const {
+  if (is_mesh()) return points[grid];
   const int a = int(grid % uint32_t(samples_a)), b = int(grid / uint32_t(samples_a));
   return corner + ((a + 0.5) / samples_a) * edge_a + ((b + 0.5) / samples_b) * edge_b;
 }
@@ -180,6 +181,19 @@ StackLayout grid_of(const LocalLight& l) {
 }  // namespace
 
 void validate(const LocalLight& l) {
+  if (l.is_mesh()) {
+    if (l.points.size() > size_t(kMaxLightSamples) || l.normals.size() != l.points.size())
+      throw InputError("local light: 1 to " + std::to_string(kMaxLightSamples) +
+                       " sampling points on a mesh, each with its normal");
+    for (size_t k = 0; k < l.points.size(); ++k)
+      if (!finite3(l.points[k]) || !finite3(l.normals[k]) || !(std::fabs(length(l.normals[k]) - 1.0) < 1e-6))
+        throw InputError("local light: sampling point " + std::to_string(k) + " or its normal is not finite or unit");
+    if (l.samples_a != l.count() || l.samples_b != 1 || l.ordering != Ordering::ScanLine)
+      throw InputError("local light: a mesh light's grid is its points in order (samples count x 1, scanline)");
+    if (!std::isfinite(l.area) || l.area <= 0.0) throw InputError("local light: the mesh's area must be > 0");
+    if (!std::isfinite(l.far) || l.far <= 0.0) throw InputError("local light: far must be finite and > 0");
+    return;
+  }
   if (!finite3(l.corner) || !finite3(l.edge_a) || !finite3(l.edge_b))
     throw InputError("local light: the corner and edges must be finite");
   if (!(dot(l.edge_a, l.edge_a) > 0.0)) throw InputError("local light: edge a must not be zero");

@@ -403,7 +403,9 @@ int run_info(const InfoArgs& a) {
   std::cout << a.file << ": object '" << file.source << "', bounding sphere centre (" << l.center[0] << ", "
             << l.center[1] << ", " << l.center[2] << ") radius " << l.radius << "; "
             << size_summary(file.stack, file.local) << "\n";
-  if (file.local) {
+  if (file.local && file.local->is_mesh()) {
+    std::cout << "  mesh light: " << file.local->count() << " sampling points, area " << file.local->area << "\n";
+  } else if (file.local) {
     const coherent::LocalLight& g = *file.local;
     std::cout << "  light: corner (" << g.corner.x << ", " << g.corner.y << ", " << g.corner.z << "), edge a ("
               << g.edge_a.x << ", " << g.edge_a.y << ", " << g.edge_a.z << "), edge b (" << g.edge_b.x << ", "

@@ -47,6 +47,10 @@ cp "$work/single/view.exr" "$c/cascade/view.exr"
 # Coherent shadow maps: a Hilbert box and a scan-line sphere, the smallest grids.
 "$cli" coherent build box -o "$c/csm/box.csm" --views 2x2 --res 4 -q
 "$cli" coherent build sphere -o "$c/csm/sphere.csm" --views 2x3 --res 2 --ordering scanline -q
+# A local light's cube maps (version 3): a rectangle, and a mesh light of three points.
+"$cli" coherent build box -o "$c/csm/box_local.csm" --local-light -1 1 -1 2 0 0 0 0 2 --light-samples 2x2 --res 2 -q
+printf 'v -1 1 -1\nv 1 1 -1\nv 1 1 1\nf 1 2 3\n' > "$work/lamp.obj"
+"$cli" coherent build box -o "$c/csm/box_lamp.csm" --local-light-mesh "$work/lamp.obj" --light-samples 3x1 --res 2 -q
 
 # Frame lists.
 printf 'map0.exr rx.exr out/f0.exr\nmap1.exr depth=rd.exr out/f1.exr  # planar\n' > "$c/frame_list/two_frames.txt"

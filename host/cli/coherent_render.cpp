@@ -195,9 +195,7 @@ int run_render(const RenderArgs& a) {
                     : a.filter == "roulette" ? scene::VisibilityFilter::Roulette
                                              : scene::VisibilityFilter::Nearest;
   settings.specular = {float(a.specular[0]), float(a.specular[1]), float(a.specular[2])};
-  if (!(a.shininess >= 0.0 && a.shininess <= scene::kMaxShininess))
-    throw InputError("--shininess must be within [0, " + std::to_string(int(scene::kMaxShininess)) + "]");
-  settings.shininess = float(a.shininess);
+  settings.shininess = float(a.shininess);  // scene::validate checks its range, as every setting's
   settings.time_budget = a.time_budget;
   // --time-budget alone: as many passes as fit; --passes alone or with it: at most that many.
   const bool passes_given = a.passes_option && a.passes_option->count() > 0;

@@ -394,6 +394,16 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
       return r;
     };
     F3 sum{0.0f, 0.0f, 0.0f};
+    // A light sample's radiance times its weight f, through the glossy BRDF where there is one
+    // (the diffuse albedo / pi comes at the end), as render.cl adds it.
+    auto add_light = [&](const F3& radiance, float f, const F3& w) {
+      if (glossy) {
+        const F3 b = phong_pi_f(albedo, ks, shine, R, w);
+        for (int k = 0; k < 3; ++k) sum[k] += radiance[k] * f * b[k];
+      } else {
+        for (int k = 0; k < 3; ++k) sum[k] += radiance[k] * f;
+      }
+    };
     for (uint32_t s = 0; s < S; ++s) {
       if (env.sampled && !glossy) {
         float u, v;
@@ -451,21 +461,15 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
         const F3 w{d[0] / dist, d[1] / dist, d[2] / dist};
         const float c = dot3(N, w);
         const float cl = std::fabs(dot3(nl, w)) / area;
-        if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+        // render.cl's sf_rect_sample: the sample's weight, 0 facing away or edge-on.
+        const float g = c > 0.0f && cl > 0.0f && dist2 > 0.0f ? c * cl * area / dist2 : 0.0f;
+        if (g > 0.0f) {
           VisibilityQuery query{p, w, dist, numbers(1u + uint32_t(l), s)};
           query.light = int(l);
           query.u = u;
           query.v = v;
           const float vis = visible(query);
-          if (vis > 0.0f) {
-            const float f = vis * (c * cl * area / dist2);
-            if (glossy) {
-              const F3 b = phong_pi_f(albedo, ks, shine, R, w);
-              for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f * b[k];
-            } else {
-              for (int k = 0; k < 3; ++k) sum[k] += li.radiance[k] * f;
-            }
-          }
+          if (vis > 0.0f) add_light(li.radiance, vis * g, w);
         }
       }
       if (!mesh_points.empty()) {
@@ -488,15 +492,7 @@ HostImage render_host(const GBuffer& g, const EnvMap& env, const RenderSettings&
           query.u = u;
           query.v = v;
           const float vis = visible(query);
-          if (vis > 0.0f) {
-            const float f = vis * (c * cl * mesh_area / dist2);
-            if (glossy) {
-              const F3 b = phong_pi_f(albedo, ks, shine, R, w);
-              for (int k = 0; k < 3; ++k) sum[k] += mesh_radiance[k] * f * b[k];
-            } else {
-              for (int k = 0; k < 3; ++k) sum[k] += mesh_radiance[k] * f;
-            }
-          }
+          if (vis > 0.0f) add_light(mesh_radiance, vis * (c * cl * mesh_area / dist2), w);
         }
       }
     }

@@ -73,6 +73,17 @@ void fit_bounding_sphere(const SceneGeometry& object, StackLayout& layout) {
 
 namespace {
 
+// `work` on `threads` threads (<= 0: every hardware thread), this one among them; the workers
+// share their items through an atomic counter of their own.
+template <class Work>
+void run_on_threads(int threads, const Work& work) {
+  const int workers = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& th : pool) th.join();
+}
+
 // Depth t along a view's ray (from its camera plane) quantised as ViewPoint::q.
 uint16_t quantise(double t, double diameter) {
   return uint16_t(std::clamp(std::nearbyint(t / diameter * kDepthMax), 0.0, double(kDepthMax)));
@@ -166,11 +177,7 @@ StackPart render_stack_part(const SceneGeometry& object, const StackLayout& layo
       if (progress) progress(1);
     }
   };
-  const int n = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int k = 1; k < n; ++k) pool.emplace_back(work);
-  work();
-  for (std::thread& th : pool) th.join();
+  run_on_threads(threads, work);
   return stack;
 }
 
@@ -246,15 +253,7 @@ StackPart render_cube_stack_part(const SceneGeometry& object, const coherent::Lo
       range.end > uint32_t(6 * n))
     throw InputError("cube maps " + std::to_string(range.first) + ".." + std::to_string(range.end) +
                      " of a local light's stack of " + std::to_string(6 * n));
-  const std::vector<uint32_t> grid =
-      coherent::enumerate_views([&] {  // the sampling grid as a layout: rows b, columns a, the light's ordering
-        coherent::StackLayout g;
-        g.views_theta = light.samples_b;
-        g.views_phi = light.samples_a;
-        g.ordering = light.ordering;
-        g.resolution = 1;
-        return g;
-      }());
+  const std::vector<uint32_t> grid = coherent::light_sequence(light);
   const size_t texels = layout.texels();
   const int m = layout.resolution;
   const double gap = 2.0 * layout.radius * 1e-7;  // as render_stack_part: far below a depth step
@@ -302,11 +301,7 @@ StackPart render_cube_stack_part(const SceneGeometry& object, const coherent::Lo
       if (progress) progress(1);
     }
   };
-  const int workers = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (std::thread& th : pool) th.join();
+  run_on_threads(threads, work);
   return part;
 }
 

@@ -137,6 +137,22 @@ inline float3 sf_phong_sample(float n, float3 R, float2 u) {
   return T * (sa * cos(phi)) + B * (sa * sin(phi)) + R * ca;
 }
 
+// Point corner + ea u.x + eb u.y of a two-sided rectangular light, seen from point p with normal
+// N: d = that point - p, w = d / |d|, and the weight of a sample uniform over the rectangle,
+// cos(N, w) |cos(n_l, w)| area / |d|^2, or 0 when the receiver faces away or the light is seen
+// edge-on (host twin: render_host's lights).
+inline float sf_rect_sample(float3 corner, float3 ea, float3 eb, float2 u, float3 p, float3 N, float3* d, float3* w) {
+  *d = corner + ea * u.x + eb * u.y - p;
+  const float dist2 = dot(*d, *d);
+  const float3 nl = cross(ea, eb);
+  const float area = length(nl);
+  const float dist = sqrt(dist2);
+  *w = *d / dist;
+  const float c = dot(N, *w);
+  const float cl = fabs(dot(nl, *w)) / area;
+  return c > 0.0f && cl > 0.0f && dist2 > 0.0f ? c * cl * area / dist2 : 0.0f;
+}
+
 // Which visibility lookup the render makes (sf::scene::VisibilityFilter).
 #define SF_FILTER_NEAREST 0
 #define SF_FILTER_PCF 1
@@ -363,19 +379,13 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       const float3 corner = lights[4 * l].xyz, ea = lights[4 * l + 1].xyz, eb = lights[4 * l + 2].xyz;
       const float3 radiance = lights[4 * l + 3].xyz;
       const float2 u = sf_stratified(seed, 1u + (uint)l, pixel, s, samples, inv_s, stride);
-      const float3 d = corner + ea * u.x + eb * u.y - p;
-      const float dist2 = dot(d, d);
-      const float3 nl = cross(ea, eb);
-      const float area = length(nl);
-      const float dist = sqrt(dist2);
-      const float3 w = d / dist;
-      const float c = dot(N, w);
-      const float cl = fabs(dot(nl, w)) / area;
-      // The light lies outside the bounding sphere, so dist2 > 0 for points on the object.
-      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+      float3 d, w;
+      // The light lies outside the bounding sphere, so d is not 0 for points on the object.
+      const float g = sf_rect_sample(corner, ea, eb, u, p, N, &d, &w);
+      if (g > 0.0f) {
         const float v = sf_scene_visibility(filter, O, p, d, seed, 1u + (uint)l, pixel, s, samples, inv_s, stride);
         if (v > 0.0f) {
-          const float3 e = radiance * (v * (c * cl * area / dist2));
+          const float3 e = radiance * (v * g);
           sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
         }
       }
@@ -403,20 +413,14 @@ __kernel void sf_coherent_render(const int n, __global const float4* gpos, __glo
       // The local light: a point uniform over the rectangle (pair 1 + n_lights), its visibility
       // from the cube map of the grid cell that holds it.
       const float2 u = sf_stratified(seed, 1u + (uint)n_lights, pixel, s, samples, inv_s, stride);
-      const float3 d = Q.corner + Q.ea * u.x + Q.eb * u.y - p;
-      const float dist2 = dot(d, d);
-      const float3 nl = cross(Q.ea, Q.eb);
-      const float area = length(nl);
-      const float dist = sqrt(dist2);
-      const float3 w = d / dist;
-      const float c = dot(N, w);
-      const float cl = fabs(dot(nl, w)) / area;
-      if (c > 0.0f && cl > 0.0f && dist2 > 0.0f) {
+      float3 d, w;
+      const float g = sf_rect_sample(Q.corner, Q.ea, Q.eb, u, p, N, &d, &w);
+      if (g > 0.0f) {
         const int a = min((int)(u.x * (float)Q.A), Q.A - 1), b = min((int)(u.y * (float)Q.B), Q.B - 1);
         const float3 sp = Q.corner + Q.ea * (((float)a + 0.5f) / (float)Q.A) + Q.eb * (((float)b + 0.5f) / (float)Q.B);
         const float v = sf_local_visibility(Q, b * Q.A + a, sp, p);
         if (v > 0.0f) {
-          const float3 e = Q.radiance * (v * (c * cl * area / dist2));
+          const float3 e = Q.radiance * (v * g);
           sum += glossy ? e * sf_phong_pi_f(albedo, ks, shine, R, w) : e;
         }
       }

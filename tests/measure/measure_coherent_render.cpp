@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,19 +34,42 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-TEST(CoherentRender, Figures) {
+// What both figures render: the stack of SF_CSM_FILE, its object (the file's source, or
+// SF_CSM_MESH), the image side (SF_RENDER_SIZE, default 256) and data/envmaps/sky.exr.
+struct Measured {
+  io::CoherentFile file;
+  std::unique_ptr<RayTracer> tracer;
+  int size = 256;
+  EnvMap env;
+  // The G-buffer of the framing camera with one albedo.
+  GBuffer gbuffer(const std::array<float, 3>& albedo) const {
+    const coherent::StackLayout& l = file.stack.layout;
+    const Vec3 center{l.center[0], l.center[1], l.center[2]};
+    return render_gbuffer(*tracer, framing_camera(center, l.radius, size, size, 40.0), l.radius, albedo);
+  }
+};
+// Null without SF_CSM_FILE.
+std::unique_ptr<Measured> measured() {
   const char* path = std::getenv("SF_CSM_FILE");
-  if (!path) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
-  const io::CoherentFile file = io::read_coherent(path);
+  if (!path) return nullptr;
+  auto m = std::make_unique<Measured>();
+  m->file = io::read_coherent(path);
   const char* mesh = std::getenv("SF_CSM_MESH");
-  const SceneGeometry object = load_coherent_object(mesh ? mesh : file.source);
-  const RayTracer tracer(object);
+  m->tracer = std::make_unique<RayTracer>(load_coherent_object(mesh ? mesh : m->file.source));
+  if (const char* size = std::getenv("SF_RENDER_SIZE")) m->size = std::atoi(size);
+  m->env = load_envmap(data_path("envmaps/sky.exr"));
+  return m;
+}
+
+TEST(CoherentRender, Figures) {
+  const std::unique_ptr<Measured> m = measured();
+  if (!m) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
+  const io::CoherentFile& file = m->file;
+  const RayTracer& tracer = *m->tracer;
   const coherent::StackLayout& l = file.stack.layout;
-  const Vec3 center{l.center[0], l.center[1], l.center[2]};
-  const int size = std::getenv("SF_RENDER_SIZE") ? std::atoi(std::getenv("SF_RENDER_SIZE")) : 256;
-  const GBuffer g =
-      render_gbuffer(tracer, framing_camera(center, l.radius, size, size, 40.0), l.radius, {0.8f, 0.8f, 0.8f});
-  const EnvMap env = load_envmap(data_path("envmaps/sky.exr"));
+  const int size = m->size;
+  const EnvMap& env = m->env;
+  const GBuffer g = m->gbuffer({0.8f, 0.8f, 0.8f});
   RenderSettings s;
   s.samples = 1024;
   s.seed = 12345;
@@ -82,20 +106,16 @@ TEST(CoherentRender, Figures) {
 // converged Embree render; progressive passes of 16 samples; the glossy BRDF (albedo 0.3,
 // specular 0.5, n = 50) against its own converged render.
 TEST(CoherentRender, FiltersPassesGlossy) {
-  const char* path = std::getenv("SF_CSM_FILE");
-  if (!path) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
-  const io::CoherentFile file = io::read_coherent(path);
-  const char* mesh = std::getenv("SF_CSM_MESH");
-  const SceneGeometry object = load_coherent_object(mesh ? mesh : file.source);
-  const RayTracer tracer(object);
+  const std::unique_ptr<Measured> m = measured();
+  if (!m) GTEST_SKIP() << "set SF_CSM_FILE to a .csm file";
+  const io::CoherentFile& file = m->file;
+  const RayTracer& tracer = *m->tracer;
   const coherent::StackLayout& l = file.stack.layout;
-  const Vec3 center{l.center[0], l.center[1], l.center[2]};
-  const int size = std::getenv("SF_RENDER_SIZE") ? std::atoi(std::getenv("SF_RENDER_SIZE")) : 256;
-  const EnvMap env = load_envmap(data_path("envmaps/sky.exr"));
+  const int size = m->size;
+  const EnvMap& env = m->env;
   for (const bool glossy : {false, true}) {
-    const std::array<float, 3> albedo =
-        glossy ? std::array<float, 3>{0.3f, 0.3f, 0.3f} : std::array<float, 3>{0.8f, 0.8f, 0.8f};
-    const GBuffer g = render_gbuffer(tracer, framing_camera(center, l.radius, size, size, 40.0), l.radius, albedo);
+    const GBuffer g =
+        m->gbuffer(glossy ? std::array<float, 3>{0.3f, 0.3f, 0.3f} : std::array<float, 3>{0.8f, 0.8f, 0.8f});
     RenderSettings s;
     if (glossy) {
       s.specular = {0.5f, 0.5f, 0.5f};

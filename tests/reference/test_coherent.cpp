@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <set>
 #include <vector>
@@ -180,6 +181,34 @@ struct Agreement {
   double agree = 0.0, blocked = 0.0;  // fractions of the queries: equal answers, Embree blocked
   double blocked_found = 0.0;         // of those Embree blocks, the fraction the stack blocks too
 };
+// The queries' answers counted into an Agreement.
+struct AgreementCount {
+  size_t agree = 0, blocked = 0, found = 0, total = 0;
+  void add(bool embree_lit, bool maps_lit) {
+    agree += embree_lit == maps_lit;
+    blocked += !embree_lit;
+    found += !embree_lit && !maps_lit;
+    ++total;
+  }
+  Agreement result() const {
+    return {double(agree) / double(total), double(blocked) / double(total),
+            blocked > 0 ? double(found) / double(blocked) : 0.0};
+  }
+};
+// A random point of the object's surface and its normal: the first hit of a ray toward the
+// bounding sphere's centre c from a random direction (none when the ray misses).
+struct SurfacePoint {
+  sf::scene::Vec3 p, normal;
+};
+std::optional<SurfacePoint> random_surface_point(const sf::scene::RayTracer& tracer, const sf::scene::Vec3& c,
+                                                 double radius, std::mt19937& rng,
+                                                 std::normal_distribution<double>& n) {
+  const sf::scene::Vec3 d = sf::scene::normalize(sf::scene::Vec3{n(rng), n(rng), n(rng)});
+  const sf::scene::Ray probe{c - (2.0 * radius) * d, d};
+  const auto hit = tracer.closest(probe, 0.0, 4.0 * radius);
+  if (!hit) return std::nullopt;
+  return SurfacePoint{probe.at(hit->t), hit->normal};
+}
 Agreement agreement_with_embree(const std::string& object_name, size_t queries, double offset_texels) {
   const sf::scene::SceneGeometry object = sf::scene::load_coherent_object(object_name);
   StackLayout l = grid_layout(16, 16, Ordering::Hilbert, 64);
@@ -189,32 +218,20 @@ Agreement agreement_with_embree(const std::string& object_name, size_t queries, 
   const sf::scene::RayTracer tracer(object);
   std::mt19937 rng(11);
   std::normal_distribution<double> n(0.0, 1.0);
-  auto random_dir = [&] {
-    sf::scene::Vec3 d{n(rng), n(rng), n(rng)};
-    return sf::scene::normalize(d);
-  };
   const sf::scene::Vec3 centre{l.center[0], l.center[1], l.center[2]};
-  size_t agree = 0, blocked = 0, found = 0, total = 0;
-  while (total < queries) {
-    const sf::scene::Vec3 d = random_dir();
-    const sf::scene::Ray probe{centre - (2.0 * l.radius) * d, d};
-    const auto hit = tracer.closest(probe, 0.0, 4.0 * l.radius);
+  AgreementCount count;
+  while (count.total < queries) {
+    const auto hit = random_surface_point(tracer, centre, l.radius, rng, n);
     if (!hit) continue;
-    const sf::scene::Vec3 p = probe.at(hit->t);
-    const sf::scene::Vec3 light = random_dir();
+    const sf::scene::Vec3 light = sf::scene::normalize(sf::scene::Vec3{n(rng), n(rng), n(rng)});
     const ViewFrame f = view_frame(l, view_of_direction(l, {light.x, light.y, light.z}));
     const sf::scene::Vec3 snapped{f.dir[0], f.dir[1], f.dir[2]};
     if (sf::scene::dot(snapped, hit->normal) <= 0.0) continue;
-    const bool embree_lit = !tracer.occluded({p, snapped}, 1e-4 * l.radius, 4.0 * l.radius);
-    const sf::scene::Vec3 q = p + (offset_texels * 2.0 * l.radius / l.resolution) * hit->normal;
-    const bool maps_lit = sf::ref::coherent::visibility(c, pos, {q.x, q.y, q.z}, {light.x, light.y, light.z}) > 0.5;
-    agree += embree_lit == maps_lit;
-    blocked += !embree_lit;
-    found += !embree_lit && !maps_lit;
-    ++total;
+    const bool embree_lit = !tracer.occluded({hit->p, snapped}, 1e-4 * l.radius, 4.0 * l.radius);
+    const sf::scene::Vec3 q = hit->p + (offset_texels * 2.0 * l.radius / l.resolution) * hit->normal;
+    count.add(embree_lit, sf::ref::coherent::visibility(c, pos, {q.x, q.y, q.z}, {light.x, light.y, light.z}) > 0.5);
   }
-  return {double(agree) / double(total), double(blocked) / double(total),
-          blocked > 0 ? double(found) / double(blocked) : 0.0};
+  return count.result();
 }
 
 TEST(CoherentReference, AgreesWithEmbreeOnASphereABoxAndSpheresShadowingEachOther) {
@@ -283,31 +300,22 @@ Agreement local_agreement_with_embree(const LocalCase& lc, size_t queries, doubl
   std::mt19937 rng(5);
   std::normal_distribution<double> n(0.0, 1.0);
   std::uniform_int_distribution<uint32_t> cell(0, uint32_t(light.count() - 1));
-  size_t agree = 0, blocked = 0, found = 0, total = 0;
-  while (total < queries) {
-    const sf::scene::Vec3 d = sf::scene::normalize(sf::scene::Vec3{n(rng), n(rng), n(rng)});
-    const sf::scene::Ray probe{c - (2.0 * R) * d, d};
-    const auto hit = tracer.closest(probe, 0.0, 4.0 * R);
+  AgreementCount count;
+  while (count.total < queries) {
+    const auto hit = random_surface_point(tracer, c, R, rng, n);
     if (!hit) continue;
-    const sf::scene::Vec3 p = probe.at(hit->t);
     const uint32_t g = cell(rng);
     const sf::scene::Vec3 s = light.sample_point(g);
-    const sf::scene::Vec3 to = s - p;
-    const double dist = sf::scene::length(to);
+    const sf::scene::Vec3 to = s - hit->p;
     if (sf::scene::dot(to, hit->normal) <= 0.0) continue;
     const double planar = std::max({std::fabs(to.x), std::fabs(to.y), std::fabs(to.z)});
-    const sf::scene::Vec3 q = p + (offset_texels * 2.0 * planar / m) * hit->normal;
+    const sf::scene::Vec3 q = hit->p + (offset_texels * 2.0 * planar / m) * hit->normal;
     // The ray from the point the maps answer for (lifted, as a renderer lifts its shading points).
     const sf::scene::Vec3 qs = s - q;
     const bool embree_lit = !tracer.occluded({q, sf::scene::normalize(qs)}, 1e-4 * R, sf::scene::length(qs) - 1e-4 * R);
-    const bool maps_lit = sf::ref::coherent::local_visibility(stack, light, pos, g, q) > 0.5;
-    agree += embree_lit == maps_lit;
-    blocked += !embree_lit;
-    found += !embree_lit && !maps_lit;
-    ++total;
+    count.add(embree_lit, sf::ref::coherent::local_visibility(stack, light, pos, g, q) > 0.5);
   }
-  return {double(agree) / double(total), double(blocked) / double(total),
-          blocked > 0 ? double(found) / double(blocked) : 0.0};
+  return count.result();
 }
 
 TEST(CoherentReference, LocalLightCubeMapsAgreeWithEmbree) {

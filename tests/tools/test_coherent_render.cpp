@@ -101,6 +101,10 @@ const co::CompressedStack& ball_stack() {
   return c;
 }
 
+// A 1 x 1 rectangle above and beside the balls, outside their bounding sphere: the area light of
+// the balls' renders.
+const AreaLight kBallsLight{{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}};
+
 // Framing the balls rather than the bounding sphere: more pixels on the object.
 PerspectiveCamera test_camera(int size) { return framing_camera({0.1, 0.15, 0.0}, 0.8, size, size, 40.0); }
 
@@ -117,6 +121,32 @@ const EnvMap& sky_env() {
     return envmap_from_image(synthetic_sky(o), "sky");
   }();
   return e;
+}
+
+// Pixels on the object (G-buffer w = 1) whose three channels in `a` are finite, >= 0, and equal
+// to `b`'s within 1e-4 relative (1e-4 absolute below 1): the renders of the same samples agree.
+size_t pixels_equal(const HostImage& a, const HostImage& b, const GBuffer& g) {
+  size_t equal = 0;
+  for (size_t i = 0; i < g.pixels(); ++i) {
+    if (g.position[4 * i + 3] == 0.0f) continue;
+    bool same = true;
+    for (int c = 0; c < 3; ++c) {
+      const float x = a.data[3 * i + c], y = b.data[3 * i + c];
+      EXPECT_TRUE(std::isfinite(x) && x >= 0.0f) << "pixel " << i;
+      same &= std::fabs(x - y) <= 1e-4f * std::max(1.0f, std::fabs(y));
+    }
+    equal += same;
+  }
+  return equal;
+}
+
+// The mean of `a` over the object's pixels and the three channels.
+double mean_on_object(const HostImage& a, const GBuffer& g) {
+  double sum = 0.0;
+  for (size_t i = 0; i < g.pixels(); ++i)
+    if (g.position[4 * i + 3] != 0.0f)
+      for (int c = 0; c < 3; ++c) sum += a.data[3 * i + c];
+  return sum / (3.0 * double(g.hits));
 }
 
 // --- the environment map ---------------------------------------------------------------------
@@ -274,7 +304,7 @@ TEST(CoherentRender, CoherentMatchesTracedOnSameSamples) {
   const GBuffer g = render_gbuffer(tracer, test_camera(64), kBound, {0.8f, 0.8f, 0.8f});
   RenderSettings s;
   s.samples = 16;
-  s.lights.push_back({{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}});
+  s.lights.push_back(kBallsLight);
   validate_area_light(s.lights[0], {0, 0, 0}, kBound);
   const HostImage maps = render_coherent(runtime(), stack(), g, sky_env(), s);
   const HostImage traced = render_traced(tracer, g, sky_env(), s);
@@ -282,22 +312,8 @@ TEST(CoherentRender, CoherentMatchesTracedOnSameSamples) {
   const HostImage twin = render_host(g, sky_env(), s, [&](const VisibilityQuery& q) {
     return float(ref::coherent::visibility(stack(), pos, {q.p[0], q.p[1], q.p[2]}, {q.d[0], q.d[1], q.d[2]}));
   });
-  auto same = [](float a, float b) { return std::fabs(a - b) <= 1e-4f * std::max(1.0f, std::fabs(b)); };
-  size_t exact_traced = 0, exact_twin = 0;
-  double mean = 0.0;
-  for (size_t i = 0; i < g.pixels(); ++i) {
-    if (g.position[4 * i + 3] == 0.0f) continue;
-    bool t = true, w = true;
-    for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(maps.data[3 * i + c]));
-      t &= same(maps.data[3 * i + c], traced.data[3 * i + c]);
-      w &= same(maps.data[3 * i + c], twin.data[3 * i + c]);
-      mean += traced.data[3 * i + c];
-    }
-    exact_traced += t;
-    exact_twin += w;
-  }
-  mean /= 3.0 * double(g.hits);
+  const size_t exact_traced = pixels_equal(maps, traced, g), exact_twin = pixels_equal(maps, twin, g);
+  const double mean = mean_on_object(traced, g);
   const double rmse = rmse_on_object(maps, traced, g);
   std::printf("hits %zu, equal to traced %zu, to the host twin %zu; rmse %.4f (mean %.3f)\n", g.hits, exact_traced,
               exact_twin, rmse, mean);
@@ -321,7 +337,7 @@ TEST(CoherentRender, ConvergesAsSamplesGrow) {
   const RayTracer tracer(geometry);
   const GBuffer g = render_gbuffer(tracer, test_camera(32), kBound, {0.8f, 0.8f, 0.8f});
   RenderSettings s;
-  s.lights.push_back({{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}});
+  s.lights.push_back(kBallsLight);
   s.samples = 1024;
   s.seed = 99;
   const HostImage converged = render_traced(tracer, g, sky_env(), s);
@@ -383,19 +399,9 @@ TEST(CoherentRender, RouletteAndGlossyMatchTheirHostTwin) {
   const std::vector<uint32_t> pos = co::sequence_positions(stack().layout);
   RenderSettings s;
   s.samples = 16;
-  s.lights.push_back({{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}});
+  s.lights.push_back(kBallsLight);
   auto agreement = [&](const HostImage& a, const HostImage& b) {
-    size_t equal = 0;
-    for (size_t i = 0; i < g.pixels(); ++i) {
-      if (g.position[4 * i + 3] == 0.0f) continue;
-      bool w = true;
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_TRUE(std::isfinite(a.data[3 * i + c]) && a.data[3 * i + c] >= 0.0f);
-        w &= std::fabs(a.data[3 * i + c] - b.data[3 * i + c]) <= 1e-4f * std::max(1.0f, std::fabs(b.data[3 * i + c]));
-      }
-      equal += w;
-    }
-    return double(equal) / double(g.hits);
+    return double(pixels_equal(a, b, g)) / double(g.hits);
   };
   const Visibility nearest = [&](const VisibilityQuery& q) {
     return float(ref::coherent::visibility(stack(), pos, {q.p[0], q.p[1], q.p[2]}, {q.d[0], q.d[1], q.d[2]}));
@@ -509,7 +515,7 @@ TEST(CoherentRender, ProgressivePassesAverage) {
   const GBuffer g = render_gbuffer(tracer, test_camera(32), kBound, {0.8f, 0.8f, 0.8f});
   RenderSettings s;
   s.samples = 4;
-  s.lights.push_back({{-1.5, 2.0, -0.5}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {3.0, 3.0, 3.0}});
+  s.lights.push_back(kBallsLight);
   s.passes = 3;
   RenderStats stats;
   const HostImage three = render_coherent(runtime(), stack(), g, sky_env(), s, &stats);
@@ -629,22 +635,8 @@ TEST(CoherentRender, MovingObjectsMatchEmbree) {
       }
       return v;
     });
-    auto same = [](float a, float b) { return std::fabs(a - b) <= 1e-4f * std::max(1.0f, std::fabs(b)); };
-    size_t equal_traced = 0, equal_twin = 0;
-    double mean = 0.0;
-    for (size_t i = 0; i < g.pixels(); ++i) {
-      if (g.position[4 * i + 3] == 0.0f) continue;
-      bool a = true, b = true;
-      for (int c = 0; c < 3; ++c) {
-        ASSERT_TRUE(std::isfinite(maps.data[3 * i + c]));
-        a &= same(maps.data[3 * i + c], traced.data[3 * i + c]);
-        b &= same(maps.data[3 * i + c], twin.data[3 * i + c]);
-        mean += traced.data[3 * i + c];
-      }
-      equal_traced += a;
-      equal_twin += b;
-    }
-    mean /= 3.0 * double(g.hits);
+    const size_t equal_traced = pixels_equal(maps, traced, g), equal_twin = pixels_equal(maps, twin, g);
+    const double mean = mean_on_object(traced, g);
     const double rmse = rmse_on_object(maps, traced, g);
     // The box's maps used as if it had not turned: the shadows of the turned mesh are missed.
     std::vector<PlacedStack> wrong = placed;
@@ -704,22 +696,8 @@ TEST(CoherentRender, LocalLightMatchesEmbree) {
     return float(ref::coherent::local_visibility(cube, light, positions, uint32_t(b * light.samples_a + a),
                                                  {q.p[0], q.p[1], q.p[2]}));
   });
-  auto same = [](float a, float b) { return std::fabs(a - b) <= 1e-4f * std::max(1.0f, std::fabs(b)); };
-  size_t equal_traced = 0, equal_twin = 0;
-  double mean = 0.0;
-  for (size_t i = 0; i < g.pixels(); ++i) {
-    if (g.position[4 * i + 3] == 0.0f) continue;
-    bool a = true, b = true;
-    for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(csm.data[3 * i + c]));
-      a &= same(csm.data[3 * i + c], traced.data[3 * i + c]);
-      b &= same(csm.data[3 * i + c], twin.data[3 * i + c]);
-      mean += traced.data[3 * i + c];
-    }
-    equal_traced += a;
-    equal_twin += b;
-  }
-  mean /= 3.0 * double(g.hits);
+  const size_t equal_traced = pixels_equal(csm, traced, g), equal_twin = pixels_equal(csm, twin, g);
+  const double mean = mean_on_object(traced, g);
   const double rmse = rmse_on_object(csm, traced, g);
   // The light as its sampling points: Embree rays toward the cell's sampling point instead of
   // the sample itself. The maps' own error is against this; the rest is the light's
@@ -773,23 +751,13 @@ TEST(CoherentRender, LocalLightMatchesEmbree) {
     return float(
         ref::coherent::local_visibility(mesh_cube, mesh, mesh_positions, uint32_t(j), {q.p[0], q.p[1], q.p[2]}));
   });
-  size_t mesh_equal_twin = 0;
-  for (size_t i = 0; i < g.pixels(); ++i) {
-    if (g.position[4 * i + 3] == 0.0f) continue;
-    bool b = true;
-    for (int c = 0; c < 3; ++c) b &= same(mesh_csm.data[3 * i + c], mesh_twin.data[3 * i + c]);
-    mesh_equal_twin += b;
-  }
+  const size_t mesh_equal_twin = pixels_equal(mesh_csm, mesh_twin, g);
   const double mesh_rmse = rmse_on_object(mesh_csm, mesh_traced, g);
   // The mesh light and the rectangle are one light: their Embree renders agree on average within
   // 5% (measured 2.9%: the mesh light's samples are its 64 points, the rectangle's any point;
   // each pixel's 16 samples are noisy, a light this close varies fast over its area). The maps'
   // own error: RMSE < 8% of the mean (measured 5.6%).
-  double mesh_mean = 0.0;
-  for (size_t i = 0; i < g.pixels(); ++i)
-    if (g.position[4 * i + 3] != 0.0f)
-      for (int c = 0; c < 3; ++c) mesh_mean += mesh_traced.data[3 * i + c];
-  mesh_mean /= 3.0 * double(g.hits);
+  const double mesh_mean = mean_on_object(mesh_traced, g);
   std::printf("mesh light: equal to the twin %zu of %zu; rmse against Embree %.4f; mean %.4f (rectangle %.4f)\n",
               mesh_equal_twin, g.hits, mesh_rmse, mesh_mean, mean);
   EXPECT_GE(double(mesh_equal_twin), 0.99 * double(g.hits));

@@ -122,7 +122,9 @@ void validate(const LocalLight& light);
 // The stack of the light's cube maps around an object's bounding sphere (center, radius):
 // 6 x N maps of resolution^2, ordering ScanLine (the faces), FirstSecond, far plane Infinite.
 StackLayout cube_layout(const LocalLight& light, int resolution, const Vec3& center, double radius);
-// position[g]: where grid cell g stands in the light's ordering (the sequence of its cube maps).
+// sequence[i]: the grid cell of the i-th cube map in the light's ordering; position[g]: where
+// grid cell g stands in it (the inverse permutation).
+std::vector<uint32_t> light_sequence(const LocalLight& light);
 std::vector<uint32_t> light_positions(const LocalLight& light);
 // The farthest the bounding sphere reaches from a sampling point: max |s - center| + radius.
 double light_far(const LocalLight& light, const Vec3& center, double radius);

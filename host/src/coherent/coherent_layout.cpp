@@ -225,6 +225,11 @@ StackLayout cube_layout(const LocalLight& light, int resolution, const Vec3& cen
   return l;
 }
 
+std::vector<uint32_t> light_sequence(const LocalLight& light) {
+  validate(light);
+  return enumerate_views(grid_of(light));
+}
+
 std::vector<uint32_t> light_positions(const LocalLight& light) {
   validate(light);
   return sequence_positions(grid_of(light));
@@ -232,8 +237,10 @@ std::vector<uint32_t> light_positions(const LocalLight& light) {
 
 double light_far(const LocalLight& light, const Vec3& center, double radius) {
   double far = 0.0;
-  for (uint32_t g = 0; g < uint32_t(light.count()); ++g)
-    far = std::max(far, std::sqrt(dot(light.sample_point(g) - center, light.sample_point(g) - center)) + radius);
+  for (uint32_t g = 0; g < uint32_t(light.count()); ++g) {
+    const Vec3 r = light.sample_point(g) - center;
+    far = std::max(far, std::sqrt(dot(r, r)) + radius);
+  }
   return far;
 }
 

@@ -99,6 +99,8 @@ void register_layered();  // bench_layered.cpp: four layers of (S/2)^2 against o
 void register_pyramid();  // bench_pyramid.cpp: mips, SAT, footprint lookups
 // bench_coverage.cpp: each method x lookup x map size, and the scalar reference kernels.
 void register_coverage();
+// bench_classify.cpp: the classified ESM frame against the unclassified one.
+void register_classify();
 // cv::pyrDown (one level) at one size (only with SF_HAVE_OPENCV).
 void register_opencv_pyrdown();
 

@@ -105,7 +105,8 @@ void BM_EsmClassify(benchmark::State& state) {
   in.lookup = lookup_tables(Lookup::Mips, in.basis, shape, rx.f);
   if (opt.esm_classify.mode == EsmClassify::ZMax) {
     in.zmax_chain = device_buffer(std::max<size_t>(mip_layout(n, n, 1).chain_values, 1) * sizeof(float));
-    enqueue_pyramid(runtime(), Reduce::Max, Storage::F32, {}, shape, in.depth, in.zmax_chain).wait();
+    if (const size_t base = zmax_base_bytes(opt, n, n)) in.zmax_base = device_buffer(base);
+    enqueue_zmax_pyramid(runtime(), opt, n, n, in.depth, in.zmax_base, in.zmax_chain).wait();
   }
   enqueue_reconstruct_points(runtime(), esm, opt, n, n, kRx, 0, in.basis, &in.lookup, rx.u, rx.v, rx.d, rx.vis).wait();
   cl::Buffer flags = device_buffer(kRx);

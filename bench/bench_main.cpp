@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   register_layered();
   register_pyramid();
   register_coverage();
+  register_classify();
 #ifdef SF_HAVE_OPENCV
   register_opencv_pyrdown();
   register_opencv_esm();

@@ -20,6 +20,20 @@
 // NDRange: (ceil(width / (SF_STRIP * SF_VEC)), ceil(height / SF_ROWS), channels), local size
 // (1, 1, 1): PoCL replicates private arrays per work-item of a group, and one ring is enough.
 // sf_blur_copy is the copy back of an in-place blur, with the same streaming stores.
+//
+// SF_BLUR_MAX (float32 only) makes the same kernels a separable max filter: every output is the
+// max over the clamped (2R+1)^2 window (the z-max dilation of esm_classify.cl) instead of the
+// weighted sum; SF_WEIGHTS is then unused. SF_TAP0 and SF_TAPS are the two steps of either (max,
+// not fmax: depths are finite, and PoCL turns fmax on vectors into calls lane by lane).
+#ifdef SF_BLUR_MAX
+#define SF_TAP0(w, x) (x)
+#define SF_TAPS(w, a, b, acc) max(acc, max(a, b))
+#undef SF_WEIGHTS
+#define SF_WEIGHTS 0.0f
+#else
+#define SF_TAP0(w, x) ((w) * (x))
+#define SF_TAPS(w, a, b, acc) fma(w, (a) + (b), acc)
+#endif
 
 // Gpu family (SF_BLUR_GPU; docs/gpu.md, "Launch shapes"): sf_blur_tiles, a work-group of
 // SF_BGX x SF_BGY work-items, one per column of its tile, each computing SF_BROWS output rows of
@@ -51,11 +65,9 @@ __kernel __attribute__((reqd_work_group_size(SF_BGX, SF_BGY, 1))) void sf_blur_t
   const int span = min(SF_TILE_SPAN, height - y0 + 2 * SF_RADIUS);
   for (int r = ly; r < span; r += SF_BGY) {
     __global const sf_stored* row = img + (size_t)sf_clampi(y0 - SF_RADIUS + r, 0, height - 1) * width;
-    float acc = sf_w[0] * sf_load(row, xc);
-    for (int k = 1; k <= SF_RADIUS; ++k) {
-      const float pair = sf_load(row, max(xc - k, 0)) + sf_load(row, min(xc + k, width - 1));
-      acc = fma(sf_w[k], pair, acc);
-    }
+    float acc = SF_TAP0(sf_w[0], sf_load(row, xc));
+    for (int k = 1; k <= SF_RADIUS; ++k)
+      acc = SF_TAPS(sf_w[k], sf_load(row, max(xc - k, 0)), sf_load(row, min(xc + k, width - 1)), acc);
     tile[r * SF_BGX + lx] = acc;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -65,8 +77,8 @@ __kernel __attribute__((reqd_work_group_size(SF_BGX, SF_BGY, 1))) void sf_blur_t
     const int j = ly + i * SF_BGY, y = y0 + j;
     if (y >= height) break;
     __local const float* col = tile + (j + SF_RADIUS) * SF_BGX + lx;
-    float acc = sf_w[0] * col[0];
-    for (int k = 1; k <= SF_RADIUS; ++k) acc = fma(sf_w[k], col[-k * SF_BGX] + col[k * SF_BGX], acc);
+    float acc = SF_TAP0(sf_w[0], col[0]);
+    for (int k = 1; k <= SF_RADIUS; ++k) acc = SF_TAPS(sf_w[k], col[-k * SF_BGX], col[k * SF_BGX], acc);
     sf_store(out, (size_t)y * width + x, acc);
   }
 }
@@ -175,11 +187,9 @@ __constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 // function for global rows (interior vectors) and private padded copies (edge vectors).
 #define SF_DEFINE_HBLUR(NAME, SPACE)                                                          \
   SF_INLINE sf_vec NAME(SPACE const float* p) {                                               \
-    sf_vec acc = sf_w[0] * *(SPACE const sf_vec_u*)p;                                         \
-    _Pragma("unroll") for (int k = 1; k <= SF_RADIUS; ++k) {                                  \
-      const sf_vec pair = *(SPACE const sf_vec_u*)(p - k) + *(SPACE const sf_vec_u*)(p + k); \
-      acc = fma((sf_vec)sf_w[k], pair, acc);                                                  \
-    }                                                                                         \
+    sf_vec acc = SF_TAP0(sf_w[0], *(SPACE const sf_vec_u*)p);                                 \
+    _Pragma("unroll") for (int k = 1; k <= SF_RADIUS; ++k) acc =                              \
+        SF_TAPS((sf_vec)sf_w[k], *(SPACE const sf_vec_u*)(p - k), *(SPACE const sf_vec_u*)(p + k), acc); \
     return acc;                                                                               \
   }
 SF_DEFINE_HBLUR(sf_hblur_global, __global)
@@ -187,13 +197,11 @@ SF_DEFINE_HBLUR(sf_hblur_private, __private)
 
 // The same for stored values read straight from a global row, decoding each tap's vector.
 SF_INLINE sf_vec sf_hblur_stored(__global const sf_stored* p) {
-  sf_vec acc = sf_w[0] * sf_decode(*(__global const sf_raw*)p);
+  sf_vec acc = SF_TAP0(sf_w[0], sf_decode(*(__global const sf_raw*)p));
 #pragma unroll
-  for (int k = 1; k <= SF_RADIUS; ++k) {
-    const sf_vec pair =
-        sf_decode(*(__global const sf_raw*)(p - k)) + sf_decode(*(__global const sf_raw*)(p + k));
-    acc = fma((sf_vec)sf_w[k], pair, acc);
-  }
+  for (int k = 1; k <= SF_RADIUS; ++k)
+    acc = SF_TAPS((sf_vec)sf_w[k], sf_decode(*(__global const sf_raw*)(p - k)),
+                  sf_decode(*(__global const sf_raw*)(p + k)), acc);
   return acc;
 }
 
@@ -292,15 +300,13 @@ SF_INLINE void sf_put_vec(__global sf_stored* out, int x, int width, sf_vec v) {
 // and the compiler loads each ring row once for all of them.
 SF_INLINE void sf_vblur_step(const sf_vec* win, int v, sf_vec* acc) {
 #pragma unroll
-  for (int r = 0; r < SF_VROWS; ++r) acc[r] = sf_w[0] * win[(r + SF_RADIUS) * SF_STRIP + v];
+  for (int r = 0; r < SF_VROWS; ++r) acc[r] = SF_TAP0(sf_w[0], win[(r + SF_RADIUS) * SF_STRIP + v]);
 #pragma unroll
   for (int k = 1; k <= SF_RADIUS; ++k) {
 #pragma unroll
-    for (int r = 0; r < SF_VROWS; ++r) {
-      const sf_vec pair =
-          win[(r + SF_RADIUS - k) * SF_STRIP + v] + win[(r + SF_RADIUS + k) * SF_STRIP + v];
-      acc[r] = fma((sf_vec)sf_w[k], pair, acc[r]);
-    }
+    for (int r = 0; r < SF_VROWS; ++r)
+      acc[r] = SF_TAPS((sf_vec)sf_w[k], win[(r + SF_RADIUS - k) * SF_STRIP + v],
+                       win[(r + SF_RADIUS + k) * SF_STRIP + v], acc[r]);
   }
 }
 

@@ -3,62 +3,66 @@
 // before it. Runs after reconstruction: flagged receivers get a 2x2 PCF of the ESM test on the raw
 // depth against their plane instead.
 //
-// Modes: 1 = zmax: flag when some depth texel in the lookup's support has z > d + offset. The
-// support (every texel with a non-zero composite weight, and possibly a few zero-weight ones) is
-// bounded by a box in level-0 texels; the z-max pyramid is read at the finest level where the
-// box spans at most 8x8 texels, whose max covers the box: conservative, it never misses.
+// Modes: 1 = zmax: flag when some depth texel in the lookup's support, widened by the blur's
+// radius R, has z > d + offset. It reads the dilated z-max pyramid (classify.hpp,
+// enqueue_zmax_pyramid): zbase = the depth max-filtered over (2R+1)^2 (clamped), zchain its
+// Reduce::Max pyramid, so that a level-k texel holds the max of the depth over its 2^k block
+// widened by R. The blur's fringe is then in every texel, and a support of level-k texels reads
+// those texels only: grid receivers read 1 texel, bilinear and trilinear lookups the 2x2 of their
+// (coarser) level, exactly the support's bounding box widened by R; the SAT's box reads the 2x2
+// (at most) of the finest level whose aligned blocks cover it, which may reach up to 4x the box
+// per axis past it: conservative, it never misses.
 // 2 = threshold: flag when exp(-c d) bar(B) > 1 + eps, i.e. log bar(B') - c (d - 1/2) > log1p(eps).
 
-// Level-0 box [lo.x, hi.x] x [lo.y, hi.y] of the lookup's support before the prefilter.
-inline int4 sf_support(int W, int H, float u, float v, float f) {
-#if SF_LOOKUP == SF_LOOKUP_SAT
-  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
-  const float X0 = fma(u, (float)W, -s), X1 = fma(u, (float)W, s);
-  const float Y0 = fma(v, (float)H, -s), Y1 = fma(v, (float)H, s);
-  return (int4)(sf_clampi((int)floor(X0), 0, W - 1), sf_clampi((int)floor(Y0), 0, H - 1),
-                sf_clampi((int)ceil(X1) - 1, 0, W - 1), sf_clampi((int)ceil(Y1) - 1, 0, H - 1));
-#else
-  int k0 = 0, k1 = 0;
-#if SF_LOOKUP == SF_LOOKUP_MIPS
-  float t;
-  k0 = sf_lod(f, sf_mip_top(W, H), &t);
-  k1 = t > 0.0f ? k0 + 1 : k0;
-#endif
-  int4 box = (int4)(W, H, -1, -1);
-  for (int k = k0; k <= k1; ++k) {
-    int w, h;
-    size_t off;
-    sf_mip_level(W, H, 1, k, &w, &h, &off);
-    const int x = (int)floor(fma(u, (float)w, -0.5f)), y = (int)floor(fma(v, (float)h, -0.5f));
-    // Level-k texels x..x+1 (clamped) cover level-0 texels [x 2^k, (x+2) 2^k - 1] (clamped).
-    const int xa = sf_clampi(x, 0, w - 1), xb = sf_clampi(x + 1, 0, w - 1);
-    const int ya = sf_clampi(y, 0, h - 1), yb = sf_clampi(y + 1, 0, h - 1);
-    box.x = min(box.x, xa << k);
-    box.y = min(box.y, ya << k);
-    box.z = max(box.z, min(((xb + 1) << k) - 1, W - 1));
-    box.w = max(box.w, min(((yb + 1) << k) - 1, H - 1));
-  }
-  return box;
-#endif
+// Level k of a W x H map is ((W - 1) >> k) + 1 texels wide (sf_mip_level halves rounding up).
+inline int sf_level_size(int n, int k) { return ((n - 1) >> k) + 1; }
+
+// Max of level k (0: zbase) over its texels [x0, x1] x [y0, y1] (at most 2x2), clamped.
+inline float sf_zmax_texels(__global const float* restrict zbase, __global const float* restrict zchain,
+                            const sf_classify_params* C, int W, int H, int k, int x0, int y0, int x1,
+                            int y1) {
+  const int w = sf_level_size(W, k), h = sf_level_size(H, k);
+  __global const float* z = k == 0 ? zbase : zchain + C->zoff[k];
+  x0 = sf_clampi(x0, 0, w - 1), x1 = sf_clampi(x1, 0, w - 1);
+  y0 = sf_clampi(y0, 0, h - 1), y1 = sf_clampi(y1, 0, h - 1);
+  return fmax(fmax(z[(size_t)y0 * w + x0], z[(size_t)y0 * w + x1]),
+              fmax(z[(size_t)y1 * w + x0], z[(size_t)y1 * w + x1]));
 }
 
-// Max depth over the level-0 box, from the z-max pyramid (level 0 = depth, levels >= 1 = chain):
-// the finest level where the box spans at most 8x8 texels, all of them read (64 fetches at most).
-// Coarser fetches over-cover: a level's aligned blocks reach up to (1 + 2/span) past the box
-// (a 2x2 fetch: 2x), and a Gaussian fringe of R texels around a trilinear footprint aligned at
-// level k costs a whole extra block of 2^k per side.
-inline float sf_zmax_box(__global const float* restrict depth, __global const float* restrict zchain,
-                         int W, int H, int4 box) {
+// Max of the 2x2 texels of level k that its bilinear lookup at (u, v) weighs.
+inline float sf_zmax_level(__global const float* restrict zbase, __global const float* restrict zchain,
+                           const sf_classify_params* C, int W, int H, int k, float u, float v) {
+  const int w = sf_level_size(W, k), h = sf_level_size(H, k);
+  const int x = (int)floor(fma(u, (float)w, -0.5f)), y = (int)floor(fma(v, (float)h, -0.5f));
+  return sf_zmax_texels(zbase, zchain, C, W, H, k, x, y, x + 1, y + 1);
+}
+
+// Max depth over the lookup's support at (u, v, f), widened by R, from the dilated pyramid.
+inline float sf_zmax_support(__global const float* restrict zbase, __global const float* restrict zchain,
+                             const sf_classify_params* C, int W, int H, float u, float v, float f) {
+#if SF_LOOKUP == SF_LOOKUP_SAT
+  // The level-0 box of the box filter; the finest level where it spans at most 2x2 texels.
+  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
+  const int x0 = sf_clampi((int)floor(fma(u, (float)W, -s)), 0, W - 1);
+  const int y0 = sf_clampi((int)floor(fma(v, (float)H, -s)), 0, H - 1);
+  const int x1 = sf_clampi((int)ceil(fma(u, (float)W, s)) - 1, 0, W - 1);
+  const int y1 = sf_clampi((int)ceil(fma(v, (float)H, s)) - 1, 0, H - 1);
   int k = 0;
-  while (((box.z >> k) - (box.x >> k)) > 7 || ((box.w >> k) - (box.y >> k)) > 7) ++k;
-  int w, h;
-  size_t off;
-  sf_mip_level(W, H, 1, k, &w, &h, &off);
-  __global const float* z = k == 0 ? depth : zchain + off;
-  float m = 0.0f;
-  for (int y = box.y >> k; y <= (box.w >> k); ++y)
-    for (int x = box.x >> k; x <= (box.z >> k); ++x) m = fmax(m, z[(size_t)y * w + x]);
-  return m;
+  while ((x1 >> k) - (x0 >> k) > 1 || (y1 >> k) - (y0 >> k) > 1) ++k;
+  return sf_zmax_texels(zbase, zchain, C, W, H, k, x0 >> k, y0 >> k, x1 >> k, y1 >> k);
+#else
+  int k0 = 0;
+  float t = 0.0f;
+#if SF_LOOKUP == SF_LOOKUP_MIPS
+  k0 = sf_lod(f, C->top, &t);
+#endif
+  if (t <= 0.0f) return sf_zmax_level(zbase, zchain, C, W, H, k0, u, v);
+  // Trilinear: the coarser level's 2x2 covers the finer one's where the finer level has even
+  // sides (then its 2x2 lies in the coarser 2x2's 4x4 texels); odd sides read both.
+  const float m1 = sf_zmax_level(zbase, zchain, C, W, H, k0 + 1, u, v);
+  return ((sf_level_size(W, k0) | sf_level_size(H, k0)) & 1) ? fmax(m1, sf_zmax_level(zbase, zchain, C, W, H, k0, u, v))
+                                                              : m1;
+#endif
 }
 
 // 2x2 PCF of the ESM test against the receiver's plane p (receiver_plane.clh): bilinear weights
@@ -76,25 +80,19 @@ inline float sf_esm_pcf2x2(__global const float* restrict depth, int W, int H, c
 }
 
 
-// Whether one receiver at depth d is flagged. box: the lookup's support before the prefilter
-// (zmax mode); b: the filtered basis as the reconstruction read it (threshold mode). A flagged
-// receiver's fall-back (sf_esm_pcf2x2) tests against its plane, which only flagged receivers
-// compute.
-inline bool sf_classify(__global const float* restrict depth, __global const float* restrict zchain, int W,
-                        int H, float d, int4 box, const float* b, const sf_classify_params C,
-                        const sf_method_params P) {
-  if (C.mode == SF_CLASSIFY_ZMAX) {
-    box = (int4)(max(box.x - C.radius, 0), max(box.y - C.radius, 0), min(box.z + C.radius, W - 1),
-                 min(box.w + C.radius, H - 1));
-    return sf_zmax_box(depth, zchain, W, H, box) > d + C.offset;
-  }
+// Whether one receiver at depth d is flagged. zmax: the max depth over its widened support
+// (sf_zmax_support); b: the filtered basis as the reconstruction read it (threshold mode). A
+// flagged receiver's fall-back (sf_esm_pcf2x2) tests against its plane, which only flagged
+// receivers compute.
+inline bool sf_classify(float d, float zmax, const float* b, const sf_classify_params C, const sf_method_params P) {
+  if (C.mode == SF_CLASSIFY_ZMAX) return zmax > d + C.offset;
   return log(fmax(b[0], FLT_MIN)) - P.c * (d - 0.5f) > C.log_thresh;
 }
 
 __kernel void sf_esm_classify_points(
     __global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
     __global const float* restrict sat, __global const float* restrict depth,
-    __global const float* restrict zchain, const int W, const int H,
+    __global const float* restrict zbase, __global const float* restrict zchain, const int W, const int H,
     __global const float* restrict u, __global const float* restrict v,
     __global const float* restrict d, __global const float* restrict f,
     __global float* restrict out, __global uchar* restrict flags, const int count,
@@ -108,9 +106,11 @@ __kernel void sf_esm_classify_points(
   }
   const float fi = f ? f[i] : 1.0f;
   float b[SF_CHANNELS] = {0.0f};
+  float zmax = 0.0f;
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
+  else zmax = sf_zmax_support(zbase ? zbase : depth, zchain, &C, W, H, ui, vi, fi);
   const float dd = clamp(di, 0.0f, 1.0f);
-  const bool flag = sf_classify(depth, zchain, W, H, dd, sf_support(W, H, ui, vi, fi), b, C, P);
+  const bool flag = sf_classify(dd, zmax, b, C, P);
   flags[i] = flag ? 1 : 0;
   if (flag) {
     const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, PP);
@@ -122,7 +122,7 @@ __kernel void sf_esm_classify_points(
 __kernel void sf_esm_classify_grid(
     __global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
     __global const float* restrict sat, __global const float* restrict depth,
-    __global const float* restrict zchain, const int W, const int H,
+    __global const float* restrict zbase, __global const float* restrict zchain, const int W, const int H,
     __global const float* restrict d, __global float* restrict out, __global uchar* restrict flags,
     const sf_classify_params C, const sf_method_params P, const sf_plane_params PP) {
   const int x = get_global_id(0), y = get_global_id(1);
@@ -135,9 +135,11 @@ __kernel void sf_esm_classify_grid(
   }
   const float ui = ((float)x + 0.5f) / (float)W, vi = ((float)y + 0.5f) / (float)H;
   float b[SF_CHANNELS] = {0.0f};
+  float zmax = 0.0f;
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
+  else zmax = (zbase ? zbase : depth)[i];  // the texel widened by R
   const float dd = clamp(di, 0.0f, 1.0f);
-  const bool flag = sf_classify(depth, zchain, W, H, dd, (int4)(x, y, x, y), b, C, P);
+  const bool flag = sf_classify(dd, zmax, b, C, P);
   flags[i] = flag ? 1 : 0;
   if (flag) {
     const sf_plane p = sf_receiver_plane_grid(d, depth, W, H, x, y, dd, PP);

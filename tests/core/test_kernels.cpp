@@ -96,6 +96,45 @@ INSTANTIATE_TEST_SUITE_P(Shapes, Blur,
                                            BlurCase{101, 67, 1, 7, 4}, BlurCase{257, 33, 1, 32, 16},
                                            BlurCase{40, 300, 1, 64, 16}));
 
+// The max filter (blur.cl with SF_BLUR_MAX) in both launch families: exactly the max over the
+// clamped (2R+1)^2 window, brute force (a max rounds nothing).
+class MaxFilter : public ::testing::TestWithParam<std::tuple<BlurCase, ScheduleFamily>> {};
+
+TEST_P(MaxFilter, EqualsTheWindowMax) {
+  const auto [bc, fam] = GetParam();
+  const HostImage img = random_depth(bc.width, bc.height, bc.width * 7 + bc.radius);
+  ImageShape shape{bc.width, bc.height, 1};
+  cl::Buffer src = to_device(img.data), dst(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  ScheduleOptions sched;
+  sched.family = fam;
+  sched.blur_vector_width = bc.vec;
+  enqueue_max_filter(runtime(), bc.radius, sched, shape, src, dst).wait();
+  const auto got = from_device(dst, img.texels());
+  const int R = bc.radius;
+  for (int y = 0; y < bc.height; ++y)
+    for (int x = 0; x < bc.width; ++x) {
+      float m = 0.0f;
+      for (int b = std::max(y - R, 0); b <= std::min(y + R, bc.height - 1); ++b)
+        for (int a = std::max(x - R, 0); a <= std::min(x + R, bc.width - 1); ++a) m = std::max(m, img.at(a, b));
+      ASSERT_EQ(got[size_t(y) * bc.width + x], m) << x << "," << y << " R=" << R;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(ShapesAndFamilies, MaxFilter,
+                         ::testing::Combine(::testing::Values(BlurCase{1, 1, 1, 3, 16}, BlurCase{9, 1, 1, 2, 16},
+                                                              BlurCase{37, 29, 1, 0, 16}, BlurCase{130, 70, 1, 7, 16},
+                                                              BlurCase{101, 67, 1, 3, 4}, BlurCase{40, 300, 1, 64, 8}),
+                                            ::testing::Values(ScheduleFamily::Cpu, ScheduleFamily::Gpu)));
+
+TEST(MaxFilter, RefusesInPlaceAndRadiiPastTheBlurs) {
+  ImageShape shape{8, 8, 1};
+  cl::Buffer a(runtime().context(), CL_MEM_READ_WRITE, shape.bytes()),
+      b(runtime().context(), CL_MEM_READ_WRITE, shape.bytes());
+  EXPECT_THROW(enqueue_max_filter(runtime(), 2, {}, shape, a, a), InputError);
+  EXPECT_THROW(enqueue_max_filter(runtime(), kMaxBlurRadius + 1, {}, shape, a, b), InputError);
+  EXPECT_THROW(enqueue_max_filter(runtime(), -1, {}, shape, a, b), InputError);
+}
+
 TEST(Blur, InPlaceEqualsOutOfPlace) {
   const HostImage img = random_depth(53, 41, 3);
   ImageShape shape{53, 41, 1};

@@ -24,4 +24,12 @@ cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptio
                        const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
                        cl::Event* first = nullptr, const EventList* wait = nullptr);
 
+// Separable max filter (a dilation) of float32 planes, clamp-to-edge: dst(x, y) is the max of src
+// over the (2R+1)^2 window around (x, y) clipped to the image. The blur's kernels and schedule
+// (blur.cl built with SF_BLUR_MAX); exact, no rounding. Radius 0 copies. dst must not be src.
+// The ESM classification's dilated z-max (classify.hpp).
+cl::Event enqueue_max_filter(Runtime& rt, int radius, const ScheduleOptions& sched, const ImageShape& shape,
+                             const cl::Buffer& src, const cl::Buffer& dst, cl::Event* first = nullptr,
+                             const EventList* wait = nullptr);
+
 }  // namespace sf

@@ -15,13 +15,13 @@ namespace sf {
 
 // The classification kernel (a thin typed wrapper in the argument order of device_types.hpp).
 // Flags receivers whose lookup support may hold texels behind them (zmax: some texel z with
-// z > d + offset, from the z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
+// z > d + offset, from the dilated z-max pyramid; threshold: exp(-c d) bar(B) > 1 + eps) and replaces
 // their visibility by a 2x2 PCF of the ESM test on the raw depth, against the receiver's plane
 // (FilterOptions::receiver_plane; receiver_row as DeviceReceivers::row). flags: one uchar per
 // receiver.
-// `zmax_chain` is the Reduce::Max pyramid of `depth` (zmax mode only).
+// `zmax_base` and `zmax_chain` are enqueue_zmax_pyramid's (zmax mode only).
 struct ClassifyInputs {
-  cl::Buffer depth, zmax_chain;
+  cl::Buffer depth, zmax_base, zmax_chain;
   cl::Buffer basis;  // level 0 of the filtered basis (threshold mode)
   LookupBuffers lookup;
   int width = 0, height = 0;
@@ -33,13 +33,26 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, siz
 cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const ClassifyInputs& in,
                                     const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
                                     const EventList* wait = nullptr);
+// The dilated z-max pyramid that zmax classification reads (kernels/esm_classify.cl): `base` is
+// `depth` max-filtered over the blur's (2R+1)^2 window (enqueue_max_filter; R = opt.blur.radius,
+// W * H floats; with R = 0 no base is needed: pass an empty buffer and the depth is the base),
+// `chain` the Reduce::Max pyramid of the base (mip_layout(W, H, 1).chain_values floats). Every
+// level-k texel then holds the max depth over its 2^k block widened by R, and a receiver reads
+// 1 to 4 texels (8 for trilinear lookups between odd-sided levels) whatever R and its footprint.
+// Returns the last command's event; first: the first.
+cl::Event enqueue_zmax_pyramid(Runtime& rt, const FilterOptions& opt, int width, int height, const cl::Buffer& depth,
+                               const cl::Buffer& base, const cl::Buffer& chain, cl::Event* first = nullptr,
+                               const EventList* wait = nullptr);
+// Bytes of the base buffer enqueue_zmax_pyramid needs (0 with R = 0).
+size_t zmax_base_bytes(const FilterOptions& opt, int width, int height);
+
 // The threshold eps in effect: opt.esm_classify.threshold_eps, or when negative the automatic
 // exp(c offset)(1 + 1e-5) - 1, which makes threshold flag a subset of zmax (docs/lookups.md).
 double esm_threshold_eps(const FilterOptions& opt);
 
 class ClassifyStage {
  public:
-  // Adds the stage's buffers to `plan` (the z-max chain in zmax mode; one flag byte per
+  // Adds the stage's buffers to `plan` (the z-max base and chain in zmax mode; one flag byte per
   // receiver). Throws InputError when the options classify with a method that cannot.
   static void add_to_plan(const FilterOptions& options, int width, int height, BufferPlan& plan);
 
@@ -47,7 +60,7 @@ class ClassifyStage {
   // Allocates what `plan` holds for the stage (a plan add_to_plan filled, e.g. the Pipeline's).
   ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height, const BufferPlan& plan);
 
-  // Before reconstruction: the z-max pyramid of the raw depth (zmax mode), after `wait`. Returns
+  // Before reconstruction: the dilated z-max pyramid of the raw depth (zmax mode), after `wait`. Returns
   // the pyramid's last event (an empty event when the mode needs none). Keeps `depth` for classify().
   cl::Event prepare(const cl::Buffer& depth, const EventList* wait);
   // After the reconstruction's event in `wait`: flags the receivers and rewrites their
@@ -57,14 +70,14 @@ class ClassifyStage {
 
   // One uchar per receiver of the last classify() (1 = flagged).
   const cl::Buffer& flags() const { return flags_; }
-  // Seconds of the last z-max pyramid and classification (profiling queues).
+  // Seconds of the last z-max pyramid (with its max filter) and classification (profiling queues).
   void add_times(StageTimes& t) const;
 
  private:
   std::shared_ptr<Runtime> rt_;
   FilterOptions options_;
   int width_, height_;
-  cl::Buffer zmax_chain_, depth_, flags_;
+  cl::Buffer zmax_base_, zmax_chain_, depth_, flags_;
   size_t flags_count_ = 0;
   cl::Event zmax_first_, zmax_done_;
   cl::Event classify_done_;

@@ -88,7 +88,7 @@ struct VisibilityResult {
 struct BufferPlan {
   struct Buffer {
     std::string name;  // "basis", "basis+mips", "mip level offsets", "blur scratch", "sat",
-                       // "sat bands", "zmax chain"
+                       // "sat bands", "zmax base", "zmax chain"
     size_t bytes = 0;
   };
   ImageShape shape;               // the basis images: width x height x channels of value_bytes

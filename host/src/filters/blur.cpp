@@ -88,11 +88,16 @@ std::string weight_literals(const BlurOptions& blur) {
   return weights;
 }
 
+// What the separable kernels sum or take the max of: the Gaussian's weights, or SF_BLUR_MAX.
+detail::BuildOptions& add_taps(detail::BuildOptions& b, const BlurOptions& blur, bool max_filter) {
+  b.define("SF_RADIUS", blur.radius);
+  return max_filter ? b.flag("SF_BLUR_MAX") : b.define("SF_WEIGHTS", weight_literals(blur));
+}
+
 // The blur's compile-time constants: radius, the weights, schedule.
-std::string blur_build_options(const BlurOptions& blur, const BlurSchedule& s, Storage storage) {
-  return detail::BuildOptions()
-      .define("SF_RADIUS", blur.radius)
-      .define("SF_WEIGHTS", weight_literals(blur))
+std::string blur_build_options(const BlurOptions& blur, bool max_filter, const BlurSchedule& s, Storage storage) {
+  detail::BuildOptions b;
+  return add_taps(b, blur, max_filter)
       .define("SF_VEC", s.vec)
       .define("SF_STRIP", s.strip)
       .define("SF_ROWS", s.rows)
@@ -149,21 +154,19 @@ GpuBlurShape gpu_blur_shape(const Runtime& rt, int radius, int items) {
 
 // The Gpu family: src -> out in one launch of sf_blur_tiles, halving the group while the built
 // kernel allows fewer items.
-cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, const cl::Buffer& src,
-                             const cl::Buffer& out, const ImageShape& shape, const EventList* wait, Storage storage) {
+cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, bool max_filter, const ScheduleOptions& sched,
+                             const cl::Buffer& src, const cl::Buffer& out, const ImageShape& shape,
+                             const EventList* wait, Storage storage) {
   int items = gpu_group_items(rt, launch_defaults(ScheduleFamily::Gpu).blur_group.items(), sched.gpu_work_group);
   for (;;) {
     const GpuBlurShape g = gpu_blur_shape(rt, blur.radius, items);
-    const cl::Program p =
-        rt.program({"common.clh", "storage.clh", "blur.cl"}, detail::BuildOptions()
-                                                                 .flag("SF_BLUR_GPU")
-                                                                 .define("SF_RADIUS", blur.radius)
-                                                                 .define("SF_WEIGHTS", weight_literals(blur))
-                                                                 .storage(storage)
-                                                                 .define("SF_BGX", g.x)
-                                                                 .define("SF_BGY", g.y)
-                                                                 .define("SF_BROWS", g.rows)
-                                                                 .str());
+    detail::BuildOptions b;
+    add_taps(b.flag("SF_BLUR_GPU"), blur, max_filter)
+        .storage(storage)
+        .define("SF_BGX", g.x)
+        .define("SF_BGY", g.y)
+        .define("SF_BROWS", g.rows);
+    const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"}, b.str());
     cl::Kernel k(p, "sf_blur_tiles");
     if (kernel_group_limit(rt, k) < size_t(g.items()) && items > 1) {
       items /= 2;
@@ -184,11 +187,11 @@ cl::Event enqueue_blur_tiles(Runtime& rt, const BlurOptions& blur, const Schedul
   }
 }
 
-}  // namespace
-
-cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, Storage storage,
-                       const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
-                       cl::Event* first, const EventList* wait) try {
+// enqueue_blur and enqueue_max_filter: the same kernels, summing the Gaussian's taps or taking
+// their max.
+cl::Event enqueue_separable(Runtime& rt, const BlurOptions& blur, bool max_filter, const ScheduleOptions& sched,
+                            Storage storage, const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& tmp,
+                            const cl::Buffer& dst, cl::Event* first, const EventList* wait) {
   // rows: the first command, cols: the last.
   struct {
     cl::Event rows, cols;
@@ -220,7 +223,7 @@ cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptio
   const bool in_place = src() == dst();
   if (resolve_family(rt, sched.family) == ScheduleFamily::Gpu) {
     // One launch cannot blur in place either (a tile's halo rows are another tile's output).
-    ev.rows = enqueue_blur_tiles(rt, blur, sched, src, in_place ? tmp : dst, shape, wait, storage);
+    ev.rows = enqueue_blur_tiles(rt, blur, max_filter, sched, src, in_place ? tmp : dst, shape, wait, storage);
     if (in_place) {
       const EventList after{ev.rows};
       rt.queue().enqueueCopyBuffer(tmp, dst, 0, 0, shape.bytes(), &after, &ev.cols);
@@ -230,7 +233,8 @@ cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptio
     return done();
   }
   const BlurSchedule s = blur_schedule(rt, blur.radius, sched, shape);
-  const cl::Program p = rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, s, storage));
+  const cl::Program p =
+      rt.program({"common.clh", "storage.clh", "blur.cl"}, blur_build_options(blur, max_filter, s, storage));
   cl::Kernel k(p, "sf_blur");
   detail::KernelArgs(k)
       .buffer(src)
@@ -242,8 +246,28 @@ cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptio
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(1, 1, 1), wait, &ev.rows);
   ev.cols = in_place ? enqueue_copy_back(rt, p, tmp, dst, shape, ev.rows) : ev.rows;
   return done();
+}
+
+}  // namespace
+
+cl::Event enqueue_blur(Runtime& rt, const BlurOptions& blur, const ScheduleOptions& sched, Storage storage,
+                       const ImageShape& shape, const cl::Buffer& src, const cl::Buffer& tmp, const cl::Buffer& dst,
+                       cl::Event* first, const EventList* wait) try {
+  return enqueue_separable(rt, blur, false, sched, storage, shape, src, tmp, dst, first, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_blur", e);
+}
+
+cl::Event enqueue_max_filter(Runtime& rt, int radius, const ScheduleOptions& sched, const ImageShape& shape,
+                             const cl::Buffer& src, const cl::Buffer& dst, cl::Event* first,
+                             const EventList* wait) try {
+  if (src() == dst()) throw InputError("max filter: dst must not be src");
+  BlurOptions taps;
+  taps.radius = radius;
+  (void)gaussian_weights(radius, 0.0f);  // the radius's range check
+  return enqueue_separable(rt, taps, true, sched, Storage::F32, shape, src, cl::Buffer(), dst, first, wait);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_max_filter", e);
 }
 
 }  // namespace sf

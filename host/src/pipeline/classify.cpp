@@ -7,6 +7,7 @@
 #include "planned_scope.hpp"
 #include "method_build.hpp"
 #include "plane_params.hpp"
+#include "shadowfilter/blur.hpp"
 #include "shadowfilter/classify.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
@@ -32,8 +33,15 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
   return cl::Kernel(p, name);
 }
 
-ClassifyParams params(const FilterOptions& opt) {
+ClassifyParams params(const FilterOptions& opt, int width, int height) {
   ClassifyParams c{};
+  const MipLayout layout = mip_layout(width, height, 1);
+  if (layout.top() >= SF_ZMAX_LEVELS)
+    throw InputError("classification: a " + std::to_string(width) + "x" + std::to_string(height) + " map has " +
+                     std::to_string(layout.top() + 1) + " mip levels, more than the " + std::to_string(SF_ZMAX_LEVELS) +
+                     " the kernel lists");
+  c.top = layout.top();
+  for (int k = 1; k <= layout.top(); ++k) c.zoff[k] = static_cast<cl_int>(layout.levels[k].offset);
   c.mode = static_cast<cl_int>(classify_mode(opt));
   c.radius = opt.blur.radius;
   c.offset = opt.esm_classify.zmax_offset;
@@ -48,6 +56,7 @@ detail::KernelArgs common_args(cl::Kernel& k, const ClassifyInputs& in) {
       .optional(in.lookup.chain)
       .optional(in.lookup.sat)
       .buffer(in.depth)
+      .optional(in.zmax_base)
       .optional(in.zmax_chain)
       .value(in.width)
       .value(in.height);
@@ -58,9 +67,29 @@ void check(const FilterOptions& opt, const ClassifyInputs& in) {
   if (classify_mode(opt) == EsmClassify::None) throw InputError("classification mode is none");
   if (classify_mode(opt) == EsmClassify::ZMax && !in.zmax_chain() && (in.width > 1 || in.height > 1))
     throw InputError("zmax classification needs the z-max pyramid");
+  if (classify_mode(opt) == EsmClassify::ZMax && opt.blur.radius > 0 && !in.zmax_base())
+    throw InputError("zmax classification with a blur needs the dilated z-max base (enqueue_zmax_pyramid)");
 }
 
 }  // namespace
+
+size_t zmax_base_bytes(const FilterOptions& opt, int width, int height) {
+  return opt.blur.radius > 0 ? size_t(width) * height * sizeof(float) : 0;
+}
+
+cl::Event enqueue_zmax_pyramid(Runtime& rt, const FilterOptions& opt, int width, int height, const cl::Buffer& depth,
+                               const cl::Buffer& base, const cl::Buffer& chain, cl::Event* first,
+                               const EventList* wait) try {
+  const ImageShape shape{width, height, 1, 4};
+  if (opt.blur.radius == 0)
+    return enqueue_pyramid(rt, Reduce::Max, Storage::F32, opt.schedule, shape, depth, chain, first, wait);
+  if (!base()) throw InputError("enqueue_zmax_pyramid: a blur radius > 0 needs the base buffer (zmax_base_bytes)");
+  const cl::Event dilated = enqueue_max_filter(rt, opt.blur.radius, opt.schedule, shape, depth, base, first, wait);
+  const EventList after{dilated};
+  return enqueue_pyramid(rt, Reduce::Max, Storage::F32, opt.schedule, shape, base, chain, nullptr, &after);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("enqueue_zmax_pyramid", e);
+}
 
 double esm_threshold_eps(const FilterOptions& opt) {
   if (opt.esm_classify.threshold_eps >= 0) return opt.esm_classify.threshold_eps;
@@ -81,7 +110,7 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, siz
       .buffer(visibility)
       .buffer(flags)
       .value(static_cast<int>(count))
-      .value(params(opt))
+      .value(params(opt, in.width, in.height))
       .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, receiver_row));
   cl::Event e;
@@ -100,7 +129,7 @@ cl::Event enqueue_esm_classify_grid(Runtime& rt, const FilterOptions& opt, const
       .buffer(d)
       .buffer(visibility)
       .buffer(flags)
-      .value(params(opt))
+      .value(params(opt, in.width, in.height))
       .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, 0));
   cl::Event e;
@@ -119,9 +148,11 @@ void ClassifyStage::add_to_plan(const FilterOptions& options, int width, int hei
   if (!options.method->classifiable)
     throw InputError("FilterOptions::esm_classify.mode needs a method whose failures it can classify (esm), got " +
                      options.method.name());
-  if (classify_mode(options) == EsmClassify::ZMax)
+  if (classify_mode(options) == EsmClassify::ZMax) {
+    if (const size_t base = zmax_base_bytes(options, width, height)) plan.buffers.push_back({"zmax base", base});
     plan.buffers.push_back(
         {"zmax chain", std::max<size_t>(mip_layout(width, height, 1).chain_values * sizeof(float), 4)});
+  }
   plan.bytes_per_receiver += 1;  // the flags
 }
 
@@ -139,6 +170,7 @@ ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions opt
 ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions options, int width, int height,
                              const BufferPlan& plan) try
     : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
+  if (const size_t bytes = plan.bytes("zmax base")) zmax_base_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   if (const size_t bytes = plan.bytes("zmax chain")) zmax_chain_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::ClassifyStage", e);
@@ -148,8 +180,8 @@ cl::Event ClassifyStage::prepare(const cl::Buffer& depth, const EventList* wait)
   depth_ = depth;
   zmax_first_ = zmax_done_ = classify_done_ = cl::Event();
   if (zmax_chain_())
-    zmax_done_ = enqueue_pyramid(*rt_, Reduce::Max, Storage::F32, options_.schedule, {width_, height_, 1, 4}, depth,
-                                 zmax_chain_, &zmax_first_, wait);
+    zmax_done_ =
+        enqueue_zmax_pyramid(*rt_, options_, width_, height_, depth, zmax_base_, zmax_chain_, &zmax_first_, wait);
   return zmax_done_;
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::prepare", e);
@@ -163,6 +195,7 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
   }
   ClassifyInputs in;
   in.depth = depth_;
+  in.zmax_base = zmax_base_;
   in.zmax_chain = zmax_chain_;
   in.basis = basis;
   in.lookup = lookup;

@@ -63,6 +63,20 @@ void BM_Blur(benchmark::State& state, bool in_place, Storage storage) {
   set_throughput(state, kBlurPassBytes * shape.value_bytes * shape.plane_texels(), shape.plane_texels(), s);
 }
 
+// The max filter (enqueue_max_filter: the blur's kernels taking the max, the ESM classification's
+// dilated z-max) beside the blur of the same size and radius: the same bytes.
+void BM_MaxFilter(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const ImageShape shape{n, n, 1, 4};
+  cl::Buffer src = random_stored(Storage::F32, shape.plane_texels(), 3), dst = device_buffer(shape.bytes());
+  const double s = time_runs(state, [&] {
+    cl::Event e = enqueue_max_filter(runtime(), static_cast<int>(state.range(1)), {}, shape, src, dst);
+    e.wait();
+    return event_seconds(e);
+  });
+  set_throughput(state, kBlurPassBytes * sizeof(float) * shape.plane_texels(), shape.plane_texels(), s);
+}
+
 void BM_ReferenceBlur(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const int radius = static_cast<int>(state.range(1));
@@ -83,6 +97,9 @@ void register_blur() {
   for (int64_t size : sizes({512, 2048, 4096})) {
     for (int64_t radius : kRadii) {
       configure(benchmark::RegisterBenchmark("blur/ours", BM_Blur, false, Storage::F32))
+          ->ArgNames({"size", "R"})
+          ->Args({size, radius});
+      configure(benchmark::RegisterBenchmark("blur/max_filter", BM_MaxFilter))
           ->ArgNames({"size", "R"})
           ->Args({size, radius});
 #ifdef SF_HAVE_OPENCV

@@ -19,6 +19,15 @@ namespace {
 
 using ClassifyParams = sf_classify_params;  // shared_types.clh
 
+// Receivers per work-item of sf_esm_classify_points_vec (the reconstruction's vector width), or 1
+// where the scalar kernel serves (threshold mode, the SAT's box, width 1).
+int classify_vector_width(const FilterOptions& opt) {
+  const int vec = opt.schedule.reconstruct_vector_width;
+  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
+    throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  return classify_mode(opt) == EsmClassify::ZMax && opt.lookup.kind != Lookup::Sat ? vec : 1;
+}
+
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {
   const MethodDesc& m = *opt.method;
   if (!m.classifiable)
@@ -27,7 +36,7 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
   detail::validate_unless_planned(m, opt);
   detail::validate(opt.receiver_plane, "FilterOptions::receiver_plane");
   detail::BuildOptions b;
-  detail::add_method_options(b, m, opt).lookup(opt.lookup.kind);
+  detail::add_method_options(b, m, opt).lookup(opt.lookup.kind).define("SF_RX_VEC", classify_vector_width(opt));
   cl::Program p = rt.program(
       {"common.clh", "storage.clh", m.header, "lookup.clh", "receiver_plane.clh", "esm_classify.cl"}, b.str());
   return cl::Kernel(p, name);
@@ -101,7 +110,8 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, siz
                                       const cl::Buffer& d, const cl::Buffer& visibility, const cl::Buffer& flags,
                                       const EventList* wait) try {
   check(opt, in);
-  cl::Kernel k = classify_kernel(rt, opt, "sf_esm_classify_points");
+  const int vec = classify_vector_width(opt);
+  cl::Kernel k = classify_kernel(rt, opt, vec > 1 ? "sf_esm_classify_points_vec" : "sf_esm_classify_points");
   common_args(k, in)
       .buffer(u)
       .buffer(v)
@@ -114,7 +124,8 @@ cl::Event enqueue_esm_classify_points(Runtime& rt, const FilterOptions& opt, siz
       .bytes(opt.method->pack_params(opt))
       .value(detail::plane_params(opt.receiver_plane, receiver_row));
   cl::Event e;
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::max<size_t>(count, 1)), cl::NullRange, wait, &e);
+  const size_t items = std::max<size_t>((count + vec - 1) / vec, 1);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(items), cl::NullRange, wait, &e);
   return e;
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_esm_classify_points", e);

@@ -159,10 +159,114 @@ SF_RX_INLINE sf_rxf sf_rx_zmax_level(__global const float* restrict zbase, __glo
   return m;
 }
 
+// ---- The fall-back of SF_RX_VEC receivers (sf_receiver_plane_points and sf_esm_pcf2x2 as vectors).
+
+// a[i0 + s + j] per lane j: one vector load where the window lies in [0, count), else lane by
+// lane at clamped indices (lanes the caller's masks drop).
+SF_RX_INLINE sf_rxf sf_rx_shifted(__global const float* restrict a, int i0, int s, int count) {
+  const int lo = i0 + s;
+  if (lo >= 0 && lo + SF_RX_VEC <= count) return sf_rx_vload(a + lo);
+  sf_rxf r;
+#pragma unroll
+  for (int j = 0; j < SF_RX_VEC; ++j) r[j] = a[sf_clampi(lo + j, 0, count - 1)];
+  return r;
+}
+
+// The neighbours at i - step (a) and i + step (b) of every lane, where has_lo / has_hi, as
+// sf_plane_axis: the central step where both exist and agree, else the smaller one. Returns the
+// lanes with a step; e = (x, y, depth) step in texels.
+SF_RX_INLINE sf_rxi sf_rx_plane_axis(int i0, int step, sf_rxi has_lo, sf_rxi has_hi, __global const float* restrict u,
+                                     __global const float* restrict v, __global const float* restrict d, int count,
+                                     int W, int H, sf_rxf ui, sf_rxf vi, sf_rxf di, sf_rxf* ex, sf_rxf* ey,
+                                     sf_rxf* ez) {
+  const sf_rxf ua = sf_rx_shifted(u, i0, -step, count), va = sf_rx_shifted(v, i0, -step, count),
+               da = sf_rx_shifted(d, i0, -step, count);
+  const sf_rxf ub = sf_rx_shifted(u, i0, step, count), vb = sf_rx_shifted(v, i0, step, count),
+               db = sf_rx_shifted(d, i0, step, count);
+  const sf_rxi a = has_lo & isfinite(da) & (ua >= 0.0f) & (ua <= 1.0f) & (va >= 0.0f) & (va <= 1.0f);
+  const sf_rxi b = has_hi & isfinite(db) & (ub >= 0.0f) & (ub <= 1.0f) & (vb >= 0.0f) & (vb <= 1.0f);
+  const sf_rxf ax = (ua - ui) * (float)W, ay = (va - vi) * (float)H, ad = da - di;
+  const sf_rxf bx = (ub - ui) * (float)W, by = (vb - vi) * (float)H, bd = db - di;
+  const sf_rxf la = sqrt(fma(ax, ax, ay * ay)), lb = sqrt(fma(bx, bx, by * by));
+  const sf_rxf sa = -ad / la, sb = bd / lb;
+  const sf_rxi central = a & b & (la > 0.0f) & (lb > 0.0f) & (fabs(sb - sa) <= 0.5f * fmax(fabs(sa), fabs(sb)));
+  const sf_rxi use_a = ~central & a & (~b | (fabs(ad) <= fabs(bd)));
+  const sf_rxi use_b = ~central & ~use_a & b;
+  *ex = select(select(select((sf_rxf)(0.0f), bx, use_b), ax, use_a), bx - ax, central);
+  *ey = select(select(select((sf_rxf)(0.0f), by, use_b), ay, use_a), by - ay, central);
+  *ez = select(select(select((sf_rxf)(0.0f), bd, use_b), ad, use_a), bd - ad, central);
+  return central | use_a | use_b;
+}
+
+// The 2x2 PCF of every lane against its plane (sf_esm_pcf2x2), one load per texel and lane.
+SF_RX_INLINE sf_rxf sf_rx_esm_pcf2x2(__global const float* restrict depth, int W, int H, sf_rxf px, sf_rxf py,
+                                     sf_rxf pd, sf_rxf gx, sf_rxf gy, sf_rxf bias, float c) {
+  const sf_rxf xf = floor(px), yf = floor(py), ax = px - xf, ay = py - yf;
+  const sf_rxi zero = (sf_rxi)(0), xi = sf_rx_int(xf), yi = sf_rx_int(yf);
+  const sf_rxi x0 = clamp(xi, zero, (sf_rxi)(W - 1)), x1 = clamp(xi + 1, zero, (sf_rxi)(W - 1));
+  const sf_rxi y0 = clamp(yi, zero, (sf_rxi)(H - 1)), y1 = clamp(yi + 1, zero, (sf_rxi)(H - 1));
+  sf_rxf z00, z10, z01, z11;
+#pragma unroll
+  for (int j = 0; j < SF_RX_VEC; ++j) {
+    z00[j] = depth[y0[j] * W + x0[j]], z10[j] = depth[y0[j] * W + x1[j]];
+    z01[j] = depth[y1[j] * W + x0[j]], z11[j] = depth[y1[j] * W + x1[j]];
+  }
+#define SF_RX_T(Z, X, Y) \
+  exp(fmin(c * (Z - fma(gx, sf_rx_float(X) - px, fma(gy, sf_rx_float(Y) - py, pd)) + bias), 0.0f))
+  return mix(mix(SF_RX_T(z00, x0, y0), SF_RX_T(z10, x1, y0), ax), mix(SF_RX_T(z01, x0, y1), SF_RX_T(z11, x1, y1), ax),
+             ay);
+#undef SF_RX_T
+}
+
+// Rewrites out[i0 ..] where `flag`: each flagged lane's plane (sf_receiver_plane_points: from its
+// image neighbours, else the depth map's slope lane by lane) and its 2x2 PCF.
+SF_RX_INLINE void sf_rx_classify_fallback(int i0, sf_rxi flag, int count, __global const float* restrict u,
+                                          __global const float* restrict v, __global const float* restrict d,
+                                          __global const float* restrict depth, int W, int H, sf_rxf ui, sf_rxf vi,
+                                          sf_rxf dd, __global float* restrict out, const sf_method_params P,
+                                          const sf_plane_params PP) {
+  const sf_rxf px = fma(ui, (float)W, -0.5f), py = fma(vi, (float)H, -0.5f);
+  sf_rxf gx = (sf_rxf)(0.0f), gy = gx;
+  if (PP.on) {
+    sf_rxi solved = (sf_rxi)(0);
+    if (PP.row > 0) {
+      sf_rxi idx;
+#pragma unroll
+      for (int j = 0; j < SF_RX_VEC; ++j) idx[j] = i0 + j;
+      const sf_rxi col = idx % PP.row, n = (sf_rxi)(count);
+      sf_rxf a0, a1, a2, b0, b1, b2;
+      const sf_rxi ha = sf_rx_plane_axis(i0, 1, col > 0, (col + 1 < PP.row) & (idx + 1 < n), u, v, d, count, W, H, ui,
+                                         vi, dd, &a0, &a1, &a2);
+      const sf_rxi hb = sf_rx_plane_axis(i0, PP.row, idx >= PP.row, idx + PP.row < n, u, v, d, count, W, H, ui, vi,
+                                         dd, &b0, &b1, &b2);
+      const sf_rxf det = a0 * b1 - a1 * b0;
+      const sf_rxf la = sqrt(fma(a0, a0, a1 * a1)), lb = sqrt(fma(b0, b0, b1 * b1));
+      gx = (a2 * b1 - b2 * a1) / det;
+      gy = (a0 * b2 - b0 * a2) / det;
+      solved = ha & hb & (fabs(det) > 1e-3f * la * lb) & (la > 0.0f) & (lb > 0.0f) & isfinite(gx) & isfinite(gy);
+    }
+    if (any(flag & ~solved)) {
+      for (int j = 0; j < SF_RX_VEC; ++j)
+        if (flag[j] && !solved[j]) {
+          float sx, sy;
+          sf_image_slope(depth, W, H, (int)floor(px[j] + 0.5f), (int)floor(py[j] + 0.5f), &sx, &sy);
+          gx[j] = sx, gy[j] = sy;
+        }
+    }
+    gx = select((sf_rxf)(0.0f), clamp(gx, -PP.max_slope, PP.max_slope), isfinite(gx));
+    gy = select((sf_rxf)(0.0f), clamp(gy, -PP.max_slope, PP.max_slope), isfinite(gy));
+  }
+  const sf_rxf bias = fma((sf_rxf)(PP.slope_bias), fabs(gx) + fabs(gy), 0.0f);
+  const sf_rxf vis = clamp(sf_rx_esm_pcf2x2(depth, W, H, px, py, dd, gx, gy, bias, P.c), 0.0f, 1.0f);
+  sf_rx_vstore(select(sf_rx_vload(out + i0), vis, flag), out + i0);
+}
+
 // zmax mode with the bilinear or trilinear lookup, SF_RX_VEC receivers per work-item (the
-// reconstruction's vector form, lookup.clh): the flag test as vectors, which PoCL runs as SIMD,
-// and the fall-back lane by lane for the flagged lanes only. The same flags and values as
-// sf_esm_classify_points (test_classify.cpp); the host launches ceil(count / SF_RX_VEC) items.
+// reconstruction's vector form, lookup.clh): the flag test and, where a lane is flagged, the
+// fall-back as vectors, which PoCL runs as SIMD (in one receiver per work-item both ran lane by
+// lane: PoCL does not vectorise their branches across work-items). The same flags and values as
+// sf_esm_classify_points within float rounding (test_classify.cpp); the host launches
+// ceil(count / SF_RX_VEC) items.
 __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
   const int i0 = get_global_id(0) * SF_RX_VEC;
   if (i0 >= count) return;
@@ -203,9 +307,7 @@ __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
   const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
   const sf_rxi flag = inside & (zmax > dc + C.offset);
   SF_RX_CAT(vstore, SF_RX_VEC)(SF_RX_CAT(convert_uchar, SF_RX_VEC)(flag & 1), 0, flags + i0);
-  if (!any(flag)) return;
-  for (int j = 0; j < SF_RX_VEC; ++j)
-    if (flag[j]) sf_classify_fallback(i0 + j, count, u, v, d, depth, W, H, ui[j], vi[j], dc[j], out, P, PP);
+  if (any(flag)) sf_rx_classify_fallback(i0, flag, count, u, v, d, depth, W, H, uc, vc, dc, out, P, PP);
 }
 #endif
 

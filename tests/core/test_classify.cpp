@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -113,6 +114,42 @@ TEST_P(Classify, ZMaxFlagsEveryTexelBehindAndThresholdIsASubset) {
 INSTANTIATE_TEST_SUITE_P(KindsAndRadii, Classify,
                          ::testing::Combine(::testing::Values(Lookup::Bilinear, Lookup::Mips, Lookup::Sat),
                                             ::testing::Values(0, 2)));
+
+// The vector kernel (sf_esm_classify_points_vec: zmax with bilinear or trilinear lookups, the
+// flag test and the fall-back as SF_RX_VEC lanes) against the one-receiver kernel (vector width
+// 1) on a receiver image: a floor seen in rows, planes from neighbours, background lanes and a
+// row width that splits vectors. Flags exactly equal; visibility within 2e-6 (the plane's and
+// the exponential's float rounding, vector against scalar code).
+TEST(Classify, VectorKernelMatchesTheOneReceiverKernel) {
+  const Case c = layered_case(5);
+  Receivers rx;
+  rx.width = 61, rx.height = 37;  // 61: rows start mid-vector
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> jitter(-0.004f, 0.004f);
+  for (int y = 0; y < rx.height; ++y)
+    for (int x = 0; x < rx.width; ++x) {
+      const float u = 0.03f + 0.94f * (x + 0.5f) / rx.width, v = 0.03f + 0.94f * (y + 0.5f) / rx.height;
+      const int tx = std::min(int(u * 96), 95), ty = std::min(int(v * 80), 79);
+      const bool background = (x * 7 + y * 3) % 23 == 0;
+      rx.u.push_back(u);
+      rx.v.push_back(v);
+      rx.d.push_back(background ? NAN : std::clamp(c.depth.at(tx, ty) + 0.01f + jitter(rng), 0.0f, 1.0f));
+      rx.f.push_back(1.0f + 3.0f * float(y) / rx.height);
+    }
+  rx.has_footprint = true;
+  for (Lookup kind : {Lookup::Bilinear, Lookup::Mips}) {
+    auto opt = classify_options(kind, 2, EsmClassify::ZMax);
+    const auto vec = filter(runtime_ptr(), opt, c.depth, rx);
+    opt.schedule.reconstruct_vector_width = 1;
+    const auto one = filter(runtime_ptr(), opt, c.depth, rx);
+    ASSERT_GT(vec.flagged, rx.u.size() / 20) << "the case must flag receivers";
+    ASSERT_LT(vec.flagged, rx.u.size() * 9 / 10);
+    for (size_t i = 0; i < rx.u.size(); ++i) {
+      ASSERT_EQ(vec.flags.data[i], one.flags.data[i]) << "receiver " << i;
+      ASSERT_NEAR(vec.visibility.data[i], one.visibility.data[i], 2e-6) << "receiver " << i;
+    }
+  }
+}
 
 TEST(Classify, GridReceiversAreClassifiedToo) {
   const Case c = layered_case(9);

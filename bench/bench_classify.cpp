@@ -30,24 +30,7 @@
 namespace sf::bench {
 namespace {
 
-struct Frame {
-  std::vector<float> depth, u, v, d, f;
-};
-
-Frame noise_frame(int n, bool coherent) {
-  Frame fr;
-  fr.depth = random_floats(size_t(n) * n, 9);
-  if (coherent) {
-    coherent_receivers(n, fr.u, fr.v, fr.d, fr.f);
-  } else {
-    const size_t count = screen().count();
-    fr.u = random_floats(count, 10);
-    fr.v = random_floats(count, 11);
-    fr.d = random_floats(count, 12);
-    fr.f = random_floats(count, 13, 1.0f, 8.0f);
-  }
-  return fr;
-}
+using Frame = EsmFrame;
 
 #ifdef SF_BENCH_HAVE_SCENE
 Frame scene_frame(int n, const std::string& name) {
@@ -80,7 +63,7 @@ void BM_ClassifiedFrame(benchmark::State& state) {
 #ifdef SF_BENCH_HAVE_SCENE
   if (scene == 2) fr = scene_frame(n, "backyard");
 #endif
-  if (scene != 2) fr = noise_frame(n, scene == 1);
+  if (scene != 2) fr = esm_frame(n, scene == 1);
   FilterOptions opt;  // esm, c = 120, classification Auto = zmax
   opt.blur.radius = 3;
   if (mips) opt.lookup.kind = Lookup::Mips;

@@ -41,6 +41,13 @@ void set_throughput(benchmark::State& state, double bytes, double texels, double
 // order (bench_pipeline.cpp): u, v, d and footprints f in level-0 texels.
 void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, std::vector<float>& d,
                         std::vector<float>& f);
+// bench_pipeline.cpp's ESM frame: a map x map white-noise depth map (random_floats seed 9) and
+// screen() receivers, coherent (coherent_receivers) or random (u, v, d uniform, f in [1, 8],
+// seeds 10-13).
+struct EsmFrame {
+  std::vector<float> depth, u, v, d, f;
+};
+EsmFrame esm_frame(int map, bool coherent);
 // Deterministic uniform random floats in [lo, hi].
 std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float hi = 1.0f);
 // A device buffer holding `host`, and an uninitialised one of `bytes`.

@@ -54,26 +54,16 @@ namespace {
 constexpr double kTolerance = 1e-3;
 
 // bench_pipeline.cpp's inputs, made once per (size, rx) and shared by both benchmarks.
-struct EsmInputs {
+struct EsmInputs : EsmFrame {
   int n = 0;
-  std::vector<float> depth, u, v, d, f;
 };
 const EsmInputs& inputs(int n, bool coherent) {
   static std::map<std::pair<int, bool>, EsmInputs> cache;
   auto [it, fresh] = cache.try_emplace({n, coherent});
   EsmInputs& in = it->second;
   if (fresh) {
+    static_cast<EsmFrame&>(in) = esm_frame(n, coherent);
     in.n = n;
-    in.depth = random_floats(size_t(n) * n, 9);
-    if (coherent) {
-      coherent_receivers(n, in.u, in.v, in.d, in.f);
-    } else {
-      const size_t count = screen().count();
-      in.u = random_floats(count, 10);
-      in.v = random_floats(count, 11);
-      in.d = random_floats(count, 12);
-      in.f = random_floats(count, 13, 1.0f, 8.0f);
-    }
   }
   return in;
 }

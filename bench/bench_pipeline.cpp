@@ -39,6 +39,21 @@ void coherent_receivers(int map, std::vector<float>& u, std::vector<float>& v, s
   }
 }
 
+EsmFrame esm_frame(int map, bool coherent) {
+  EsmFrame fr;
+  fr.depth = random_floats(size_t(map) * map, 9);
+  if (coherent) {
+    coherent_receivers(map, fr.u, fr.v, fr.d, fr.f);
+  } else {
+    const size_t count = screen().count();
+    fr.u = random_floats(count, 10);
+    fr.v = random_floats(count, 11);
+    fr.d = random_floats(count, 12);
+    fr.f = random_floats(count, 13, 1.0f, 8.0f);
+  }
+  return fr;
+}
+
 namespace {
 
 void BM_EsmPipeline(benchmark::State& state) {

@@ -30,10 +30,8 @@
 namespace sf::bench {
 namespace {
 
-using Frame = EsmFrame;
-
 #ifdef SF_BENCH_HAVE_SCENE
-Frame scene_frame(int n, const std::string& name) {
+EsmFrame scene_frame(int n, const std::string& name) {
   scene::SceneRequest req;
   req.scene = name;
   req.out_dir = "unused";  // make_setup writes nothing
@@ -43,7 +41,7 @@ Frame scene_frame(int n, const std::string& name) {
   req.progress = false;
   const scene::SceneSetup setup = scene::make_setup(req);
   const scene::SceneRenderer renderer(setup);
-  Frame fr;
+  EsmFrame fr;
   fr.depth = renderer.shadow_map().data;
   const HostImage rx = renderer.camera_view(false).receivers;  // u v d f ndl
   const size_t count = size_t(rx.width) * rx.height;
@@ -59,7 +57,7 @@ Frame scene_frame(int n, const std::string& name) {
 void BM_ClassifiedFrame(benchmark::State& state) {
   const int n = int(state.range(0)), scene = int(state.range(1));
   const bool mips = state.range(2) == 1;
-  Frame fr;
+  EsmFrame fr;
 #ifdef SF_BENCH_HAVE_SCENE
   if (scene == 2) fr = scene_frame(n, "backyard");
 #endif

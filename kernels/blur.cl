@@ -23,14 +23,14 @@
 //
 // SF_BLUR_MAX (float32 only) makes the same kernels a separable max filter: every output is the
 // max over the clamped (2R+1)^2 window (the z-max dilation of esm_classify.cl) instead of the
-// weighted sum; SF_WEIGHTS is then unused. SF_TAP0 and SF_TAPS are the two steps of either (max,
-// not fmax: depths are finite, and PoCL turns fmax on vectors into calls lane by lane).
+// weighted sum (max, not fmax: depths are finite, no NaN to order). SF_TAP0 and SF_TAPS are the
+// two steps of either; both families pass them the weights as sf_w[k], which a max filter never
+// expands, so SF_WEIGHTS and sf_w exist for the blur only.
 #ifdef SF_BLUR_MAX
 #define SF_TAP0(w, x) (x)
 #define SF_TAPS(w, a, b, acc) max(acc, max(a, b))
-#undef SF_WEIGHTS
-#define SF_WEIGHTS 0.0f
 #else
+__constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 #define SF_TAP0(w, x) ((w) * (x))
 #define SF_TAPS(w, a, b, acc) fma(w, (a) + (b), acc)
 #endif
@@ -46,7 +46,6 @@
 // the barrier. NDRange (ceil(W / SF_BGX) SF_BGX, ceil(H / (SF_BGY SF_BROWS)) SF_BGY, channels).
 // Plain scalar loads and stores through storage.clh: no vector pointer of any alignment.
 #ifdef SF_BLUR_GPU
-__constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
 
 #define SF_TILE_ROWS (SF_BGY * SF_BROWS)
 #define SF_TILE_SPAN (SF_TILE_ROWS + 2 * SF_RADIUS)
@@ -176,9 +175,6 @@ SF_INLINE sf_raw sf_encode(sf_vec v) {
   return SF_CONVERT(uchar, SF_CONVERT(int, rint(clamp(v, 0.0f, 1.0f) * 255.0f)));
 }
 #endif
-
-__constant float sf_w[SF_RADIUS + 1] = {SF_WEIGHTS};
-
 
 // Ring rows of one step: the 2R+1 taps of its first output row plus one per further row.
 #define SF_SPAN (2 * SF_RADIUS + SF_VROWS)

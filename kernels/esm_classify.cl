@@ -5,7 +5,8 @@
 //
 // Modes: 1 = zmax: flag when some depth texel in the lookup's support, widened by the blur's
 // radius R, has z > d + offset. It reads the dilated z-max pyramid (classify.hpp,
-// enqueue_zmax_pyramid): zbase = the depth max-filtered over (2R+1)^2 (clamped), zchain its
+// enqueue_zmax_pyramid): zbase = the depth max-filtered over (2R+1)^2 (clamped; the depth itself
+// when R = 0), zchain its
 // Reduce::Max pyramid, so that a level-k texel holds the max of the depth over its 2^k block
 // widened by R. The blur's fringe is then in every texel, and a support of level-k texels reads
 // those texels only: grid receivers read 1 texel, bilinear and trilinear lookups the 2x2 of their
@@ -117,7 +118,7 @@ inline void sf_classify_one(__global const sf_stored* restrict basis, __global c
   float b[SF_CHANNELS] = {0.0f};
   float zmax = 0.0f;
   if (C->mode == SF_CLASSIFY_THRESHOLD) sf_lookup(basis, chain, sat, W, H, ui, vi, fi, b);
-  else zmax = sf_zmax_support(zbase ? zbase : depth, zchain, C, W, H, ui, vi, fi);
+  else zmax = sf_zmax_support(zbase, zchain, C, W, H, ui, vi, fi);
   const float dd = clamp(di, 0.0f, 1.0f);
   const bool flag = sf_classify(dd, zmax, b, *C, P);
   flags[i] = flag ? 1 : 0;
@@ -183,8 +184,7 @@ SF_RX_INLINE sf_rxi sf_rx_plane_axis(int i0, int step, sf_rxi has_lo, sf_rxi has
                da = sf_rx_shifted(d, i0, -step, count);
   const sf_rxf ub = sf_rx_shifted(u, i0, step, count), vb = sf_rx_shifted(v, i0, step, count),
                db = sf_rx_shifted(d, i0, step, count);
-  const sf_rxi a = has_lo & isfinite(da) & (ua >= 0.0f) & (ua <= 1.0f) & (va >= 0.0f) & (va <= 1.0f);
-  const sf_rxi b = has_hi & isfinite(db) & (ub >= 0.0f) & (ub <= 1.0f) & (vb >= 0.0f) & (vb <= 1.0f);
+  const sf_rxi a = has_lo & sf_rx_inside(ua, va, da), b = has_hi & sf_rx_inside(ub, vb, db);
   const sf_rxf ax = (ua - ui) * (float)W, ay = (va - vi) * (float)H, ad = da - di;
   const sf_rxf bx = (ub - ui) * (float)W, by = (vb - vi) * (float)H, bd = db - di;
   const sf_rxf la = sqrt(fma(ax, ax, ay * ay)), lb = sqrt(fma(bx, bx, by * by));
@@ -276,14 +276,13 @@ __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
     return;
   }
   const sf_rxf ui = sf_rx_vload(u + i0), vi = sf_rx_vload(v + i0), di = sf_rx_vload(d + i0);
-  const sf_rxi inside = isfinite(di) & (ui >= 0.0f) & (ui <= 1.0f) & (vi >= 0.0f) & (vi <= 1.0f);
+  const sf_rxi inside = sf_rx_inside(ui, vi, di);
   if (!any(inside)) {
     SF_RX_CAT(vstore, SF_RX_VEC)((SF_RX_CAT(uchar, SF_RX_VEC))(0), 0, flags + i0);
     return;
   }
   const sf_rxf centre = (sf_rxf)(0.5f);
   const sf_rxf uc = select(centre, ui, inside), vc = select(centre, vi, inside);
-  __global const float* zb = zbase ? zbase : depth;
   sf_rxi k0 = (sf_rxi)(0);
   sf_rxf t = (sf_rxf)(0.0f);
 #if SF_LOOKUP == SF_LOOKUP_MIPS
@@ -300,10 +299,10 @@ __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
 #endif
   const sf_rxi between = t > 0.0f;
   const sf_rxi k1 = select(k0, k0 + 1, between);
-  sf_rxf zmax = sf_rx_zmax_level(zb, zchain, &C, W, H, k1, uc, vc);
+  sf_rxf zmax = sf_rx_zmax_level(zbase, zchain, &C, W, H, k1, uc, vc);
   // Trilinear between a finer level with an odd side and the coarser one: both (sf_zmax_support).
   const sf_rxi odd = between & (((((sf_rxi)(W - 1)) >> k0) + 1 | (((sf_rxi)(H - 1)) >> k0) + 1) & 1) != 0;
-  if (any(odd)) zmax = select(zmax, fmax(zmax, sf_rx_zmax_level(zb, zchain, &C, W, H, k0, uc, vc)), odd);
+  if (any(odd)) zmax = select(zmax, fmax(zmax, sf_rx_zmax_level(zbase, zchain, &C, W, H, k0, uc, vc)), odd);
   const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
   const sf_rxi flag = inside & (zmax > dc + C.offset);
   SF_RX_CAT(vstore, SF_RX_VEC)(SF_RX_CAT(convert_uchar, SF_RX_VEC)(flag & 1), 0, flags + i0);
@@ -330,7 +329,7 @@ __kernel void sf_esm_classify_grid(
   float b[SF_CHANNELS] = {0.0f};
   float zmax = 0.0f;
   if (C.mode == SF_CLASSIFY_THRESHOLD) sf_lookup_texel(basis, W, W * H, x, y, b);  // as sf_reconstruct_grid reads it
-  else zmax = (zbase ? zbase : depth)[i];  // the texel widened by R
+  else zmax = zbase[i];  // the texel widened by R
   const float dd = clamp(di, 0.0f, 1.0f);
   const bool flag = sf_classify(dd, zmax, b, C, P);
   flags[i] = flag ? 1 : 0;

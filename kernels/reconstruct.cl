@@ -46,9 +46,8 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
   }
 #endif
   const sf_rxf ui = sf_rx_vload(u + i0), vi = sf_rx_vload(v + i0), di = sf_rx_vload(d + i0);
-  // !sf_receiver_outside (NaN u or v fails the range tests). Outside receivers look up the
-  // map's centre, so that their index math stays in range, and get 1.
-  const sf_rxi inside = isfinite(di) & (ui >= 0.0f) & (ui <= 1.0f) & (vi >= 0.0f) & (vi <= 1.0f);
+  // Outside receivers look up the map's centre, so that their index math stays in range, and get 1.
+  const sf_rxi inside = sf_rx_inside(ui, vi, di);
   const sf_rxf one = (sf_rxf)(1.0f), centre = (sf_rxf)(0.5f);
   // A vector of receivers all outside (background, or served by another layer of a cascade set:
   // layered.hpp) needs no lookup: their visibility is 1 whatever the basis holds.

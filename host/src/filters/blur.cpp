@@ -14,10 +14,16 @@ namespace sf {
 
 float default_blur_sigma(int radius) { return (2.0f * radius + 1.0f) / 6.0f; }
 
-std::vector<float> gaussian_weights(int radius, float sigma) {
+namespace {
+void check_radius(int radius) {
   if (radius < 0 || radius > kMaxBlurRadius)
     throw InputError("FilterOptions::blur.radius must be in 0.." + std::to_string(kMaxBlurRadius) + ", got " +
                      std::to_string(radius));
+}
+}  // namespace
+
+std::vector<float> gaussian_weights(int radius, float sigma) {
+  check_radius(radius);
   if (!std::isfinite(sigma))
     throw InputError("FilterOptions::blur.sigma must be a finite number (<= 0: the default (2R+1)/6), got " +
                      std::to_string(sigma));
@@ -262,9 +268,9 @@ cl::Event enqueue_max_filter(Runtime& rt, int radius, const ScheduleOptions& sch
                              const cl::Buffer& src, const cl::Buffer& dst, cl::Event* first,
                              const EventList* wait) try {
   if (src() == dst()) throw InputError("max filter: dst must not be src");
+  check_radius(radius);
   BlurOptions taps;
   taps.radius = radius;
-  (void)gaussian_weights(radius, 0.0f);  // the radius's range check
   return enqueue_separable(rt, taps, true, sched, Storage::F32, shape, src, cl::Buffer(), dst, first, wait);
 } catch (const cl::Error& e) {
   detail::throw_device_error("enqueue_max_filter", e);

@@ -22,9 +22,7 @@ using ClassifyParams = sf_classify_params;  // shared_types.clh
 // Receivers per work-item of sf_esm_classify_points_vec (the reconstruction's vector width), or 1
 // where the scalar kernel serves (threshold mode, the SAT's box, width 1).
 int classify_vector_width(const FilterOptions& opt) {
-  const int vec = opt.schedule.reconstruct_vector_width;
-  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
-    throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  const int vec = detail::reconstruct_vector_width(opt);
   return classify_mode(opt) == EsmClassify::ZMax && opt.lookup.kind != Lookup::Sat ? vec : 1;
 }
 
@@ -52,7 +50,6 @@ ClassifyParams params(const FilterOptions& opt, int width, int height) {
   c.top = layout.top();
   for (int k = 1; k <= layout.top(); ++k) c.zoff[k] = static_cast<cl_int>(layout.levels[k].offset);
   c.mode = static_cast<cl_int>(classify_mode(opt));
-  c.radius = opt.blur.radius;
   c.offset = opt.esm_classify.zmax_offset;
   c.log_thresh = static_cast<float>(std::log1p(esm_threshold_eps(opt)));
   return c;
@@ -65,7 +62,7 @@ detail::KernelArgs common_args(cl::Kernel& k, const ClassifyInputs& in) {
       .optional(in.lookup.chain)
       .optional(in.lookup.sat)
       .buffer(in.depth)
-      .optional(in.zmax_base)
+      .buffer(in.zmax_base() ? in.zmax_base : in.depth)  // zbase: with R = 0 the depth itself
       .optional(in.zmax_chain)
       .value(in.width)
       .value(in.height);

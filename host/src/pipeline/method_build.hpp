@@ -15,5 +15,8 @@ std::string method_build_options(const MethodDesc& m, const FilterOptions& opt);
 // The same and -DSF_LOOKUP=<opt.lookup.kind>: programs that read the basis through sf_lookup
 // (the ESM classification, a caller's kernel from kernel_prelude()).
 std::string method_lookup_build_options(const MethodDesc& m, const FilterOptions& opt);
+// ScheduleOptions::reconstruct_vector_width, checked (1, 4, 8 or 16; InputError otherwise): the
+// receivers per work-item of the reconstruction and the ESM classification's vector kernel.
+int reconstruct_vector_width(const FilterOptions& opt);
 
 }  // namespace sf::detail

@@ -31,6 +31,13 @@ std::string detail::method_lookup_build_options(const MethodDesc& m, const Filte
   return add_method_options(b, m, opt).lookup(opt.lookup.kind).str();
 }
 
+int detail::reconstruct_vector_width(const FilterOptions& opt) {
+  const int vec = opt.schedule.reconstruct_vector_width;
+  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
+    throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  return vec;
+}
+
 namespace {
 
 size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
@@ -140,9 +147,7 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                               lookup ? lookup->footprint : cl::Buffer(), visibility, wait);
   // The footprint lookup (lookup.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
-  int vec = opt.schedule.reconstruct_vector_width;
-  if (vec != 1 && vec != 4 && vec != 8 && vec != 16)
-    throw InputError("reconstruct vector width must be 1, 4, 8 or 16, got " + std::to_string(vec));
+  int vec = detail::reconstruct_vector_width(opt);
   // At most 64 basis values per lookup and work-item: wider (csm M >= 16 at width 16, mips)
   // overflowed PoCL's work-item stack. Only csm narrows (M = 8: width 4; M >= 16: width 1);
   // every width gives the same values (tests/core/test_reconstruct_vec.cpp).

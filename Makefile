@@ -6,7 +6,7 @@ OUT ?= out
 # stop `make run`.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: deps deps-bench deps-dev configure build run test python-env bench bench-smoke data meshes mesh-scenes coherent-table clean
+.PHONY: deps deps-bench deps-dev configure build run test python-env bench bench-smoke performance data meshes mesh-scenes coherent-table clean
 .PHONY: fresh-check oclgrind sanitize fuzz tidy format format-check
 
 deps:
@@ -132,6 +132,19 @@ bench: build deps-bench
 	    e = [b["name"] for b in d["benchmarks"] if b.get("error_occurred")]; \
 	    print(f"bench: {n} results, {len(e)} with errors {e}")' $(OUT)/bench.json.part
 	@mv $(OUT)/bench.json.part $(OUT)/bench.json && echo "bench: wrote $(OUT)/bench.json"
+
+# docs/performance.md: the seeds' performance tables (bench/bench_tables.cpp) and the default
+# frame's stages against their floor or peer, measured in one sf_bench run (the copy bandwidth
+# first, ours beside each baseline under the same load) and written by
+# scripts/performance_tables.py; the run's JSON stays in $(BUILD)/performance.json. A GPU run
+# of the same filter fills the GPU column (docs/gpu.md, scripts/gpu/).
+PERF_FILTER ?= ^copy/|^table|^coherent/query_|^esm_classify/frame/size:2048/|^blur/(ours|opencv_GaussianBlur)/size:2048/|^mips/chain/size:2048/|^esm_vs_opencv/
+performance: build deps-bench
+	@cmake -S . -B $(BUILD) -DSF_BUILD_BENCH=ON > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target sf_bench
+	SF_BENCH_REPETITIONS=$(BENCH_REPETITIONS) $(BUILD)/sf_bench --benchmark_filter='$(PERF_FILTER)' \
+	    --benchmark_out=$(BUILD)/performance.json --benchmark_out_format=json
+	python3 scripts/performance_tables.py --cpu $(BUILD)/performance.json --out docs/performance.md
 
 # Every benchmark family and variant once, at the least time (1 repetition, one timed run after
 # the warm-up) and at a small size (SF_BENCH_SMOKE=1: maps of at most 512, 320x180 receivers;

@@ -46,17 +46,20 @@ void BM_Blur(benchmark::State& state, bool in_place, Storage storage) {
   const ScheduleOptions sched;
   double kernel = 0, copy = 0, wall = 0;
   int runs = 0;
-  const double s = time_runs(state, [&] {
-    cl::Event first, last;
-    wall += wall_seconds([&] {
-      last = enqueue_blur(runtime(), blur, sched, storage, shape, src, tmp, dst, &first);
-      last.wait();
-    });
-    kernel += event_seconds(first);
-    if (in_place) copy += event_seconds(last);
-    ++runs;
-    return event_seconds(first, last);
-  });
+  const double s = time_runs(
+      state,
+      [&] {
+        cl::Event first, last;
+        wall += wall_seconds([&] {
+          last = enqueue_blur(runtime(), blur, sched, storage, shape, src, tmp, dst, &first);
+          last.wait();
+        });
+        kernel += event_seconds(first);
+        if (in_place) copy += event_seconds(last);
+        ++runs;
+        return event_seconds(first, last);
+      },
+      2, [&] { kernel = copy = wall = 0, runs = 0; });
   state.counters["kernel_ms"] = 1e3 * kernel / runs;
   if (in_place) state.counters["copy_ms"] = 1e3 * copy / runs;
   state.counters["wall_ms"] = 1e3 * wall / runs;

@@ -22,44 +22,15 @@
 #include "bench_common.hpp"
 #include "shadowfilter/pipeline.hpp"
 
-#ifdef SF_BENCH_HAVE_SCENE
-#include "scene_generate.hpp"
-#include "scene_render.hpp"
-#endif
-
 namespace sf::bench {
 namespace {
-
-#ifdef SF_BENCH_HAVE_SCENE
-EsmFrame scene_frame(int n, const std::string& name) {
-  scene::SceneRequest req;
-  req.scene = name;
-  req.out_dir = "unused";  // make_setup writes nothing
-  req.map_size = n;
-  req.receivers = screen().name();
-  req.samples = 1;
-  req.progress = false;
-  const scene::SceneSetup setup = scene::make_setup(req);
-  const scene::SceneRenderer renderer(setup);
-  EsmFrame fr;
-  fr.depth = renderer.shadow_map().data;
-  const HostImage rx = renderer.camera_view(false).receivers;  // u v d f ndl
-  const size_t count = size_t(rx.width) * rx.height;
-  fr.u.resize(count), fr.v.resize(count), fr.d.resize(count), fr.f.resize(count);
-  for (size_t i = 0; i < count; ++i) {
-    const float* p = &rx.data[i * rx.channels];
-    fr.u[i] = p[0], fr.v[i] = p[1], fr.d[i] = p[2], fr.f[i] = p[3];
-  }
-  return fr;
-}
-#endif
 
 void BM_ClassifiedFrame(benchmark::State& state) {
   const int n = int(state.range(0)), scene = int(state.range(1));
   const bool mips = state.range(2) == 1;
   EsmFrame fr;
 #ifdef SF_BENCH_HAVE_SCENE
-  if (scene == 2) fr = scene_frame(n, "backyard");
+  if (scene == 2) fr = scene_frame("backyard", n, screen().width, screen().height);
 #endif
   if (scene != 2) fr = esm_frame(n, scene == 1);
   FilterOptions opt;  // esm, c = 120, classification Auto = zmax
@@ -83,13 +54,16 @@ void BM_ClassifiedFrame(benchmark::State& state) {
   StageTimes sum;
   double plain_s = 0;
   int runs = 0;
-  const double s = time_runs(state, [&] {
-    const StageTimes t = frame(classified);
-    plain_s += frame(unclassified).total();
-    sum.reconstruct += t.reconstruct, sum.zmax += t.zmax, sum.classify += t.classify;
-    ++runs;
-    return t.total();
-  });
+  const double s = time_runs(
+      state,
+      [&] {
+        const StageTimes t = frame(classified);
+        plain_s += frame(unclassified).total();
+        sum.reconstruct += t.reconstruct, sum.zmax += t.zmax, sum.classify += t.classify;
+        ++runs;
+        return t.total();
+      },
+      2, [&] { sum = {}, plain_s = 0, runs = 0; });
   std::vector<uint8_t> flags(rx.count);
   runtime().queue().enqueueReadBuffer(classified.flags(), CL_TRUE, 0, rx.count, flags.data());
   size_t inside = 0;

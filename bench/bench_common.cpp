@@ -33,8 +33,9 @@ Runtime& runtime() { return *runtime_ptr(); }
 double reference_bandwidth() { return g_reference_bandwidth; }
 void set_reference_bandwidth(double bytes_per_second) { g_reference_bandwidth = bytes_per_second; }
 
-double time_runs(benchmark::State& state, const TimedRun& run, int warmups) {
+double time_runs(benchmark::State& state, const TimedRun& run, int warmups, const std::function<void()>& warmed) {
   for (int i = 0; i < warmups; ++i) run();
+  if (warmed) warmed();
   double total = 0.0;
   for (auto _ : state) {
     const double s = run();

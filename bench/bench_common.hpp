@@ -26,8 +26,12 @@ void set_reference_bandwidth(double bytes_per_second);
 // events, or host wall time for CPU baselines).
 using TimedRun = std::function<double()>;
 // Warm-up runs, then one run per benchmark iteration, reported with SetIterationTime.
-// Returns the mean seconds of the timed runs.
-double time_runs(benchmark::State& state, const TimedRun& run, int warmups = 2);
+// Returns the mean seconds of the timed runs. `warmed`, when given, is called between the
+// warm-ups and the timed runs: a run that sums counters resets them there, so that they hold
+// the timed runs only (PoCL compiles a kernel for its launch shape at the first launch, inside
+// that launch's profiled time).
+double time_runs(benchmark::State& state, const TimedRun& run, int warmups = 2,
+                 const std::function<void()>& warmed = nullptr);
 // Median of `runs` timed runs after `warmups` (for values needed outside a benchmark).
 double median_seconds(const TimedRun& run, int runs, int warmups = 2);
 // Host wall seconds of one call.
@@ -48,6 +52,12 @@ struct EsmFrame {
   std::vector<float> depth, u, v, d, f;
 };
 EsmFrame esm_frame(int map, bool coherent);
+#ifdef SF_BENCH_HAVE_SCENE
+// A built-in scene (scene library, docs/scenes.md) as a frame: its light's map x map depth map
+// and its camera's width x height receivers (u, v, d, f), rendered once per argument set and
+// kept for the run (bench_scene_frame.cpp).
+const EsmFrame& scene_frame(const std::string& scene, int map, int width, int height);
+#endif
 // Deterministic uniform random floats in [lo, hi].
 std::vector<float> random_floats(size_t n, unsigned seed, float lo = 0.0f, float hi = 1.0f);
 // A device buffer holding `host`, and an uninitialised one of `bytes`.

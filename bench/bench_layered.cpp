@@ -100,16 +100,19 @@ void BM_LayeredFrame(benchmark::State& state) {
   Frame four = make_frame(opt, LayoutKind::Pssm, 4, size / 2, cam);
   double single_s = 0, four_s = 0, project_s = 0, blend_s = 0, reconstruct_s = 0, prefilter_s = 0;
   int runs = 0;
-  const double s = time_runs(state, [&] {
-    single_s += run_frame(single, rx, vis);
-    const double t = run_frame(four, rx, vis);
-    const StageTimes lt = four.pipe->times();
-    project_s += lt.project, blend_s += lt.blend, reconstruct_s += lt.reconstruct + lt.classify;
-    prefilter_s += lt.transform + lt.blur + lt.pyramid + lt.zmax;
-    four_s += t;
-    ++runs;
-    return t;
-  });
+  const double s = time_runs(
+      state,
+      [&] {
+        single_s += run_frame(single, rx, vis);
+        const double t = run_frame(four, rx, vis);
+        const StageTimes lt = four.pipe->times();
+        project_s += lt.project, blend_s += lt.blend, reconstruct_s += lt.reconstruct + lt.classify;
+        prefilter_s += lt.transform + lt.blur + lt.pyramid + lt.zmax;
+        four_s += t;
+        ++runs;
+        return t;
+      },
+      2, [&] { single_s = four_s = project_s = blend_s = reconstruct_s = prefilter_s = 0, runs = 0; });
   state.counters["single_ms"] = 1e3 * single_s / runs;
   state.counters["four_ms"] = 1e3 * four_s / runs;
   state.counters["ratio"] = four_s / single_s;

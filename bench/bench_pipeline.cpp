@@ -82,17 +82,20 @@ void BM_EsmPipeline(benchmark::State& state) {
   cl::Buffer vis = device_buffer(count * sizeof(float));
   StageTimes sum;
   int runs = 0;
-  const double s = time_runs(state, [&] {
-    EventList filtered{pipe.prefilter(depth)};
-    pipe.reconstruct(rx, vis, &filtered).wait();
-    const StageTimes t = pipe.times();
-    sum.transform += t.transform;
-    sum.blur += t.blur;
-    sum.pyramid += t.pyramid;
-    sum.reconstruct += t.reconstruct;
-    ++runs;
-    return t.transform + t.blur + t.pyramid + t.reconstruct;
-  });
+  const double s = time_runs(
+      state,
+      [&] {
+        EventList filtered{pipe.prefilter(depth)};
+        pipe.reconstruct(rx, vis, &filtered).wait();
+        const StageTimes t = pipe.times();
+        sum.transform += t.transform;
+        sum.blur += t.blur;
+        sum.pyramid += t.pyramid;
+        sum.reconstruct += t.reconstruct;
+        ++runs;
+        return t.transform + t.blur + t.pyramid + t.reconstruct;
+      },
+      2, [&] { sum = {}, runs = 0; });
   state.counters["transform_ms"] = 1e3 * sum.transform / runs;
   state.counters["blur_ms"] = 1e3 * sum.blur / runs;
   state.counters["mips_ms"] = 1e3 * sum.pyramid / runs;

@@ -134,7 +134,7 @@ inline void sf_classify_one(__global const sf_stored* restrict basis, __global c
       __global uchar *restrict flags, const int count, const sf_classify_params C,                  \
       const sf_method_params P, const sf_plane_params PP
 
-// One receiver per work-item: the threshold mode and the SAT's box.
+// One receiver per work-item: the SAT's box, and vector width 1.
 __kernel void sf_esm_classify_points(SF_CLASSIFY_POINTS_ARGS) {
   const int i = get_global_id(0);
   if (i < count)
@@ -261,8 +261,9 @@ SF_RX_INLINE void sf_rx_classify_fallback(int i0, sf_rxi flag, int count, __glob
   sf_rx_vstore(select(sf_rx_vload(out + i0), vis, flag), out + i0);
 }
 
-// zmax mode with the bilinear or trilinear lookup, SF_RX_VEC receivers per work-item (the
-// reconstruction's vector form, lookup.clh): the flag test and, where a lane is flagged, the
+// Both modes with the bilinear or trilinear lookup, SF_RX_VEC receivers per work-item (the
+// reconstruction's vector form, lookup.clh): the flag test (zmax: the dilated pyramid's 2x2;
+// threshold: the filtered basis) and, where a lane is flagged, the
 // fall-back as vectors, which PoCL runs as SIMD (in one receiver per work-item both ran lane by
 // lane: PoCL does not vectorise their branches across work-items). The same flags and values as
 // sf_esm_classify_points within float rounding (test_classify.cpp); the host launches
@@ -283,28 +284,37 @@ __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
   }
   const sf_rxf centre = (sf_rxf)(0.5f);
   const sf_rxf uc = select(centre, ui, inside), vc = select(centre, vi, inside);
-  sf_rxi k0 = (sf_rxi)(0);
-  sf_rxf t = (sf_rxf)(0.0f);
-#if SF_LOOKUP == SF_LOOKUP_MIPS
-  {  // sf_lod lane by lane: LOD = log2(max(f, 1)), non-finite f as 1, clamped to the top level
-    const sf_rxf fv = f ? sf_rx_vload(f + i0) : (sf_rxf)(1.0f);
-    const sf_rxf lod = log2(select((sf_rxf)(1.0f), fmax(fv, 1.0f), isfinite(fv)));
-    const sf_rxf fl = floor(lod);
-    k0 = sf_rx_int(fl);
-    t = lod - fl;
-    const sf_rxi past = k0 >= (sf_rxi)(C.top);
-    k0 = select(k0, (sf_rxi)(C.top), past);
-    t = select(t, (sf_rxf)(0.0f), past);
-  }
-#endif
-  const sf_rxi between = t > 0.0f;
-  const sf_rxi k1 = select(k0, k0 + 1, between);
-  sf_rxf zmax = sf_rx_zmax_level(zbase, zchain, &C, W, H, k1, uc, vc);
-  // Trilinear between a finer level with an odd side and the coarser one: both (sf_zmax_support).
-  const sf_rxi odd = between & (((((sf_rxi)(W - 1)) >> k0) + 1 | (((sf_rxi)(H - 1)) >> k0) + 1) & 1) != 0;
-  if (any(odd)) zmax = select(zmax, fmax(zmax, sf_rx_zmax_level(zbase, zchain, &C, W, H, k0, uc, vc)), odd);
   const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
-  const sf_rxi flag = inside & (zmax > dc + C.offset);
+  sf_rxi flag;
+  if (C.mode == SF_CLASSIFY_THRESHOLD) {
+    // The filtered basis as the reconstruction read it (sf_rx_lookup over the separate level 0
+    // and chain: the classification is built without SF_MIPS_JOINED), then sf_classify's test.
+    sf_rxf b[SF_CHANNELS];
+    sf_rx_lookup(basis, chain, sat, (__constant int*)0, W, H, uc, vc, f ? sf_rx_vload(f + i0) : (sf_rxf)(1.0f), b);
+    flag = inside & (log(fmax(b[0], FLT_MIN)) - P.c * (dc - 0.5f) > C.log_thresh);
+  } else {
+    sf_rxi k0 = (sf_rxi)(0);
+    sf_rxf t = (sf_rxf)(0.0f);
+#if SF_LOOKUP == SF_LOOKUP_MIPS
+    {  // sf_lod lane by lane: LOD = log2(max(f, 1)), non-finite f as 1, clamped to the top level
+      const sf_rxf fv = f ? sf_rx_vload(f + i0) : (sf_rxf)(1.0f);
+      const sf_rxf lod = log2(select((sf_rxf)(1.0f), fmax(fv, 1.0f), isfinite(fv)));
+      const sf_rxf fl = floor(lod);
+      k0 = sf_rx_int(fl);
+      t = lod - fl;
+      const sf_rxi past = k0 >= (sf_rxi)(C.top);
+      k0 = select(k0, (sf_rxi)(C.top), past);
+      t = select(t, (sf_rxf)(0.0f), past);
+    }
+#endif
+    const sf_rxi between = t > 0.0f;
+    const sf_rxi k1 = select(k0, k0 + 1, between);
+    sf_rxf zmax = sf_rx_zmax_level(zbase, zchain, &C, W, H, k1, uc, vc);
+    // Trilinear between a finer level with an odd side and the coarser one: both (sf_zmax_support).
+    const sf_rxi odd = between & (((((sf_rxi)(W - 1)) >> k0) + 1 | (((sf_rxi)(H - 1)) >> k0) + 1) & 1) != 0;
+    if (any(odd)) zmax = select(zmax, fmax(zmax, sf_rx_zmax_level(zbase, zchain, &C, W, H, k0, uc, vc)), odd);
+    flag = inside & (zmax > dc + C.offset);
+  }
   SF_RX_CAT(vstore, SF_RX_VEC)(SF_RX_CAT(convert_uchar, SF_RX_VEC)(flag & 1), 0, flags + i0);
   if (any(flag)) sf_rx_classify_fallback(i0, flag, count, u, v, d, depth, W, H, uc, vc, dc, out, P, PP);
 }

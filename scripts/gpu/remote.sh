@@ -132,8 +132,9 @@ cat "$OUT/summary.txt"
 
 if [ -z "${SF_SKIP_BENCH:-}" ]; then
   # Device kernels only (no double references, no OpenCV): copy, transforms at 2048^2 (width 1
-  # and 16), blurs at 2048^2, pyramids, SATs, the ESM pipeline.
-  F=${SF_BENCH_FILTER:-'^copy/|^transform/.*/size:2048/vec:(1|16)/|^blur/ours[a-z0-9_]*/size:2048/|^mips/(chain|zmax_chain|zmin_chain)/|^sat/table/|^esm_pipeline/|^esm_transform/size:2048/'}
+  # and 16), blurs at 2048^2, pyramids, SATs, the ESM pipeline; the seeds' tables and the
+  # classified frame (docs/performance.md's benchmarks, scripts/performance_tables.py --gpu).
+  F=${SF_BENCH_FILTER:-'^copy/|^transform/.*/size:2048/vec:(1|16)/|^blur/ours[a-z0-9_]*/size:2048/|^mips/(chain|zmax_chain|zmin_chain)/|^sat/table/|^esm_pipeline/|^esm_transform/size:2048/|^table|^coherent/query_|^esm_classify/frame/size:2048/'}
   SF_BENCH_MIN_TIME=${SF_BENCH_MIN_TIME:-0.05} SF_BENCH_REPETITIONS=${SF_BENCH_REPETITIONS:-3} \
   timeout -k 5 "${SF_BENCH_SECONDS:-150}" $RUN "$G/bin/sf_bench" --benchmark_filter="$F" \
     --benchmark_min_time=0.05 --benchmark_repetitions=3 --benchmark_out="$OUT/bench.json" \

@@ -20,10 +20,9 @@ namespace {
 using ClassifyParams = sf_classify_params;  // shared_types.clh
 
 // Receivers per work-item of sf_esm_classify_points_vec (the reconstruction's vector width), or 1
-// where the scalar kernel serves (threshold mode, the SAT's box, width 1).
+// where the scalar kernel serves (the SAT's box, width 1).
 int classify_vector_width(const FilterOptions& opt) {
-  const int vec = detail::reconstruct_vector_width(opt);
-  return classify_mode(opt) == EsmClassify::ZMax && opt.lookup.kind != Lookup::Sat ? vec : 1;
+  return opt.lookup.kind != Lookup::Sat ? detail::reconstruct_vector_width(opt) : 1;
 }
 
 cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* name) {

@@ -77,6 +77,55 @@ void BM_ClassifiedFrame(benchmark::State& state) {
   state.counters["flagged_pct"] = 100.0 * flagged / std::max<size_t>(inside, 1);
 }
 
+// The default frame of a one-shot run (`shadowfilter filter` on one map): each iteration builds
+// a new Pipeline and uploads the frame into new buffers, as one process does, runs the frame,
+// then runs it again on that warm pipeline. Manual time: the fresh frame's device time; counters
+// fresh_over_warm and each stage's fresh and warm ms.
+void BM_FreshFrame(benchmark::State& state) {
+  const int n = int(state.range(0));
+  EsmFrame fr;
+#ifdef SF_BENCH_HAVE_SCENE
+  fr = scene_frame("backyard", n, screen().width, screen().height);
+#else
+  fr = esm_frame(n, true);
+#endif
+  FilterOptions opt;
+  opt.blur.radius = 3;
+  StageTimes fresh, warm;
+  int runs = 0;
+  time_runs(
+      state,
+      [&] {
+        Pipeline pipe(runtime_ptr(), opt, n, n);
+        const cl::Buffer depth = to_device(fr.depth);
+        DeviceReceivers rx;
+        rx.count = fr.u.size();
+        rx.row = screen().width;
+        rx.u = to_device(fr.u), rx.v = to_device(fr.v), rx.d = to_device(fr.d);
+        const cl::Buffer vis = device_buffer(rx.count * sizeof(float));
+        const auto frame = [&] {
+          const EventList filtered{pipe.prefilter(depth)};
+          pipe.reconstruct(rx, vis, &filtered).wait();
+          return pipe.times();
+        };
+        const StageTimes t = frame();
+        fresh += t, warm += frame();
+        ++runs;
+        return t.total();
+      },
+      1, [&] { fresh = warm = {}, runs = 0; });
+  state.counters["fresh_over_warm"] = fresh.total() / warm.total();
+  const auto stage = [&](const char* name, double StageTimes::*m) {
+    state.counters[std::string(name) + "_fresh_ms"] = 1e3 * fresh.*m / runs;
+    state.counters[std::string(name) + "_warm_ms"] = 1e3 * warm.*m / runs;
+  };
+  stage("transform", &StageTimes::transform);
+  stage("blur", &StageTimes::blur);
+  stage("zmax", &StageTimes::zmax);
+  stage("reconstruct", &StageTimes::reconstruct);
+  stage("classify", &StageTimes::classify);
+}
+
 }  // namespace
 
 void register_classify() {
@@ -87,6 +136,9 @@ void register_classify() {
     b->Args({smoke_size(2048), 0, lookup});
     b->Args({smoke_size(2048), 1, lookup});
   }
+  configure(benchmark::RegisterBenchmark("esm_classify/fresh_frame", BM_FreshFrame))
+      ->ArgName("size")
+      ->Arg(smoke_size(2048));
 #ifdef SF_BENCH_HAVE_SCENE
   b->Args({smoke_size(2048), 2, 0});
   b->Args({smoke_size(2048), 2, 1});

@@ -4,7 +4,7 @@
 seed's, and the stages of the default frame against their floor or peer (issue 31's table).
 
 Usage:
-  scripts/performance_tables.py --cpu CPU.json [--gpu GPU.json] [--out docs/performance.md]
+  scripts/performance_tables.py --cpu CPU.json [MORE.json ...] [--gpu GPU.json ...] [--out docs/performance.md]
                                 [--gpu-doc docs/gpu.md]
 CPU.json is `make performance`'s run on PoCL (build/performance.json); GPU.json the same
 benchmarks on a GPU (scripts/gpu/remote.sh's bench.json with SF_BENCH_FILTER=$(PERF_FILTER)).
@@ -62,17 +62,21 @@ SEED_2 = [  # scene, faces, resolution, samples S, time, M samples/s
 class Run:
     """The median entries of one sf_bench JSON, by family and arguments."""
 
-    def __init__(self, path):
-        d = json.load(open(path))
-        self.context = d.get("context", {})
+    def __init__(self, paths):
+        """Several files: a later file's entries replace an earlier one's (a family rerun after a
+        change); the hardware line names every run."""
+        self.contexts = []
         self.rows = {}
-        for b in d["benchmarks"]:
-            if b.get("aggregate_name", "median") != "median" or b.get("error_occurred"):
-                continue
-            name = b.get("run_name", b["name"])
-            family = re.split(r"/[A-Za-z_]+:", name + "/x:")[0]
-            args = {k: int(v) for k, v in re.findall(r"/([A-Za-z]+):(\d+)(?=/|$)", name) if k != "repeats"}
-            self.rows[(family, tuple(sorted(args.items())))] = b
+        for path in paths:
+            d = json.load(open(path))
+            self.contexts.append(d.get("context", {}))
+            for b in d["benchmarks"]:
+                if b.get("aggregate_name", "median") != "median" or b.get("error_occurred"):
+                    continue
+                name = b.get("run_name", b["name"])
+                family = re.split(r"/[A-Za-z_]+:", name + "/x:")[0]
+                args = {k: int(v) for k, v in re.findall(r"/([A-Za-z]+):(\d+)(?=/|$)", name) if k != "repeats"}
+                self.rows[(family, tuple(sorted(args.items())))] = b
 
     def get(self, family, **args):
         return self.rows.get((family, tuple(sorted(args.items()))))
@@ -93,11 +97,12 @@ class Run:
         return b.get(key) if b else None
 
     def hardware(self):
-        c = self.context
+        c = self.contexts[0]
         dev = c.get("opencl_device", "?")
         cpus = c.get("num_cpus", "?")
-        copy = float(c.get("reference_copy_GBps", 0) or 0)
-        return f"{dev} ({cpus} host CPUs; measured copy bandwidth {copy:.1f} GB/s), sf_bench of {c.get('date', '?')}"
+        runs = "; ".join(f"{x.get('date', '?')} (copy {float(x.get('reference_copy_GBps', 0) or 0):.1f} GB/s)"
+                         for x in self.contexts)
+        return f"{dev}, {cpus} host CPUs; sf_bench runs of {runs}"
 
 
 def num(x, digits=3):
@@ -254,35 +259,30 @@ def doc(cpu, gpu):
              "and shaded their scene on a 2006 GPU. The comparison says where a 2-core CPU through PoCL stands "
              "against the seed's GPU, not which algorithm is faster.", "",
              "Hardware:", f"- seed 000: {SEED_000_HW}", f"- seed 002: {SEED_002_HW}", hw.rstrip(), ""]
+    sections += [
+        ("Seed 002 Table 2: coherent shadow map queries per second", table_2,
+         "Ours: `coherent/query_*` (bench_coherent.cpp), 2^20 point queries against the compressed stack, "
+         "random points and directions (random) or a grid in scan order with one direction per 4096 "
+         "points (coherent); M samples/s = 1000 / ns per query. The seed's samples are Monte Carlo "
+         "shadow tests inside a renderer at 1024x768 with S samples per pixel, N = 128² views, M = 128."),
+        ("The default frame's stages against their floor or peer", stage_ratios,
+         "Issue 31's table: the ESM classification against the reconstruction of the same receivers "
+         "(`esm_classify/frame`, 2048² map, 1920x1080 receivers, R = 3), the blur and the mip chains against "
+         "the device's measured copy bandwidth (`blur/ours`, `mips/chain`) and cv::GaussianBlur on both "
+         "cores, the ESM pipeline against the OpenCV one (`esm_vs_opencv/*`, both unclassified)."),
+    ]
     for title, fn, note in sections:
         lines += [f"## {title}", "", note, ""]
         lines += ["### CPU", ""] + fn(cpu) + [""]
         if gpu:
             lines += ["### GPU", ""] + fn(gpu) + [""]
-    lines += ["## Seed 002 Table 2: coherent shadow map queries per second", "",
-              "Ours: `coherent/query_*` (bench_coherent.cpp), 2^20 point queries against the compressed stack, "
-              "random points and directions (random) or a grid in scan order with one direction per 4096 "
-              "points (coherent); M samples/s = 1000 / ns per query. The seed's samples are Monte Carlo "
-              "shadow tests inside a renderer at 1024x768 with S samples per pixel, N = 128² views, M = 128.", ""]
-    lines += ["### CPU", ""] + table_2(cpu) + [""]
-    if gpu:
-        lines += ["### GPU", ""] + table_2(gpu) + [""]
-    lines += ["## The default frame's stages against their floor or peer", "",
-              "Issue 31's table, from the same run: the ESM classification against the reconstruction of the "
-              "same receivers (`esm_classify/frame`, 2048² map, 1920x1080 receivers, R = 3), the blur and the "
-              "4-channel mip chain against the device's measured copy bandwidth (`blur/ours`, `mips/chain`) "
-              "and cv::GaussianBlur on both cores, the ESM pipeline against the OpenCV one "
-              "(`esm_vs_opencv/*`, both unclassified).", ""]
-    lines += ["### CPU", ""] + stage_ratios(cpu) + [""]
-    if gpu:
-        lines += ["### GPU", ""] + stage_ratios(gpu) + [""]
     return "\n".join(lines)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--cpu", required=True)
-    ap.add_argument("--gpu")
+    ap.add_argument("--cpu", required=True, nargs="+")
+    ap.add_argument("--gpu", nargs="+")
     ap.add_argument("--out", default="docs/performance.md")
     ap.add_argument("--gpu-doc")
     a = ap.parse_args()

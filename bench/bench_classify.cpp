@@ -40,11 +40,8 @@ void BM_ClassifiedFrame(benchmark::State& state) {
   plain.esm_classify.mode = EsmClassify::None;
   Pipeline classified(runtime_ptr(), opt, n, n), unclassified(runtime_ptr(), plain, n, n);
   cl::Buffer depth = to_device(fr.depth);
-  DeviceReceivers rx;
-  rx.count = fr.u.size();
-  rx.row = screen().width;  // an image of receivers, as the CLI reads them: planes from neighbours
-  rx.u = to_device(fr.u), rx.v = to_device(fr.v), rx.d = to_device(fr.d);
-  if (mips) rx.f = to_device(fr.f);
+  // An image of receivers, as the CLI reads them: planes from neighbours.
+  const DeviceReceivers rx = receivers_on_device(fr, screen().width, mips);
   cl::Buffer vis = device_buffer(rx.count * sizeof(float));
   const auto frame = [&](Pipeline& p) {
     const EventList filtered{p.prefilter(depth)};
@@ -98,10 +95,7 @@ void BM_FreshFrame(benchmark::State& state) {
       [&] {
         Pipeline pipe(runtime_ptr(), opt, n, n);
         const cl::Buffer depth = to_device(fr.depth);
-        DeviceReceivers rx;
-        rx.count = fr.u.size();
-        rx.row = screen().width;
-        rx.u = to_device(fr.u), rx.v = to_device(fr.v), rx.d = to_device(fr.d);
+        const DeviceReceivers rx = receivers_on_device(fr, screen().width, false);
         const cl::Buffer vis = device_buffer(rx.count * sizeof(float));
         const auto frame = [&] {
           const EventList filtered{pipe.prefilter(depth)};

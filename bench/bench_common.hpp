@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shadowfilter/device_types.hpp"
 #include "shadowfilter/mips.hpp"
 #include "shadowfilter/lookup.hpp"
 #include "shadowfilter/runtime.hpp"
@@ -52,6 +53,9 @@ struct EsmFrame {
   std::vector<float> depth, u, v, d, f;
 };
 EsmFrame esm_frame(int map, bool coherent);
+// A frame's receivers as device buffers: an image of `row` receivers per row (0: points), with
+// the footprints f when `footprints`.
+DeviceReceivers receivers_on_device(const EsmFrame& fr, int row, bool footprints);
 #ifdef SF_BENCH_HAVE_SCENE
 // A built-in scene (scene library, docs/scenes.md) as a frame: its light's map x map depth map
 // and its camera's width x height receivers (u, v, d, f), rendered once per argument set and

@@ -54,6 +54,15 @@ EsmFrame esm_frame(int map, bool coherent) {
   return fr;
 }
 
+DeviceReceivers receivers_on_device(const EsmFrame& fr, int row, bool footprints) {
+  DeviceReceivers rx;
+  rx.count = fr.u.size();
+  rx.row = row;
+  rx.u = to_device(fr.u), rx.v = to_device(fr.v), rx.d = to_device(fr.d);
+  if (footprints) rx.f = to_device(fr.f);
+  return rx;
+}
+
 namespace {
 
 void BM_EsmPipeline(benchmark::State& state) {

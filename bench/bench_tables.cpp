@@ -39,15 +39,6 @@ struct TableScreen {
 };
 TableScreen table_screen(int width, int height) { return {smoke_scaled(width, 6), smoke_scaled(height, 6)}; }
 
-DeviceReceivers receivers_on_device(const EsmFrame& fr, int row, bool footprints) {
-  DeviceReceivers rx;
-  rx.count = fr.u.size();
-  rx.row = row;
-  rx.u = to_device(fr.u), rx.v = to_device(fr.v), rx.d = to_device(fr.d);
-  if (footprints) rx.f = to_device(fr.f);
-  return rx;
-}
-
 // Args: map size, convolution size C (odd), and for csm the order M when `csm_order` is 0.
 void BM_Frame(benchmark::State& state, FilterOptions opt, TableScreen scr, int csm_order) {
   const int n = int(state.range(0)), c = int(state.range(1));

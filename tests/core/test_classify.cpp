@@ -145,7 +145,8 @@ TEST(Classify, VectorKernelMatchesTheOneReceiverKernel) {
       const auto vec = filter(runtime_ptr(), opt, c.depth, rx);
       opt.schedule.reconstruct_vector_width = 1;
       const auto one = filter(runtime_ptr(), opt, c.depth, rx);
-      ASSERT_GT(vec.flagged, rx.u.size() / 50) << "the case must flag receivers";
+      // threshold flags a subset of zmax's receivers (docs/lookups.md): its own, lower bound
+      ASSERT_GT(vec.flagged, rx.u.size() / (mode == EsmClassify::ZMax ? 20 : 50)) << "the case must flag receivers";
       ASSERT_LT(vec.flagged, rx.u.size() * 9 / 10);
       for (size_t i = 0; i < rx.u.size(); ++i) {
         ASSERT_EQ(vec.flags.data[i], one.flags.data[i]) << "receiver " << i;

@@ -14,6 +14,13 @@
 #   SF_FRESH_ROOT      work root, unpacked afresh every run (default ${TMPDIR:-/tmp}/sf-fresh-root);
 #                      removed after a pass, kept (unmounted) after a failure for inspection
 #   SF_FRESH_SKIP_RUN  1: skip `make run`
+#   SF_FRESH_BENCH_SMOKE  1: after the README's commands, `make bench-smoke` in the same tree (its
+#                      deps-bench installs the benchmarks' packages only then, so they cannot hide
+#                      a dependency that make test lacks); CI runs it here to build once, not twice
+#   SF_FRESH_POCL_CACHE  DIR: after a pass, the root's PoCL kernel cache (/root/.cache/pocl) is
+#                      moved to DIR, replacing it, for a later run of the same kernels on this
+#                      machine (CI's make sanitize: PoCL compiles each kernel once, not twice)
+#   CI                 passed into the root when set (the Makefile's WERROR: -Werror, as in CI)
 set -uo pipefail   # no -e: every step's status is checked by hand so that it can be reported
 
 script_dir=$(cd "$(dirname "$0")" && pwd)
@@ -77,7 +84,7 @@ trap 'echo "fresh-check: FAILED: terminated after $(( $(date +%s) - t_start )) s
 # variables (a host TMPDIR, for one, does not exist in the root).
 in_root() {
   chroot "$root" /usr/bin/env -i PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    HOME=/root LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive JOBS=$jobs /bin/bash -c "$1"
+    HOME=/root LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive JOBS=$jobs ${CI:+CI=$CI} /bin/bash -c "$1"
 }
 # The host's resolver, apt sources (same mirror and suites, security updates included) and trust
 # store, so the root differs from the host only in what is installed. The trust store: where the
@@ -190,6 +197,16 @@ if [ "${SF_FRESH_SKIP_RUN:-0}" = 1 ]; then
 else
   run_phase run "make run"
   [ -s "$root/work/project/out/spheres_esm.exr" ] || fail "make run left no out/spheres_esm.exr"
+fi
+if [ "${SF_FRESH_BENCH_SMOKE:-0}" = 1 ]; then
+  run_phase bench-smoke "make bench-smoke"
+  grep '^bench-smoke:' "$logs/make-bench-smoke.log"
+fi
+if [ -n "${SF_FRESH_POCL_CACHE:-}" ]; then
+  rm -rf "$SF_FRESH_POCL_CACHE" && mkdir -p "$(dirname "$SF_FRESH_POCL_CACHE")" &&
+    mv "$root/root/.cache/pocl" "$SF_FRESH_POCL_CACHE" ||
+    fail "cannot move the root's PoCL kernel cache to $SF_FRESH_POCL_CACHE"
+  echo "fresh-check: PoCL kernel cache ($(du -sh "$SF_FRESH_POCL_CACHE" | cut -f1)) moved to $SF_FRESH_POCL_CACHE"
 fi
 
 # The root is left for inspection only when a phase failed (removed at the next run's start).

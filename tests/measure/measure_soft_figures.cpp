@@ -219,6 +219,67 @@ TEST(SoftFigures, CssmSweep) {
   }
 }
 
+// ssmm's kernel size n swept (Shen 2016 sec. 4.1.3, fig. 4.4: n = 2, 5, 9; SF_SSMM_N="2 3 ..."
+// overrides the list), ssmm and ssmm-improved, every scene dir: RMSE per scene and over the
+// scenes the mean RMSE, mean p99 |err|, mean signed error, the mean visibility where the
+// reference is umbra (<= 0.02: the seed's large n lights the umbra) and the mean time.
+TEST(SoftFigures, SsmmSweep) {
+  std::vector<Scene> scenes;
+  std::vector<Device> dev;
+  for (const std::string& dir : scene_dirs()) {
+    scenes.push_back(load(dir));
+    dev.push_back(upload(scenes.back()));
+  }
+  ASSERT_FALSE(scenes.empty());
+  std::vector<int> ns;
+  {
+    const char* e = std::getenv("SF_SSMM_N");
+    std::istringstream in(e ? e : "2 3 4 5 6 9");
+    for (int n; in >> n;) ns.push_back(n);
+  }
+  std::printf("| method | n |");
+  for (const Scene& s : scenes) std::printf(" %s |", s.name.c_str());
+  std::printf(" mean RMSE | mean p99 | mean err | umbra v | ms |\n|---|---|");
+  for (size_t k = 0; k < scenes.size() + 5; ++k) std::printf("---|");
+  std::printf("\n");
+  for (const SoftMethod m : {SoftMethod::Ssmm, SoftMethod::SsmmImproved}) {
+    for (const int n : ns) {
+      std::printf("| %s | %d |", soft_method_name(m), n);
+      double mr = 0, mp = 0, me = 0, ms = 0, umbra = 0;
+      size_t umbra_n = 0;
+      for (size_t k = 0; k < scenes.size(); ++k) {
+        const Scene& s = scenes[k];
+        SoftOptions o;
+        o.method = m;
+        o.ssmm.n = n;
+        o.light = s.light;
+        SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+        ms += time_method(F, dev[k], 1) * 1e3 / scenes.size();
+        const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
+        std::vector<double> err;
+        double se = 0, sum = 0;
+        for (size_t i = 0; i < dev[k].n; ++i) {
+          if (!std::isfinite(s.rx.d[i])) continue;
+          ASSERT_TRUE(std::isfinite(vis[i]));
+          const double x = vis[i] - s.ref.data[i];
+          err.push_back(std::abs(x));
+          se += x * x;
+          sum += x;
+          if (s.ref.data[i] <= 0.02f) umbra += vis[i], ++umbra_n;
+        }
+        std::sort(err.begin(), err.end());
+        const double rmse = std::sqrt(se / err.size());
+        mr += rmse / scenes.size();
+        mp += err[size_t(0.99 * (err.size() - 1))] / scenes.size();
+        me += sum / err.size() / scenes.size();
+        std::printf(" %.4f |", rmse);
+      }
+      std::printf(" %.4f | %.3f | %+.4f | %.3f | %.1f |\n", mr, mp, me, umbra_n ? umbra / umbra_n : 0.0, ms);
+      std::fflush(stdout);
+    }
+  }
+}
+
 // Time per receiver against light size (first scene dir): cssm's must stay flat, pcss's grows.
 TEST(SoftFigures, CostAgainstLightSize) {
   const auto dirs = scene_dirs();

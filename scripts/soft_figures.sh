@@ -1,8 +1,9 @@
 #!/bin/sh
 # Figures of docs/soft.md: soft-shadow methods against the ray-traced reference_soft on every
 # built-in scene at two light sizes (the scene's default and twice it; plus spheres under a
-# perspective light), ssmm's kernel size n, cost against light size, and frame time against the
-# light count; then the cssm parameter table that chose the defaults (bundled scenes, data/*).
+# perspective light), ssmm's kernel size n, cssm's basis storage, cost against light size, and
+# frame time against the light count; then the cssm parameter table that chose the defaults
+# (bundled scenes, data/*).
 # Usage: scripts/soft_figures.sh [BUILD_DIR]   (default build-soft; needs shadowfilter and sf_measure)
 #        scripts/soft_figures.sh --sweep       (prints the sweep's SF_SOFT_SWEEP list only)
 set -eu
@@ -48,7 +49,7 @@ dirs="$dirs $d"
 export SHADOWFILTER_CACHE_DIR=$B/test_cache
 SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" \
   --gtest_filter='SoftFigures.QualityAndTime' | grep '^|'
-SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" --gtest_filter='SoftFigures.SsmmSweep' | grep '^|'
+SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" --gtest_filter='SoftFigures.SsmmSweep:SoftFigures.CssmStorage' | grep '^|'
 SF_SOFT_SCENES="$OUT/spheres-L0.2" "$B/tests/sf_measure" \
   --gtest_filter='SoftFigures.CostAgainstLightSize:SoftFigures.LightCount' | grep '^|'
 here=$(cd "$(dirname "$0")/.." && pwd)

@@ -168,6 +168,9 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm.order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();
+  c->add_option("--cssm-storage", a.cssm_storage,
+                "cssm: the basis planes' storage, f32 | f16 | unorm16 (f16 and unorm16 with --lookup mips)")
+      ->capture_default_str();
   c->add_option("--cssm-offset", a.options.cssm.offset, "cssm: d' = d - offset (< 0: 0.1 / M)")->capture_default_str();
   c->add_option("--cssm-scale", a.options.cssm.scale, "cssm: v = clamp(0.5 + scale (s - 0.5)) (< 0: 3)")
       ->capture_default_str();
@@ -230,6 +233,11 @@ SoftOptions soft_options(const SoftArgs& a) {
     opt.cssm.lookup = Lookup::Sat;
   else
     throw InputError("--lookup must be mips or sat, got '" + a.lookup + "'");
+  try {
+    opt.cssm.storage = parse_storage(a.cssm_storage);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--cssm-storage: ") + e.what());
+  }
   if (a.sharpen.size() == 2) {
     opt.cssm.sharpen_a = a.sharpen[0];
     opt.cssm.sharpen_b = a.sharpen[1];

@@ -18,6 +18,7 @@ struct SoftArgs {
          light_far = std::numeric_limits<double>::quiet_NaN(), light_fov = std::numeric_limits<double>::quiet_NaN(),
          light_extent = std::numeric_limits<double>::quiet_NaN();
   std::string lookup = "sat";
+  std::string cssm_storage = "f32";  // --cssm-storage: SoftOptions::cssm.storage by name
   std::vector<float> sharpen;
   bool quiet = false, verbose = false, json = false;
   DepthInputArgs inputs;    // encodings, --light, receivers from a camera (depth_inputs.hpp)

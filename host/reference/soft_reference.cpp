@@ -174,7 +174,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   return std::clamp(res, 0.0, 1.0) * horizon;
 }
 
-Planes cssm_basis(const HostImage& depth, int M) {
+Planes cssm_basis(const HostImage& depth, int M, Storage storage) {
   Planes p(depth.width, depth.height, 4 * M + 1);
   for (int y = 0; y < depth.height; ++y)
     for (int x = 0; x < depth.width; ++x) {
@@ -188,6 +188,9 @@ Planes cssm_basis(const HostImage& depth, int M) {
       }
       p.at(4 * M, x, y) = 0.5 * z;
     }
+  if (storage == Storage::Unorm16 || storage == Storage::Unorm8)
+    for (double& b : p.data) b = 0.5 + 0.5 * b;
+  quantise(p, storage);
   return p;
 }
 
@@ -215,7 +218,12 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   std::vector<double> b(4 * M + 1);
   const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
   const double ms = o.cssm.lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
-  for (int c = 0; c <= 4 * M; ++c) b[c] = basis.value(c, u, v, ms * search);
+  const bool unorm = o.cssm.storage == Storage::Unorm16 || o.cssm.storage == Storage::Unorm8;
+  auto read = [&](int c, double width) {
+    const double x = basis.value(c, u, v, width);
+    return unorm ? 2.0 * x - 1.0 : x;
+  };
+  for (int c = 0; c <= 4 * M; ++c) b[c] = read(c, ms * search);
   double num;
   const double den = 1.0 - series(b, M, d - P.z_offset, &num);
   const bool blocked = den >= o.cssm.min_den;
@@ -224,7 +232,7 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   if (zavg_out && blocked) *zavg_out = zavg;
   const double fw =
       std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
-  for (int c = 0; c < 2 * M; ++c) b[c] = basis.value(c, u, v, ms * fw);
+  for (int c = 0; c < 2 * M; ++c) b[c] = read(c, ms * fw);
   double vis =
       std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm.normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
   if (P.sharpen_a > 0) vis = std::pow(vis, 1.0 + P.sharpen_a * std::exp(-P.sharpen_b * (d - zavg)));

@@ -28,9 +28,11 @@ double soft_horizon(const SoftOptions& opt, const Plane& plane, int W, int H);
 double soft_pcss(const Planes& depth, const SoftOptions& opt, double u, double v, const Plane& plane, double f);
 double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, double u, double v, const Plane& plane,
                  double f);
-// cssm: the basis (4M + 1 planes), then the lookup through LookupRef; zavg_out (may be null):
-// z_avg or NaN when no blocker.
-Planes cssm_basis(const HostImage& depth, int order);
+// cssm: the basis (4M + 1 planes) as cssm.cl stores it in `storage` (unorm: 0.5 + 0.5 b, then
+// quantise), then the lookup through LookupRef (built with the same storage), which soft_cssm
+// maps back (unorm: 2 x - 1, SoftOptions::cssm.storage); zavg_out (may be null): z_avg or NaN
+// when no blocker.
+Planes cssm_basis(const HostImage& depth, int order, Storage storage = Storage::F32);
 class LookupRef;
 double soft_cssm(const LookupRef& basis, int W, const SoftOptions& opt, double u, double v, double d, double f,
                  double* zavg_out = nullptr);

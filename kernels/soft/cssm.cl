@@ -1,9 +1,12 @@
 // cssm: convolution soft shadows (Annen 2008 ch. 8; methods.md sec. 4). Needs common.clh,
-// storage.clh (SF_STORAGE 0), lookup.clh and soft/soft_common.clh before it; SF_CSSM_ORDER = M.
-// Basis (4M + 1 float32 planes), c_k = (2k - 1) pi:
+// storage.clh, lookup.clh and soft/soft_common.clh before it; SF_CSSM_ORDER = M.
+// Basis (4M + 1 planes in SF_STORAGE: float32, or f16 / unorm16 / unorm8 with mips only, the
+// SAT's table being float-float whatever its input), c_k = (2k - 1) pi:
 //   [0, M) sin(c_k z), [M, 2M) cos(c_k z)          the CSM basis (same as methods/csm.clh)
 //   [2M, 3M) z sin(c_k z), [3M, 4M) z cos(c_k z)   CSM-Z (eq. 8.8)
 //   4M: z / 2                                      the constant term of eq. 8.8
+// Every plane lies in [-1, 1]; unorm storage holds 0.5 + 0.5 b (exactly [0, 1]), and since the
+// mean pyramid and the trilinear weights are affine, a lookup maps its result back by 2 x - 1.
 // Reconstruction per receiver, d' = d - offset (stage 1: d - z_offset); parameters resolved on
 // the host (soft_filter.cpp cssm_params; docs/soft.md "cssm defaults"):
 //   stage 1: lookup of all planes at the search width w(d, 0) (the light's footprint at the near
@@ -34,7 +37,15 @@
 // lookup.clh's trilinear and box lookups (host/reference LookupRef checks both), except that
 // the SAT is read from sf_cssm_sat_pack's texel-interleaved copy: one receiver's 4 corners of
 // all planes are 4 x 2 runs of 2 nch (hi, lo) pairs instead of 4 nch scattered planes.
-inline void sf_cssm_bilinear(__global const float* restrict img, int width, int height, float u, float v,
+#if SF_STORAGE_UNORM
+#define SF_CSSM_ENCODE(b) fma(0.5f, (b), 0.5f)
+#define SF_CSSM_DECODE(x) fma(2.0f, (x), -1.0f)
+#else
+#define SF_CSSM_ENCODE(b) (b)
+#define SF_CSSM_DECODE(x) (x)
+#endif
+
+inline void sf_cssm_bilinear(__global const sf_stored* restrict img, int width, int height, float u, float v,
                              int nch, float* out) {
   const float x = fma(u, (float)width, -0.5f);
   const float y = fma(v, (float)height, -0.5f);
@@ -46,14 +57,14 @@ inline void sf_cssm_bilinear(__global const float* restrict img, int width, int 
   const size_t i10 = (size_t)y1 * width + x0, i11 = (size_t)y1 * width + x1;
   const size_t plane = (size_t)width * height;
   for (int c = 0; c < nch; ++c) {
-    __global const float* p = img + (size_t)c * plane;
-    const float top = mix(p[i00], p[i01], ax);
-    const float bottom = mix(p[i10], p[i11], ax);
+    __global const sf_stored* p = img + (size_t)c * plane;
+    const float top = mix(sf_load(p, i00), sf_load(p, i01), ax);
+    const float bottom = mix(sf_load(p, i10), sf_load(p, i11), ax);
     out[c] = mix(top, bottom, ay);
   }
 }
 
-inline void sf_cssm_level(__global const float* restrict level0, __global const float* restrict chain, int W,
+inline void sf_cssm_level(__global const sf_stored* restrict level0, __global const sf_stored* restrict chain, int W,
                           int H, int k, float u, float v, int nch, float* out) {
   if (k == 0) {
     sf_cssm_bilinear(level0, W, H, u, v, nch, out);
@@ -80,7 +91,7 @@ inline float2 sf_cssm_sat_at(__global const float* restrict pk, int W, int H, fl
   return sf_dd_sum(r, sf_dd_scale(sf_dd_scale(dxy, fx), fy));
 }
 
-inline void sf_cssm_lookup(__global const float* restrict basis, __global const float* restrict chain,
+inline void sf_cssm_lookup(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
                            __global const float* restrict pk, int W, int H, float u, float v, float f, int nch,
                            float* out) {
 #if SF_LOOKUP == SF_LOOKUP_MIPS
@@ -92,6 +103,7 @@ inline void sf_cssm_lookup(__global const float* restrict basis, __global const 
     sf_cssm_level(basis, chain, W, H, k0 + 1, u, v, nch, b);
     for (int c = 0; c < nch; ++c) out[c] = mix(out[c], b[c], t);
   }
+  for (int c = 0; c < nch; ++c) out[c] = SF_CSSM_DECODE(out[c]);
 #else
   const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
   const float X0 = fma(u, (float)W, -s), X1 = fma(u, (float)W, s);
@@ -122,7 +134,7 @@ __kernel void sf_cssm_sat_pack(__global const float* restrict sat, __global floa
 
 // sf_cssm_params: shared_types.clh.
 
-__kernel void sf_cssm_basis(__global const float* restrict depth, __global float* restrict basis,
+__kernel void sf_cssm_basis(__global const float* restrict depth, __global sf_stored* restrict basis,
                             const int texels) {
   const int i = get_global_id(0);
   if (i >= texels) return;
@@ -133,15 +145,15 @@ __kernel void sf_cssm_basis(__global const float* restrict depth, __global float
   float s = s1, c = c1;
   const size_t P = (size_t)texels;
   for (int k = 0; k < SF_M; ++k) {
-    basis[k * P + i] = s;
-    basis[(SF_M + k) * P + i] = c;
-    basis[(2 * SF_M + k) * P + i] = z * s;
-    basis[(3 * SF_M + k) * P + i] = z * c;
+    sf_store(basis, k * P + i, SF_CSSM_ENCODE(s));
+    sf_store(basis, (SF_M + k) * P + i, SF_CSSM_ENCODE(c));
+    sf_store(basis, (2 * SF_M + k) * P + i, SF_CSSM_ENCODE(z * s));
+    sf_store(basis, (3 * SF_M + k) * P + i, SF_CSSM_ENCODE(z * c));
     const float sn = fma(s, c2, c * s2);
     c = fma(c, c2, -s * s2);
     s = sn;
   }
-  basis[4 * SF_M * P + i] = 0.5f * z;
+  sf_store(basis, 4 * SF_M * P + i, SF_CSSM_ENCODE(0.5f * z));
 }
 
 // s_f (and, when num != 0, the CSM-Z numerator) from filtered values b at receiver depth d'.
@@ -162,8 +174,8 @@ inline float sf_cssm_series(const float* b, float dp, float* num) {
   return fma(2.0f, sf, 0.5f);
 }
 
-__kernel void sf_cssm_points(__global const float* restrict basis, const int W, const int H,
-                             __global const float* restrict chain, __global const float* restrict packed,
+__kernel void sf_cssm_points(__global const sf_stored* restrict basis, const int W, const int H,
+                             __global const sf_stored* restrict chain, __global const float* restrict packed,
                              __global const float* restrict u, __global const float* restrict v,
                              __global const float* restrict d, __global const float* restrict f,
                              __global float* restrict out, __global float* restrict zavg_out,

@@ -226,7 +226,7 @@ def soft(depth, receivers=None, *, receiver_depth=None, method="pcss", light=Non
     receivers / receiver_depth as filter() takes them. The light as soft_light() builds it (light=
     a View or light file with light_size, or light_type, light_extent | light_fov, light_near,
     light_far, light_size). Keyword options are the `soft` command's flags (soft_bias,
-    cssm_order, lookup="mips"|"sat", cssm_sharpen=(A, B), ssmm_n, slope_bias, ...), with its
+    cssm_order, lookup="mips"|"sat", cssm_sharpen=(A, B), cssm_storage="f16", ssmm_n, slope_bias, ...), with its
     messages. Returns (h, w) or (H, W) float32, equal to the command's output.
     """
     if (receivers is None) == (receiver_depth is None):

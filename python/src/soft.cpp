@@ -45,7 +45,7 @@ const std::vector<SoftKeyword>& soft_keywords() {
 }
 
 std::vector<std::string> known_soft_keywords() {
-  std::vector<std::string> k = {"lookup", "cssm_sharpen"};
+  std::vector<std::string> k = {"lookup", "cssm_sharpen", "cssm_storage"};
   for (const sf::Parameter& p : sf::filter_parameters())
     if (p.field.rfind("FilterOptions::receiver_plane.", 0) == 0) k.push_back(keyword_of(p.flag));
   for (const SoftKeyword& s : soft_keywords()) k.push_back(keyword_of(s.flag));
@@ -60,6 +60,17 @@ void set_soft_option(sf::SoftOptions& o, const std::string& keyword, nb::handle 
       return;
     }
     throw sf::InputError("lookup must be mips or sat, got " + nb::cast<std::string>(nb::repr(value)));
+  }
+  if (keyword == "cssm_storage") {  // the basis planes' storage by name, as the command's --cssm-storage
+    if (!nb::isinstance<nb::str>(value))
+      throw sf::InputError("cssm_storage must be a storage name (f32, f16, unorm16), got " +
+                           nb::cast<std::string>(nb::repr(value)));
+    try {
+      o.cssm.storage = sf::parse_storage(nb::cast<std::string>(value));
+    } catch (const sf::InputError& e) {
+      throw sf::InputError(std::string("cssm_storage: ") + e.what());
+    }
+    return;
   }
   if (keyword == "cssm_sharpen") {  // (A, B) of eq. 8.9
     nb::sequence pair = nb::isinstance<nb::sequence>(value) && !nb::isinstance<nb::str>(value)

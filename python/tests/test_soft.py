@@ -68,7 +68,7 @@ def test_lights_from_projections():
 # Keyword -> a value the command refuses (its flag is the keyword with '-' for '_').
 BAD = {"soft_bias": 1.5, "soft_max_width": 0.5, "cssm_order": 40, "cssm_offset": 2, "cssm_scale": 100,
        "cssm_min_den": 1.5, "cssm_z_offset": 3, "cssm_width_scale": 65, "ssmm_n": 0, "slope_bias": 20,
-       "receiver_plane_max_slope": -2, "light_size": -1}
+       "receiver_plane_max_slope": -2, "light_size": -1, "cssm_storage": "unorm8"}
 
 
 @needs_cli
@@ -81,6 +81,8 @@ def test_bad_values_raise_with_the_cli_message(keyword, tmp_path):
     write_depth(tmp_path / "rd.exr", rd)
     method = "ssmm" if keyword == "ssmm_n" else "cssm" if keyword.startswith("cssm") else "pcss"
     flags = {"light_size": 0.2, "light_extent": 8.0, keyword: BAD[keyword]}
+    if keyword == "cssm_storage":
+        flags["lookup"] = "mips"  # the narrow bases' lookup: unorm8 is then refused for itself
     args = [CLI, "soft", "--method", method, "--shadow-map", str(tmp_path / "map.exr"), "--receiver-depth",
             str(tmp_path / "rd.exr"), "-o", str(tmp_path / "out.exr")]
     for k, v in flags.items():
@@ -101,6 +103,10 @@ def test_wrong_types_are_refused():
         sf.soft(d, receiver_depth=d, method="cssm", cssm_sharpen=3, **light)
     with pytest.raises(sf.InputError, match="lookup must be mips or sat"):
         sf.soft(d, receiver_depth=d, method="cssm", lookup="bilinear", **light)
+    with pytest.raises(sf.InputError, match="cssm_storage must be a storage name"):
+        sf.soft(d, receiver_depth=d, method="cssm", lookup="mips", cssm_storage=16, **light)
+    with pytest.raises(sf.InputError, match="cssm_storage: unknown storage 'f64'"):
+        sf.soft(d, receiver_depth=d, method="cssm", lookup="mips", cssm_storage="f64", **light)
     with pytest.raises(sf.InputError, match="unknown option 'esm_c'"):
         sf.soft(d, receiver_depth=d, esm_c=3, **light)
     with pytest.raises(sf.InputError, match="unknown soft method 'esm'"):
@@ -108,3 +114,16 @@ def test_wrong_types_are_refused():
     with pytest.raises(sf.InputError, match="orthographic light needs"):
         sf.soft(d, receiver_depth=d, light_size=0.2)
     assert math.isclose(float(sf.soft(d, receiver_depth=np.full_like(d, 0.4), **light).min()), 1.0)
+
+
+def test_cssm_storage_f16_is_float32_within_its_rounding():
+    # A floor at 0.8 under a square occluder at 0.3: receivers on the floor cross its penumbra.
+    depth = np.full((32, 32), 0.8, np.float32)
+    depth[10:22, 10:22] = 0.3
+    rd = np.full((32, 32), 0.8, np.float32)
+    light = dict(light_size=0.2, light_extent=1.0, method="cssm", lookup="mips")
+    f32 = sf.soft(depth, receiver_depth=rd, **light)
+    assert ((f32 > 0.02) & (f32 < 0.98)).sum() > 4
+    for storage in ("f16", "unorm16"):
+        got = sf.soft(depth, receiver_depth=rd, cssm_storage=storage, **light)
+        assert np.abs(got - f32).max() <= 2e-3, storage

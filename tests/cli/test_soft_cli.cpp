@@ -1,6 +1,7 @@
 // `shadowfilter soft --lights FILE` (host/cli/options_soft.cpp; docs/soft.md "Several lights"):
 // a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
-// a missing file or a missing map is an input error: exit 2, one line naming the problem, no output.
+// a missing file or a missing map is an input error: exit 2, one line naming the problem, no output;
+// --cssm-storage by name.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -110,6 +111,35 @@ TEST_F(SoftCli, MalformedListsAreOneLineInputErrors) {
   write("lights.txt", "a.exr rx.exr\n");
   expect_input_error("--lights " + path("lights.txt") + " --shadow-map " + path("a.exr"),
                      "--lights replaces --shadow-map");
+}
+
+// --cssm-storage: cssm's basis in f16 or unorm16 (mips) gives float32's visibility within their
+// rounding; unorm8, the SAT with a narrow basis and unknown names are one-line input errors.
+TEST_F(SoftCli, CssmStorageByName) {
+  const std::string common = "soft --method cssm --light-extent 1 --light-size 0.2 --shadow-map " + path("a.exr") +
+                             " --receivers " + path("rx.exr") + " -q";
+  ASSERT_EQ(run_cli(common + " --lookup mips -o " + path("f32.exr"), dir_).exit_code, 0);
+  const HostImage f32 = io::load_depth_map(path("f32.exr"), {});
+  size_t partial = 0;
+  for (float v : f32.data) partial += v > 0.02f && v < 0.98f;
+  EXPECT_GT(partial, 4u) << "the receivers must cross a penumbra";
+  for (const std::string st : {"f16", "unorm16"}) {
+    const RunResult r = run_cli(common + " --lookup mips --cssm-storage " + st + " -o " + path(st + ".exr"), dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const HostImage got = io::load_depth_map(path(st + ".exr"), {});
+    ASSERT_EQ(got.data.size(), f32.data.size());
+    for (size_t i = 0; i < got.data.size(); ++i) EXPECT_NEAR(got.data[i], f32.data[i], 2e-3f) << st << " " << i;
+  }
+  const auto refused = [&](const std::string& args, const std::string& expect) {
+    const RunResult r = run_cli(common + " " + args + " -o " + path("out.exr"), dir_);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+  };
+  refused("--lookup mips --cssm-storage unorm8", "--cssm-storage unorm8 is refused");
+  refused("--lookup sat --cssm-storage f16", "--cssm-storage f16 needs --lookup mips");
+  refused("--lookup mips --cssm-storage f64", "--cssm-storage: unknown storage 'f64'");
 }
 
 }  // namespace

@@ -101,6 +101,54 @@ std::vector<std::string> scene_dirs() {
   return v;
 }
 
+// Every scene dir, loaded and on the device.
+struct SceneSet {
+  std::vector<Scene> scenes;
+  std::vector<Device> dev;
+};
+SceneSet load_scenes() {
+  SceneSet S;
+  for (const std::string& dir : scene_dirs()) {
+    S.scenes.push_back(load(dir));
+    S.dev.push_back(upload(S.scenes.back()));
+  }
+  return S;
+}
+
+// The integers of environment variable `name`, else of `fallback` ("2 3 4").
+std::vector<int> int_list(const char* name, const char* fallback) {
+  const char* e = std::getenv(name);
+  std::istringstream in(e ? e : fallback);
+  std::vector<int> v;
+  for (int n; in >> n;) v.push_back(n);
+  return v;
+}
+
+// A visibility against the scene's reference over its non-background receivers: RMSE, p99 of
+// |err|, mean signed error, and how many were not finite (none may be).
+struct Errors {
+  double rmse = 0, p99 = 0, mean = 0;
+  size_t nonfinite = 0;
+};
+Errors errors(const Scene& s, const std::vector<float>& vis) {
+  std::vector<double> err;
+  double se = 0, sum = 0;
+  Errors r;
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (!std::isfinite(s.rx.d[i])) continue;
+    r.nonfinite += !std::isfinite(vis[i]);
+    const double e = vis[i] - s.ref.data[i];
+    err.push_back(std::abs(e));
+    se += e * e;
+    sum += e;
+  }
+  std::sort(err.begin(), err.end());
+  r.rmse = std::sqrt(se / err.size());
+  r.p99 = err[size_t(0.99 * (err.size() - 1))];
+  r.mean = sum / err.size();
+  return r;
+}
+
 TEST(SoftFigures, QualityAndTime) {
   std::printf("| scene | light | L | method | RMSE | p99 abs err | mean err | ms (prepare + run) | ns / receiver |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
@@ -110,7 +158,8 @@ TEST(SoftFigures, QualityAndTime) {
     size_t fg = 0;
     for (float d : s.rx.d) fg += std::isfinite(d);
     for (const Variant& V : kVariants) {
-      // SF_SOFT_ONLY=label restricts the variants; SF_SOFT_CSSM_OFFSET / _SCALE override cssm's.
+      // SF_SOFT_ONLY=label restricts the variants; SF_SOFT_CSSM_OFFSET / _SCALE / ... / _STORAGE
+      // override cssm's.
       if (const char* only = std::getenv("SF_SOFT_ONLY"); only && std::string(only) != V.label) continue;
       SoftOptions o;
       o.method = V.m;
@@ -123,23 +172,14 @@ TEST(SoftFigures, QualityAndTime) {
       if (const char* e = std::getenv("SF_SOFT_CSSM_WSCALE")) o.cssm.width_scale = float(std::atof(e));
       if (const char* e = std::getenv("SF_SOFT_CSSM_CONTACT")) o.cssm.contact = std::atoi(e) != 0;
       if (const char* e = std::getenv("SF_SOFT_CSSM_SHARPEN_A")) o.cssm.sharpen_a = float(std::atof(e));
+      if (const char* e = std::getenv("SF_SOFT_CSSM_STORAGE")) o.cssm.storage = parse_storage(e);
       SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
       const double sec = time_method(F, D, 1);
-      const std::vector<float> vis = from_device(D.out, D.n);
-      std::vector<double> err;
-      double se = 0, me = 0;
-      for (size_t i = 0; i < D.n; ++i) {
-        if (!std::isfinite(s.rx.d[i])) continue;
-        ASSERT_TRUE(std::isfinite(vis[i]));
-        const double e = vis[i] - s.ref.data[i];
-        err.push_back(std::abs(e));
-        se += e * e;
-        me += e;
-      }
-      std::sort(err.begin(), err.end());
+      const Errors E = errors(s, from_device(D.out, D.n));
+      ASSERT_EQ(E.nonfinite, 0u);
       std::printf("| %s | %s | %.3g | %s | %.4f | %.3f | %+.4f | %.1f | %.0f |\n", s.name.c_str(),
-                  s.light.perspective ? "persp" : "ortho", s.light.size, V.label, std::sqrt(se / err.size()),
-                  err[size_t(0.99 * (err.size() - 1))], me / err.size(), sec * 1e3, sec * 1e9 / fg);
+                  s.light.perspective ? "persp" : "ortho", s.light.size, V.label, E.rmse, E.p99, E.mean, sec * 1e3,
+                  sec * 1e9 / fg);
     }
   }
 }
@@ -148,12 +188,9 @@ TEST(SoftFigures, QualityAndTime) {
 // line per setting of SF_SOFT_SWEEP="M,lookup,offset,scale,z_offset,width_scale,contact,A,B,normalise;..."
 // (lookup m or s; negative values: the defaults of SoftOptions), RMSE and p99 |err| per scene and their means.
 TEST(SoftFigures, CssmSweep) {
-  std::vector<Scene> scenes;
-  std::vector<Device> dev;
-  for (const std::string& dir : scene_dirs()) {
-    scenes.push_back(load(dir));
-    dev.push_back(upload(scenes.back()));
-  }
+  const SceneSet S = load_scenes();
+  const std::vector<Scene>& scenes = S.scenes;
+  const std::vector<Device>& dev = S.dev;
   ASSERT_FALSE(scenes.empty());
   const char* e = std::getenv("SF_SOFT_SWEEP");
   ASSERT_TRUE(e) << "set SF_SOFT_SWEEP";
@@ -199,20 +236,10 @@ TEST(SoftFigures, CssmSweep) {
       cl::Event ev = F.prefilter(dev[k].depth);
       EventList after{ev};
       F.reconstruct(dev[k].rx(), dev[k].out, &after);
-      const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
-      std::vector<double> err;
-      double se = 0;
-      for (size_t i = 0; i < dev[k].n; ++i) {
-        if (!std::isfinite(s.rx.d[i])) continue;
-        const double x = vis[i] - s.ref.data[i];
-        err.push_back(std::abs(x));
-        se += x * x;
-      }
-      std::sort(err.begin(), err.end());
-      const double rmse = std::sqrt(se / err.size()), p99 = err[size_t(0.99 * (err.size() - 1))];
-      mr += rmse / scenes.size();
-      mp += p99 / scenes.size();
-      std::printf(" %.4f / %.3f |", rmse, p99);
+      const Errors E = errors(s, from_device(dev[k].out, dev[k].n));
+      mr += E.rmse / scenes.size();
+      mp += E.p99 / scenes.size();
+      std::printf(" %.4f / %.3f |", E.rmse, E.p99);
     }
     std::printf(" %.4f | %.3f |\n", mr, mp);
     std::fflush(stdout);
@@ -224,19 +251,11 @@ TEST(SoftFigures, CssmSweep) {
 // scenes the mean RMSE, mean p99 |err|, mean signed error, the mean visibility where the
 // reference is umbra (<= 0.02: the seed's large n lights the umbra) and the mean time.
 TEST(SoftFigures, SsmmSweep) {
-  std::vector<Scene> scenes;
-  std::vector<Device> dev;
-  for (const std::string& dir : scene_dirs()) {
-    scenes.push_back(load(dir));
-    dev.push_back(upload(scenes.back()));
-  }
+  const SceneSet S = load_scenes();
+  const std::vector<Scene>& scenes = S.scenes;
+  const std::vector<Device>& dev = S.dev;
   ASSERT_FALSE(scenes.empty());
-  std::vector<int> ns;
-  {
-    const char* e = std::getenv("SF_SSMM_N");
-    std::istringstream in(e ? e : "2 3 4 5 6 9");
-    for (int n; in >> n;) ns.push_back(n);
-  }
+  const std::vector<int> ns = int_list("SF_SSMM_N", "2 3 4 5 6 9");
   std::printf("| method | n |");
   for (const Scene& s : scenes) std::printf(" %s |", s.name.c_str());
   std::printf(" mean RMSE | mean p99 | mean err | umbra v | ms |\n|---|---|");
@@ -256,25 +275,78 @@ TEST(SoftFigures, SsmmSweep) {
         SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
         ms += time_method(F, dev[k], 1) * 1e3 / scenes.size();
         const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
-        std::vector<double> err;
-        double se = 0, sum = 0;
-        for (size_t i = 0; i < dev[k].n; ++i) {
-          if (!std::isfinite(s.rx.d[i])) continue;
-          ASSERT_TRUE(std::isfinite(vis[i]));
-          const double x = vis[i] - s.ref.data[i];
-          err.push_back(std::abs(x));
-          se += x * x;
-          sum += x;
-          if (s.ref.data[i] <= 0.02f) umbra += vis[i], ++umbra_n;
-        }
-        std::sort(err.begin(), err.end());
-        const double rmse = std::sqrt(se / err.size());
-        mr += rmse / scenes.size();
-        mp += err[size_t(0.99 * (err.size() - 1))] / scenes.size();
-        me += sum / err.size() / scenes.size();
-        std::printf(" %.4f |", rmse);
+        const Errors E = errors(s, vis);
+        ASSERT_EQ(E.nonfinite, 0u);
+        for (size_t i = 0; i < vis.size(); ++i)
+          if (std::isfinite(s.rx.d[i]) && s.ref.data[i] <= 0.02f) umbra += vis[i], ++umbra_n;
+        mr += E.rmse / scenes.size();
+        mp += E.p99 / scenes.size();
+        me += E.mean / scenes.size();
+        std::printf(" %.4f |", E.rmse);
       }
       std::printf(" %.4f | %.3f | %+.4f | %.3f | %.1f |\n", mr, mp, me, umbra_n ? umbra / umbra_n : 0.0, ms);
+      std::fflush(stdout);
+    }
+  }
+}
+
+// cssm's basis in each storage (mips; Annen 2008 sec. 8.4 stores it in 8 or 16 bits), M = 4 and
+// 16 (SF_CSSM_ORDERS overrides), every scene dir: against the ray-traced reference the mean RMSE
+// and mean p99 |err| over the scenes; against float32's visibility the RMSE and the largest
+// |difference| over all receivers; the basis and chain's bytes and the mean time.
+TEST(SoftFigures, CssmStorage) {
+  const SceneSet S = load_scenes();
+  const std::vector<Scene>& scenes = S.scenes;
+  const std::vector<Device>& dev = S.dev;
+  ASSERT_FALSE(scenes.empty());
+  const std::vector<int> orders = int_list("SF_CSSM_ORDERS", "4 16");
+  std::printf(
+      "| M | storage | mean RMSE | mean p99 | RMSE against f32 | max abs diff against f32 | MiB (basis + chain, "
+      "%dx%d) | ms |\n|---|---|---|---|---|---|---|---|\n",
+      scenes[0].depth.width, scenes[0].depth.height);
+  for (const int M : orders) {
+    std::vector<std::vector<float>> f32(scenes.size());
+    for (const Storage st : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
+      double mr = 0, mp = 0, ms = 0, sd = 0, maxd = 0;
+      size_t nd = 0, bytes = 0;
+      std::string refused;
+      for (size_t k = 0; k < scenes.size(); ++k) {
+        const Scene& s = scenes[k];
+        SoftOptions o;
+        o.method = SoftMethod::Cssm;
+        o.cssm.order = M;
+        o.cssm.lookup = Lookup::Mips;
+        o.cssm.storage = st;
+        o.light = s.light;
+        try {
+          validate(o);
+        } catch (const InputError& x) {  // unorm8: docs/soft.md says how its row was measured
+          refused = x.what();
+          break;
+        }
+        SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+        if (k == 0) bytes = F.device_bytes();
+        ms += time_method(F, dev[k], 1) * 1e3 / scenes.size();
+        const std::vector<float> vis = from_device(dev[k].out, dev[k].n);
+        if (st == Storage::F32) f32[k] = vis;
+        const Errors E = errors(s, vis);
+        ASSERT_EQ(E.nonfinite, 0u);
+        for (size_t i = 0; i < vis.size(); ++i) {
+          if (!std::isfinite(s.rx.d[i])) continue;
+          const double y = double(vis[i]) - f32[k][i];
+          sd += y * y;
+          maxd = std::max(maxd, std::abs(y));
+          ++nd;
+        }
+        mr += E.rmse / scenes.size();
+        mp += E.p99 / scenes.size();
+      }
+      if (!refused.empty()) {
+        std::printf("| %d | %s | refused: %s |\n", M, storage_name(st), refused.c_str());
+        continue;
+      }
+      std::printf("| %d | %s | %.4f | %.3f | %.4f | %.3f | %.1f | %.1f |\n", M, storage_name(st), mr, mp,
+                  std::sqrt(sd / nd), maxd, bytes / 1048576.0, ms);
       std::fflush(stdout);
     }
   }

@@ -46,9 +46,12 @@ cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
   const int M = o.cssm.order;
   std::vector<std::string> files = kSoftHeaders;
   files.push_back("soft/cssm.cl");
-  return rt.program(
-      files,
-      detail::BuildOptions().define("SF_CSSM_ORDER", M).define("SF_CHANNELS", 4 * M + 1).lookup(o.cssm.lookup).str());
+  return rt.program(files, detail::BuildOptions()
+                               .define("SF_CSSM_ORDER", M)
+                               .define("SF_CHANNELS", 4 * M + 1)
+                               .lookup(o.cssm.lookup)
+                               .storage(o.cssm.storage)
+                               .str());
 }
 
 }  // namespace
@@ -122,6 +125,7 @@ const std::vector<std::pair<std::string, std::string>>& soft_option_flags() {
       {"SoftOptions::cssm.min_den", "--cssm-min-den"},
       {"SoftOptions::cssm.z_offset", "--cssm-z-offset"},
       {"SoftOptions::cssm.width_scale", "--cssm-width-scale"},
+      {"SoftOptions::cssm.storage", "--cssm-storage"},
       {"SoftOptions::ssmm.n", "--ssmm-n"},
   };
   return table;
@@ -204,6 +208,13 @@ void validate(const SoftOptions& o) {
                        "SoftOptions::cssm.sharpen_a would darken; "
                        "raise the offset or the scale, or give SoftOptions::cssm.sharpen_a = 0");
   }
+  if (o.cssm.storage != Storage::F32 && o.cssm.lookup != Lookup::Mips)
+    throw InputError(std::string("SoftOptions::cssm.storage ") + storage_name(o.cssm.storage) +
+                     " needs SoftOptions::cssm.lookup mips: the SAT's table is float-float whatever its input");
+  if (o.cssm.storage == Storage::Unorm8)
+    throw InputError(
+        "SoftOptions::cssm.storage unorm8 is refused: on the soft scenes it moves cssm's visibility 0.03-0.05 RMS "
+        "from float32's, f16 and unorm16 0.0003-0.0025 (docs/soft.md); give f32, f16 or unorm16");
   if (o.ssmm.n < 1 || o.ssmm.n > 64) throw InputError("SoftOptions::ssmm.n must be 1..64");
   detail::validate(o.receiver_plane, "SoftOptions::receiver_plane");
 }
@@ -219,10 +230,10 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
     return cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   };
   if (opt_.method == SoftMethod::Cssm) {
-    ImageShape s{W_, H_, 4 * opt_.cssm.order + 1, 4};
+    ImageShape s{W_, H_, 4 * opt_.cssm.order + 1, storage_bytes(opt_.cssm.storage)};
     basis_ = alloc(s.bytes());
     if (opt_.cssm.lookup == Lookup::Mips) {
-      chain_ = alloc(mip_layout(W_, H_, s.channels).chain_values * sizeof(float));
+      chain_ = alloc(mip_layout(W_, H_, s.channels).chain_values * s.value_bytes);
     } else {
       const SatLayout L = sat_layout(s);
       sat_ = alloc(L.table_floats * sizeof(float));
@@ -248,9 +259,9 @@ cl::Event SoftFilter::prefilter(const cl::Buffer& depth, const EventList* wait) 
                                       &transform_done_);
     have_transform_ = true;
     EventList after{transform_done_};
-    ImageShape s{W_, H_, 4 * M + 1, 4};
+    ImageShape s{W_, H_, 4 * M + 1, storage_bytes(opt_.cssm.storage)};
     if (opt_.cssm.lookup == Lookup::Mips) {
-      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, Storage::F32, {}, s, basis_, chain_, &pyr_first_, &after);
+      pyr_done_ = enqueue_pyramid(*rt_, Reduce::Mean, opt_.cssm.storage, {}, s, basis_, chain_, &pyr_first_, &after);
       have_pyr_ = true;
       return pyr_done_;
     }

@@ -57,7 +57,8 @@ struct CssmOptions {
   float min_den = 0.02f;        // 1 - s_f below this: no blocker farther than z_offset
   float z_offset = -1.0f;       // stage-1 (z_avg) offset; default ~0.306 / M (series = 1 at z = d)
   bool contact = true;          // no blocker in stage 1: still run stage 2 at the footprint (z_avg = d)
-  // The basis planes' storage (options.hpp; Annen 2008 sec. 8.4 stores them in 8 or 16 bits).
+  // The basis planes' storage (options.hpp; with mip-maps Annen 2008 sec. 8.4 stores the CSM
+  // planes in 8 bits, the CSM-Z planes in 16).
   // f16 and unorm16 with mips only (the SAT's table is float-float whatever its input); unorm8
   // is refused: it moves the visibility 0.03-0.05 RMS from float32's (docs/soft.md).
   Storage storage = Storage::F32;

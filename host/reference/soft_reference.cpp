@@ -188,7 +188,7 @@ Planes cssm_basis(const HostImage& depth, int M, Storage storage) {
       }
       p.at(4 * M, x, y) = 0.5 * z;
     }
-  if (storage == Storage::Unorm16 || storage == Storage::Unorm8)
+  if (storage_unorm(storage))
     for (double& b : p.data) b = 0.5 + 0.5 * b;
   quantise(p, storage);
   return p;
@@ -218,7 +218,7 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   std::vector<double> b(4 * M + 1);
   const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
   const double ms = o.cssm.lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
-  const bool unorm = o.cssm.storage == Storage::Unorm16 || o.cssm.storage == Storage::Unorm8;
+  const bool unorm = storage_unorm(o.cssm.storage);
   auto read = [&](int c, double width) {
     const double x = basis.value(c, u, v, width);
     return unorm ? 2.0 * x - 1.0 : x;

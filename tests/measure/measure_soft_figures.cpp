@@ -188,9 +188,7 @@ TEST(SoftFigures, QualityAndTime) {
 // line per setting of SF_SOFT_SWEEP="M,lookup,offset,scale,z_offset,width_scale,contact,A,B,normalise;..."
 // (lookup m or s; negative values: the defaults of SoftOptions), RMSE and p99 |err| per scene and their means.
 TEST(SoftFigures, CssmSweep) {
-  const SceneSet S = load_scenes();
-  const std::vector<Scene>& scenes = S.scenes;
-  const std::vector<Device>& dev = S.dev;
+  const auto [scenes, dev] = load_scenes();
   ASSERT_FALSE(scenes.empty());
   const char* e = std::getenv("SF_SOFT_SWEEP");
   ASSERT_TRUE(e) << "set SF_SOFT_SWEEP";
@@ -251,9 +249,7 @@ TEST(SoftFigures, CssmSweep) {
 // scenes the mean RMSE, mean p99 |err|, mean signed error, the mean visibility where the
 // reference is umbra (<= 0.02: the seed's large n lights the umbra) and the mean time.
 TEST(SoftFigures, SsmmSweep) {
-  const SceneSet S = load_scenes();
-  const std::vector<Scene>& scenes = S.scenes;
-  const std::vector<Device>& dev = S.dev;
+  const auto [scenes, dev] = load_scenes();
   ASSERT_FALSE(scenes.empty());
   const std::vector<int> ns = int_list("SF_SSMM_N", "2 3 4 5 6 9");
   std::printf("| method | n |");
@@ -290,14 +286,13 @@ TEST(SoftFigures, SsmmSweep) {
   }
 }
 
-// cssm's basis in each storage (mips; Annen 2008 sec. 8.4 stores it in 8 or 16 bits), M = 4 and
-// 16 (SF_CSSM_ORDERS overrides), every scene dir: against the ray-traced reference the mean RMSE
-// and mean p99 |err| over the scenes; against float32's visibility the RMSE and the largest
-// |difference| over all receivers; the basis and chain's bytes and the mean time.
+// cssm's basis in each storage (mips; with mip-maps Annen 2008 sec. 8.4 stores the CSM planes in
+// 8 bits, the CSM-Z planes in 16), M = 4 and 16 (SF_CSSM_ORDERS overrides), every scene dir:
+// against the ray-traced reference the mean RMSE and mean p99 |err| over the scenes; against
+// float32's visibility the RMSE and the largest |difference| over all receivers; the basis and
+// chain's bytes and the mean time.
 TEST(SoftFigures, CssmStorage) {
-  const SceneSet S = load_scenes();
-  const std::vector<Scene>& scenes = S.scenes;
-  const std::vector<Device>& dev = S.dev;
+  const auto [scenes, dev] = load_scenes();
   ASSERT_FALSE(scenes.empty());
   const std::vector<int> orders = int_list("SF_CSSM_ORDERS", "4 16");
   std::printf(

@@ -52,6 +52,9 @@ enum class Storage { F32 = 0, F16 = 1, Unorm16 = 2, Unorm8 = 3 };
 const char* storage_name(Storage s);        // "f32", "f16", "unorm16", "unorm8"
 Storage parse_storage(const std::string&);  // throws InputError for other names
 int storage_bytes(Storage s);               // bytes per stored value
+// unorm16 and unorm8 hold [0,1] only: a method maps its bounded basis there (storage.clh's
+// SF_STORAGE_UNORM on the device).
+bool storage_unorm(Storage s);
 
 // Depth bias b of the methods that test depths directly (sm, pcf: H(z - d_t + b); msm: the
 // receiver depth becomes d - b). Unset = the method's default (depth_bias() in methods.hpp),

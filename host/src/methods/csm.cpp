@@ -89,7 +89,7 @@ MethodDesc csm_method() {
     const CsmParameters c = csm_parameters(o);
     const double alpha = c.alpha, offset = c.offset, scale = c.scale;
     const int M = o.csm.order;
-    const bool mapped = o.storage == Storage::Unorm16 || o.storage == Storage::Unorm8;
+    const bool mapped = storage_unorm(o.storage);
     ScalarMethod s;
     s.channels = 2 * M;
     s.basis = [=](double z, double* b) {

@@ -153,7 +153,7 @@ MethodDesc msm_method(bool hausdorff) {
   m.defines = [](const FilterOptions&) { return std::string(); };
   m.scalar = [hausdorff](const FilterOptions& o) {
     const double a = moment_bias(o, hausdorff), bias = depth_bias(o);
-    const bool optimised = o.storage == Storage::Unorm16 || o.storage == Storage::Unorm8;
+    const bool optimised = storage_unorm(o.storage);
     ScalarMethod s;
     s.channels = 4;
     s.basis = [optimised](double z, double* b) {

@@ -44,6 +44,8 @@ int storage_bytes(Storage s) {
   return 4;
 }
 
+bool storage_unorm(Storage s) { return s == Storage::Unorm16 || s == Storage::Unorm8; }
+
 bool MethodDesc::accepts(Storage s) const {
   return std::any_of(storages.begin(), storages.end(), [s](const StorageLimit& l) { return l.storage == s; });
 }

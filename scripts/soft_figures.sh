@@ -1,8 +1,8 @@
 #!/bin/sh
 # Figures of docs/soft.md: soft-shadow methods against the ray-traced reference_soft on every
 # built-in scene at two light sizes (the scene's default and twice it; plus spheres under a
-# perspective light), ssmm's kernel size n, cssm's basis storage, cost against light size, and
-# frame time against the light count; then the cssm parameter table that chose the defaults
+# perspective light), rectangular lights against squares of their area, ssmm's kernel size n,
+# cssm's basis storage, cost against light size, and frame time against the light count; then the cssm parameter table that chose the defaults
 # (bundled scenes, data/*).
 # Usage: scripts/soft_figures.sh [BUILD_DIR]   (default build-soft; needs shadowfilter and sf_measure)
 #        scripts/soft_figures.sh --sweep       (prints the sweep's SF_SOFT_SWEEP list only)
@@ -46,7 +46,20 @@ done
 d=$OUT/spheres-persp-L0.2
 [ -f "$d/reference_soft.exr" ] || "$B/shadowfilter" scene spheres -o "$d" --size 512 --receivers 640x480 --samples 64 --light perspective -q
 dirs="$dirs $d"
+# Rectangular lights of the square's area: W x H = L x L, 2L x L/2, L/2 x 2L and 4L x L/4.
+rects=""
+for spec in spheres:0.2 fence:0.1 backyard:0.15 contact:0.15 thin:0.1; do
+  s=${spec%%:*}; L=${spec#*:}
+  for wh in "1 1" "2 0.5" "0.5 2" "4 0.25"; do
+    set -- $wh
+    W=$(echo "$L * $1" | bc -l | sed 's/0*$//'); H=$(echo "$L * $2" | bc -l | sed 's/0*$//')
+    d=$OUT/$s-R${W}x$H
+    [ -f "$d/reference_soft.exr" ] || "$B/shadowfilter" scene "$s" -o "$d" --size 512 --receivers 640x480 --samples 64 --light-size "$W,$H" -q
+    rects="$rects $d"
+  done
+done
 export SHADOWFILTER_CACHE_DIR=$B/test_cache
+SF_SOFT_SCENES="$rects" "$B/tests/sf_measure" --gtest_filter='SoftFigures.RectangularLights' | grep '^|'
 SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" \
   --gtest_filter='SoftFigures.QualityAndTime' | grep '^|'
 SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" --gtest_filter='SoftFigures.SsmmSweep:SoftFigures.CssmStorage' | grep '^|'

@@ -36,7 +36,11 @@ CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
   c->add_option("--light-pos", a.light_pos, "Perspective light position X Y Z")->expected(3)->delimiter(',');
   c->add_option("--fov", a.fov, "Perspective light field of view in degrees (default: fitted)");
   c->add_option("--light-size", a.light_size,
-                "Side of the square area light in light-space units (default: the scene's)");
+                "Area light: L (a square) or W,H (W along the light's right, H along its down), light-space "
+                "units (default: the scene's square)")
+      ->expected(1, 2)
+      ->delimiter(',')
+      ->type_name("FLOAT[,FLOAT]");
   c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")->capture_default_str();
   c->add_option("--seed", a.seed, "Seed of the area-light sampling")->capture_default_str();
   c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")
@@ -89,7 +93,8 @@ int run_scene(const SceneArgs& a) {
     if (!(a.fov > 0.0)) throw InputError("--fov must lie in (0, 170) degrees, got " + scene::format_number(a.fov));
     request.fov_degrees = a.fov;
   }
-  if (!std::isnan(a.light_size)) request.light_size = a.light_size;
+  if (!a.light_size.empty()) request.light_size = a.light_size[0];
+  if (a.light_size.size() == 2) request.light_height = a.light_size[1];
   request.samples = a.samples;
   request.seed = a.seed;
   request.progress = !a.quiet;
@@ -118,6 +123,7 @@ int run_scene(const SceneArgs& a) {
               << " spheres, light " << (s.setup.light.type == scene::LightType::Ortho ? "ortho" : "perspective")
               << " near/far " << scene::format_number(s.setup.light.near_plane) << "/"
               << scene::format_number(s.setup.light.far_plane) << ", size " << scene::format_number(s.setup.light_size)
+              << (s.setup.light_height >= 0.0 ? "x" + scene::format_number(s.setup.light_height) : std::string())
               << ", " << s.setup.samples << " samples, " << s.plan.frames.size() << " frame(s)";
     if (s.plan.layout)
       std::cout << ", layout " << layout_name(s.plan.layout->kind) << " ("

@@ -88,8 +88,8 @@ struct SceneArgs {
   int map_size = 2048, samples = 64, threads = 0;
   unsigned seed = 1;
   std::vector<double> light_dir, light_pos;
-  double fov = std::numeric_limits<double>::quiet_NaN();         // NaN: fitted
-  double light_size = std::numeric_limits<double>::quiet_NaN();  // NaN: the scene's default
+  double fov = std::numeric_limits<double>::quiet_NaN();  // NaN: fitted
+  std::vector<double> light_size;                         // --light-size L or W,H; empty: the scene's default
   bool quiet = false;
   // Camera and path (NaN / empty: the scene's default; CLI numbers are finite, finite_numbers.hpp).
   std::vector<double> camera_pos, camera_look, camera_to;

@@ -16,7 +16,7 @@
 namespace sf::cli {
 namespace {
 
-const char* const kKeys = "weight=W, size=L";
+const char* const kKeys = "weight=W, size=L or size=W,H";
 
 // The whole of `text` as a number >= 0 that a float holds (what the device computes with), or NaN.
 double list_value(const std::string& text) {
@@ -65,7 +65,15 @@ std::vector<LightListEntry> parse_light_list(std::istream& in, const std::string
       if (eq == std::string::npos || !seen) throw InputError(where + ": unknown '" + item + "' (" + kKeys + ")");
       if (*seen) throw InputError(where + ": " + key + " is given twice");
       *seen = true;
-      const double value = list_value(item.substr(eq + 1));
+      std::string text = item.substr(eq + 1), second;
+      if (const size_t comma = text.find(','); key == "size" && comma != std::string::npos) {
+        second = text.substr(comma + 1);
+        text.resize(comma);
+        light.height = list_value(second);
+        if (std::isnan(light.height))
+          throw InputError(where + ": " + item + " is not two numbers >= 0 that a float holds (" + kKeys + ")");
+      }
+      const double value = list_value(text);
       if (std::isnan(value))
         throw InputError(where + ": " + item + " is not a number >= 0 that a float holds (" + kKeys + ")");
       (key == "weight" ? light.weight : light.size) = value;

@@ -1,7 +1,7 @@
 #pragma once
 // The light list of `soft --lights FILE`: one light a line, `SHADOWMAP RECEIVERS [weight=W]
-// [size=L]`, fields separated by blanks, paths relative to the list's directory, text after '#'
-// ignored.
+// [size=L | size=W,H]` (a square light or a rectangle, W along the map's u axis), fields separated by blanks, paths
+// relative to the list's directory, text after '#' ignored.
 #include <cstddef>
 #include <istream>
 #include <limits>
@@ -18,6 +18,7 @@ struct LightListEntry {
   std::string shadow_map, receivers;                       // relative to the list's directory
   double weight = 1.0;                                     // weight=W: >= 0, finite as a float
   double size = std::numeric_limits<double>::quiet_NaN();  // size=L (>= 0, finite as a float); NaN: the map's header
+  double height = -1.0;                                    // size=W,H: H; < 0: a square
 };
 
 // InputError naming the line for a line without both files, a key other than weight and size, a

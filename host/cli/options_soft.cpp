@@ -85,6 +85,12 @@ double header_extent(const OIIO::ImageSpec& spec, double given, const std::strin
 
 }  // namespace
 
+// --light-size's sides, each >= 0 (a negative height would otherwise read as "square").
+void check_light_size(const std::vector<double>& sides) {
+  for (double s : sides)
+    if (!(s >= 0.0)) throw InputError("--light-size must be L or W,H with each side >= 0");
+}
+
 // The light of a light file: orthographic (the map's width in light units from the projection's
 // x scale) or perspective (its full field of view across the map's width), its planes, and the
 // area light's size from --light-size.
@@ -94,9 +100,10 @@ SoftLight light_from_view(const io::ViewFile& file, const std::string& path, con
     throw InputError("--light '" + path +
                      "' gives the light's type, planes and extent (its projection); drop --light-type, --light-near, "
                      "--light-far, --light-fov and --light-extent");
-  if (!std::isfinite(a.light_size))
-    throw InputError("--light '" + path + "' has no area light size: give --light-size L (world units)");
-  return soft_light(file.view_projection, a.light_size);
+  check_light_size(a.light_size);
+  if (a.light_size.empty())
+    throw InputError("--light '" + path + "' has no area light size: give --light-size L or W,H (world units)");
+  return soft_light(file.view_projection, a.light_size[0], a.light_size.size() == 2 ? a.light_size[1] : -1.0);
 }
 
 SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
@@ -107,7 +114,16 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   L.near_plane = light_value(a.light_near, header_number(spec, "near"), "near", "--light-near", path);
   L.far_plane = light_value(a.light_far, header_number(spec, "far"), "far", "--light-far", path);
   L.fov_degrees = light_value(a.light_fov, header_number(spec, "fov_degrees"), "fov_degrees", "--light-fov", path);
-  L.size = light_value(a.light_size, header_number(spec, "light_size"), "light_size", "--light-size", path);
+  if (a.light_size.empty()) {
+    // The header's sides: light_size, and light_height where the light is not square.
+    L.size = light_value(NAN, header_number(spec, "light_size"), "light_size", "--light-size", path);
+    const HeaderNumber height = header_number(spec, "light_height");
+    if (height.present) L.height = light_value(NAN, height, "light_height", "--light-size", path);
+  } else {
+    check_light_size(a.light_size);
+    L.size = a.light_size[0];
+    if (a.light_size.size() == 2) L.height = a.light_size[1];
+  }
   L.extent = header_extent(spec, a.light_extent, path);
   in->close();
   if (!a.light_type.empty()) type = a.light_type;
@@ -155,7 +171,12 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "Batch: run part K of N (frames K, K + N, K + 2N, ... of the list; 1 <= K <= N): N processes with "
                 "K = 1..N write what one run writes")
       ->type_name("K/N");
-  c->add_option("--light-size", a.light_size, "Area light width in light-space units (default: header light_size)");
+  c->add_option("--light-size", a.light_size,
+                "Area light: L (a square) or W,H (W along the map's u axis, H along v), light-space units "
+                "(default: header light_size, light_height)")
+      ->expected(1, 2)
+      ->delimiter(',')
+      ->type_name("FLOAT[,FLOAT]");
   c->add_option("--light-type", a.light_type, "ortho | perspective (default: header light_type)");
   c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
   c->add_option("--light-far", a.light_far, "Perspective: far plane distance (default: header far)");
@@ -262,7 +283,10 @@ int run_soft(const SoftArgs& a) {
       throw InputError("--lights names each light's map and receivers; --light and --camera are for one light");
     for (const LightListEntry& entry : read_light_list(a.lights)) {
       SoftArgs over = a;
-      if (std::isfinite(entry.size)) over.light_size = entry.size;
+      if (std::isfinite(entry.size)) {
+        over.light_size = {entry.size};
+        if (entry.height >= 0.0) over.light_size.push_back(entry.height);
+      }
       SoftLightInput li = load_soft_light(entry.shadow_map, entry.receivers, "", over);
       li.light.weight = entry.weight;
       lights.push_back(std::move(li));
@@ -297,7 +321,9 @@ int run_soft(const SoftArgs& a) {
     j["command"] = "soft";
     j["method"] = soft_method_name(opt.method);
     j["lights"] = lights.size();
-    j["light"] = {{"size", opt.light.size}, {"type", opt.light.perspective ? "perspective" : "ortho"}};
+    j["light"] = {{"size", opt.light.size},
+                  {"height", light_height(opt.light)},
+                  {"type", opt.light.perspective ? "perspective" : "ortho"}};
     j["receivers"] = {{"width", r.visibility.width}, {"height", r.visibility.height}, {"background", r.background}};
     j["device"] = rt->info().device_name;
     j["device_ms"] = {{"transform", r.times.transform * 1e3},

@@ -13,10 +13,10 @@ namespace sf::cli {
 
 struct SoftArgs {
   std::string method = "pcss", shadow_map, receivers, receiver_depth, lights, output, device;
-  std::string light_type;  // "" = from the shadow map header
-  double light_size = std::numeric_limits<double>::quiet_NaN(), light_near = std::numeric_limits<double>::quiet_NaN(),
-         light_far = std::numeric_limits<double>::quiet_NaN(), light_fov = std::numeric_limits<double>::quiet_NaN(),
-         light_extent = std::numeric_limits<double>::quiet_NaN();
+  std::string light_type;          // "" = from the shadow map header
+  std::vector<double> light_size;  // --light-size L (a square) or W,H (a rectangle); empty: the header's
+  double light_near = std::numeric_limits<double>::quiet_NaN(), light_far = std::numeric_limits<double>::quiet_NaN(),
+         light_fov = std::numeric_limits<double>::quiet_NaN(), light_extent = std::numeric_limits<double>::quiet_NaN();
   std::string lookup = "sat";
   std::string cssm_storage = "f32";  // --cssm-storage: SoftOptions::cssm.storage by name
   std::vector<float> sharpen;
@@ -47,7 +47,8 @@ SoftOptions soft_options(const SoftArgs& args);
 int run_soft_batch(const SoftArgs& args);
 
 // The light of a shadow map: its EXR header (light_type, near, far, ortho_extents, fov_degrees,
-// light_size; written by `shadowfilter scene`), overridden by the command line.
+// light_size and, for a rectangular light, light_height; written by `shadowfilter scene`),
+// overridden by the command line (--light-size sets both sides).
 SoftLight light_from_header(const std::string& shadow_map, const SoftArgs& overrides);
 
 }  // namespace sf::cli

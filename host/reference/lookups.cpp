@@ -69,12 +69,17 @@ void add_into(Window& dst, const Window& src) {
 }
 
 // Box corners as the kernel rounds them.
+void box_corners(double u, double v, double fx, double fy, int W, int H, double& X0, double& X1, double& Y0,
+                 double& Y1) {
+  const float sx = 0.5f * (std::isfinite(fx) ? std::max(float(fx), 1.0f) : 1.0f);
+  const float sy = 0.5f * (std::isfinite(fy) ? std::max(float(fy), 1.0f) : 1.0f);
+  X0 = std::fmaf(float(u), float(W), -sx);
+  X1 = std::fmaf(float(u), float(W), sx);
+  Y0 = std::fmaf(float(v), float(H), -sy);
+  Y1 = std::fmaf(float(v), float(H), sy);
+}
 void box_corners(double u, double v, double f, int W, int H, double& X0, double& X1, double& Y0, double& Y1) {
-  const float s = 0.5f * (std::isfinite(f) ? std::max(float(f), 1.0f) : 1.0f);
-  X0 = std::fmaf(float(u), float(W), -s);
-  X1 = std::fmaf(float(u), float(W), s);
-  Y0 = std::fmaf(float(v), float(H), -s);
-  Y1 = std::fmaf(float(v), float(H), s);
+  box_corners(u, v, f, f, W, H, X0, X1, Y0, Y1);
 }
 
 double overlap(int i, double a, double b) { return std::max(0.0, std::min(i + 1.0, b) - std::max(double(i), a)); }
@@ -171,9 +176,11 @@ double trilinear(const std::vector<Planes>& chain, int c, double u, double v, do
   return (1 - t) * a + t * bilinear(chain[k0 + 1], c, u, v);
 }
 
-double box_mean(const Planes& img, int c, double u, double v, double f) {
+double box_mean(const Planes& img, int c, double u, double v, double f) { return box_mean(img, c, u, v, f, f); }
+
+double box_mean(const Planes& img, int c, double u, double v, double fx, double fy) {
   double X0, X1, Y0, Y1;
-  box_corners(u, v, f, img.width, img.height, X0, X1, Y0, Y1);
+  box_corners(u, v, fx, fy, img.width, img.height, X0, X1, Y0, Y1);
   double acc = 0;
   for (int j = int(std::floor(Y0)); j <= int(std::ceil(Y1)) - 1; ++j) {
     const double cy = overlap(j, Y0, Y1);
@@ -203,6 +210,10 @@ double LookupRef::value(int c, double u, double v, double f) const {
     default:
       return bilinear(chain_[0], c, u, v);
   }
+}
+
+double LookupRef::box(int c, double u, double v, double fx, double fy) const {
+  return box_mean(chain_[0], c, u, v, fx, fy);
 }
 
 std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u, double v, double f) {

@@ -26,12 +26,16 @@ double trilinear(const std::vector<Planes>& chain, int c, double u, double v, do
 // Area-weighted mean over the square of side max(f,1) centred at (u, v), clamp-to-edge, brute
 // force over texels (corners rounded to float32 like the kernel: fma(u, W, -+side/2)).
 double box_mean(const Planes& img, int c, double u, double v, double f);
+// The same over fx x fy texels (each at least 1).
+double box_mean(const Planes& img, int c, double u, double v, double fx, double fy);
 
 // A filtered basis read through a lookup (mip chain built once).
 class LookupRef {
  public:
   LookupRef(const Planes& filtered, Lookup kind, Storage storage = Storage::F32);
   double value(int c, double u, double v, double f) const;
+  // Area-weighted mean over fx x fy texels of level 0 (box_mean; a rectangle through a SAT).
+  double box(int c, double u, double v, double fx, double fy) const;
 
  private:
   Lookup kind_;

@@ -17,10 +17,30 @@ bool outside(double u, double v, double d) {
 
 double fp_of(double f) { return std::isfinite(f) ? f : 1.0; }
 
+// The light's footprint (uv: u, v) in the plane of a blocker at z (soft_common.clh sf_soft_width).
+struct Sides {
+  double u, v;
+  double major() const { return std::max(u, v); }
+};
+Sides soft_sides(const SoftLight& L, double d, double z) { return {soft_width(L, d, z), soft_height(L, d, z)}; }
+
+// Kernel sides in texels: each at least the footprint f and one texel, at most `cap`
+// (sf_soft_texels).
+Sides texels(const Sides& w, int W, int H, double f, double cap) {
+  return {std::clamp(std::max(w.u * W, f), 1.0, cap), std::clamp(std::max(w.v * H, f), 1.0, cap)};
+}
+
+// The light's sides over its longer one (sf_soft_shape).
+Sides shape(const SoftLight& L) {
+  const double a = L.size, b = light_height(L), k = std::max(a, b);
+  return k > 0 ? Sides{a / k, b / k} : Sides{1.0, 1.0};
+}
+
 }  // namespace
 
-BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, const Plane& p, double bias) {
-  const double cx = u * w, cy = v * h, hx = 0.5 * width, hy = 0.5 * width * h / w;
+BoxScan box_scan(const double* img, int w, int h, double u, double v, double wx, double wy, const Plane& p,
+                 double bias) {
+  const double cx = u * w, cy = v * h, hx = 0.5 * wx, hy = 0.5 * wy;
   const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
   double W = 0, lit = 0, blk = 0, blkz = 0;
   for (int j = int(std::floor(y0)); j <= int(std::ceil(y1)) - 1; ++j) {
@@ -62,22 +82,14 @@ Plane plane_level(const Plane& p, int W, int H, int w, int h) {
 
 double soft_horizon(const SoftOptions& o, const Plane& pl, int W, int H) {
   const SoftLight& L = o.light;
-  double k, a, b;
-  if (L.perspective) {
-    k = L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
-    a = L.near_plane;
-    b = L.far_plane - L.near_plane;
-  } else {
-    k = L.size / L.extent;
-    a = 0;
-    b = 1;
-  }
-  const double Gx = pl.gx * W, Gy = pl.gy * H, G = std::hypot(Gx, Gy);
+  const double unit = L.perspective ? 1.0 / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)) : 1.0 / L.extent;
+  const double a = L.perspective ? L.near_plane : 0.0, b = L.perspective ? L.far_plane - L.near_plane : 1.0;
+  const double Ax = pl.gx * W * L.size * unit, Ay = pl.gy * H * light_height(L) * unit, A = std::hypot(Ax, Ay);
   const double DR = std::max(a + b * pl.d, 1e-20);
-  const double wp = L.perspective ? k * b / (DR * DR) : k * b / DR;
-  if (!(G > 0) || !(wp > 0)) return 1.0;
-  const double t = -1.0 / (wp * G);
-  double p = 0.5 * std::abs(Gx) / G, q = 0.5 * std::abs(Gy) / G;
+  const double s = L.perspective ? b / (DR * DR) : b / DR;
+  if (!(A > 0) || !(s > 0)) return 1.0;
+  const double t = -1.0 / (s * A);
+  double p = 0.5 * std::abs(Ax) / A, q = 0.5 * std::abs(Ay) / A;
   if (q > p) std::swap(p, q);
   double below;
   if (t <= -(p + q))
@@ -100,12 +112,12 @@ double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, 
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int W = depth.width, H = depth.height;
   const double* img = depth.data.data();
-  const double search = std::clamp(soft_width(o.light, d, 0.0) * W, 1.0, double(o.max_width));
+  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, 1.0, o.max_width);
   const double horizon = soft_horizon(o, plane, W, H);
-  const BoxScan s = box_scan(img, W, H, u, v, search, plane, bias);
+  const BoxScan s = box_scan(img, W, H, u, v, search.u, search.v, plane, bias);
   if (!(s.blk > 0)) return horizon;
-  const double width = std::clamp(std::max(soft_width(o.light, d, s.zavg) * W, fp_of(f)), 1.0, double(o.max_width));
-  return box_scan(img, W, H, u, v, width, plane, bias).lit * horizon;
+  const Sides width = texels(soft_sides(o.light, d, s.zavg), W, H, fp_of(f), o.max_width);
+  return box_scan(img, W, H, u, v, width.u, width.v, plane, bias).lit * horizon;
 }
 
 double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, const Plane& plane,
@@ -114,7 +126,9 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
   const double n = o.ssmm.n;
-  const double search = soft_width(o.light, d, 0.0);
+  const Sides search2 = soft_sides(o.light, d, 0.0);
+  const double search = search2.major();
+  const Sides box = shape(o.light);  // a layer's box: n x n of the light's shape (texels of x)
   const double horizon = soft_horizon(o, plane, W, H);
   int last = 0;
   while (last < top && n * double(1 << last) / W < search) ++last;
@@ -125,7 +139,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
       const int w = P.width, h = P.height;
       const Plane pk = plane_level(plane, W, H, w, h);
       const double ri = n / w, rlo = 0.5 * ri, rhi = 2 * ri;
-      const double cx = u * w, cy = v * h, hx = 0.5 * n, hy = 0.5 * n * h / w;
+      const double cx = u * w, cy = v * h, hx = 0.5 * n * box.u, hy = 0.5 * n * box.v * h / w;
       const double x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
       double acc = 0, ws = 0;
       for (int j = int(std::floor(y0)); j <= int(std::ceil(y1)) - 1; ++j) {
@@ -138,7 +152,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
           const int ti = std::clamp(i, 0, w - 1), tj = std::clamp(j, 0, h - 1);
           const double z = P.at(0, ti, tj);
           if (!(z < pk.at(ti, tj) - bias)) continue;
-          const double r = soft_width(o.light, d, z);
+          const double r = soft_sides(o.light, d, z).major();
           double wt;
           if (r <= ri)
             wt = k == 0 ? 1.0 : std::max((r - rlo) / (ri - rlo), 0.0);
@@ -152,13 +166,14 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     return std::clamp(1.0 - sb, 0.0, 1.0) * horizon;
   }
   const Planes& S = chain[last];
-  const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search * S.width, 1.0),
-                             plane_level(plane, W, H, S.width, S.height), bias);
+  const BoxScan s = box_scan(S.data.data(), S.width, S.height, u, v, std::max(search2.u * S.width, 1.0),
+                             std::max(search2.v * S.height, 1.0), plane_level(plane, W, H, S.width, S.height), bias);
   if (!(s.blk > 0)) return horizon;
-  const double r = soft_width(o.light, d, s.zavg), r0 = n / W;
+  const Sides r2 = soft_sides(o.light, d, s.zavg);
+  const double r = r2.major(), r0 = n / W;
   if (r < r0) {
-    const double width = std::clamp(std::max(r * W, fp_of(f)), 1.0, n);
-    return box_scan(chain[0].data.data(), W, H, u, v, width, plane, bias).lit * horizon;
+    const Sides width = texels(r2, W, H, fp_of(f), n);
+    return box_scan(chain[0].data.data(), W, H, u, v, width.u, width.v, plane, bias).lit * horizon;
   }
   const int a = std::min(int(std::floor(std::log2(r / r0))), top);
   const double ra = r0 * double(1 << a);
@@ -168,8 +183,9 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
     const double wt = t == 0 ? 1 - wb : wb;
     if (wt <= 0) continue;
     const Planes& P = chain[a + t];
-    res +=
-        wt * box_scan(P.data.data(), P.width, P.height, u, v, n, plane_level(plane, W, H, P.width, P.height), bias).lit;
+    res += wt * box_scan(P.data.data(), P.width, P.height, u, v, n * box.u, n * box.v * P.height / P.width,
+                         plane_level(plane, W, H, P.width, P.height), bias)
+                    .lit;
   }
   return std::clamp(res, 0.0, 1.0) * horizon;
 }
@@ -207,7 +223,7 @@ double series(const std::vector<double>& b, int M, double dp, double* num) {
 }
 }  // namespace
 
-double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, double v, double d, double f,
+double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& o, double u, double v, double d, double f,
                  double* zavg_out) {
   if (zavg_out) *zavg_out = NAN;
   if (outside(u, v, d)) return 1.0;
@@ -216,23 +232,37 @@ double soft_cssm(const LookupRef& basis, int W, const SoftOptions& o, double u, 
   const CssmParams P = cssm_params(o);
   const double dp = d - P.offset;
   std::vector<double> b(4 * M + 1);
-  const double search = std::clamp(std::max(soft_width(o.light, d, 0.0) * W, fp_of(f)), 1.0, double(o.max_width));
-  const double ms = o.cssm.lookup == Lookup::Mips ? 0.55 : 1.0;  // cssm.cl SF_CSSM_MIP_SCALE
+  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, fp_of(f), o.max_width);
   const bool unorm = storage_unorm(o.cssm.storage);
-  auto read = [&](int c, double width) {
-    const double x = basis.value(c, u, v, width);
+  // Mean over fx x fy texels (cssm.cl sf_cssm_lookup): the SAT's rectangle, or the mips'
+  // anisotropic probes, n = ceil(long / short) (ratios within 1% of 1: one; at most 8) at the
+  // centres of n equal parts of the long side, each at the LOD of 0.55 max(short, long / n).
+  auto read = [&](int c, const Sides& fw) {
+    double x = 0;
+    if (o.cssm.lookup == Lookup::Sat) {
+      x = basis.box(c, u, v, fw.u, fw.v);
+    } else {
+      const double lo = std::min(fw.u, fw.v), hi = std::max(fw.u, fw.v);
+      const int n = std::clamp(int(std::ceil(hi / lo - 0.01)), 1, 8);
+      const double step = hi / n;
+      for (int j = 0; j < n; ++j) {
+        const double off = (j + 0.5 - 0.5 * n) * step;
+        const bool along_u = fw.u >= fw.v;
+        x += basis.value(c, along_u ? u + off / W : u, along_u ? v : v + off / H, 0.55 * std::max(lo, step)) / n;
+      }
+    }
     return unorm ? 2.0 * x - 1.0 : x;
   };
-  for (int c = 0; c <= 4 * M; ++c) b[c] = read(c, ms * search);
+  for (int c = 0; c <= 4 * M; ++c) b[c] = read(c, search);
   double num;
   const double den = 1.0 - series(b, M, d - P.z_offset, &num);
   const bool blocked = den >= o.cssm.min_den;
   if (!blocked && !o.cssm.contact) return 1.0;
   const double zavg = blocked ? std::clamp(num / den, 0.0, d) : d;
   if (zavg_out && blocked) *zavg_out = zavg;
-  const double fw =
-      std::clamp(std::max(P.width_scale * soft_width(o.light, d, zavg) * W, fp_of(f)), 1.0, double(o.max_width));
-  for (int c = 0; c < 2 * M; ++c) b[c] = read(c, ms * fw);
+  const Sides s2 = soft_sides(o.light, d, zavg);
+  const Sides fw = texels({P.width_scale * s2.u, P.width_scale * s2.v}, W, H, fp_of(f), o.max_width);
+  for (int c = 0; c < 2 * M; ++c) b[c] = read(c, fw);
   double vis =
       std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm.normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);
   if (P.sharpen_a > 0) vis = std::pow(vis, 1.0 + P.sharpen_a * std::exp(-P.sharpen_b * (d - zavg)));

@@ -7,14 +7,14 @@
 
 namespace sf::ref {
 
-// Area-weighted box (clamp-to-edge) of width w texels (x; y scaled by H/W) centred at (u, v) on
-// a plane: lit = fraction with z >= d_t - bias, d_t the receiver's plane `p` (in this image's
-// texel coordinates) at the texel read; blk = fraction with z < d_t - bias, blkz = their
-// weighted mean depth (NaN without blockers).
+// Area-weighted box (clamp-to-edge) of wx x wy texels centred at (u, v) on a plane: lit = fraction with z >= d_t -
+// bias, d_t the receiver's plane `p` (in this image's texel coordinates) at the texel read; blk = fraction with z < d_t
+// - bias, blkz = their weighted mean depth (NaN without blockers).
 struct BoxScan {
   double lit = 0, blk = 0, zavg = 0;
 };
-BoxScan box_scan(const double* img, int w, int h, double u, double v, double width, const Plane& p, double bias);
+BoxScan box_scan(const double* img, int w, int h, double u, double v, double wx, double wy, const Plane& p,
+                 double bias);
 // The plane of a level of w x h texels over a W x H map whose texels are the min of their blocks
 // (kernels/soft/soft_common.clh, sf_plane_level).
 Plane plane_level(const Plane& p, int W, int H, int w, int h);
@@ -34,7 +34,7 @@ double soft_ssmm(const std::vector<Planes>& min_chain, const SoftOptions& opt, d
 // when no blocker.
 Planes cssm_basis(const HostImage& depth, int order, Storage storage = Storage::F32);
 class LookupRef;
-double soft_cssm(const LookupRef& basis, int W, const SoftOptions& opt, double u, double v, double d, double f,
+double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& opt, double u, double v, double d, double f,
                  double* zavg_out = nullptr);
 
 }  // namespace sf::ref

@@ -57,10 +57,11 @@ void write_light(std::ostream& out, const SceneSetup& setup) {
                              "tan(fov/2)), v likewise along down, d = (z - near) / (far - near)")
       << ",\n"
       << "    \"size\": " << format_number(setup.light_size) << ",\n"
+      << "    \"height\": " << format_number(setup.light_height >= 0.0 ? setup.light_height : setup.light_size) << ",\n"
       << "    \"area_light\": "
-      << json_string(ortho ? "square of side size in the near plane, sides along right/down, "
+      << json_string(ortho ? "rectangle of sides size (along right) and height (along down) in the near plane, "
                              "centred on the receiver's projection onto the near plane"
-                           : "square of side size centred on position, sides along right/down")
+                           : "rectangle of sides size (along right) and height (along down) centred on position")
       << ",\n"
       << "    \"shadow_map_size\": [" << setup.map_width << ", " << setup.map_height << "]\n"
       << "  },\n";
@@ -182,6 +183,7 @@ std::map<std::string, std::string> light_attributes(const SceneSetup& setup) {
       {"light_size", format_number(setup.light_size)},
       {"depth", "linear: (view depth - near) / (far - near)"},
   };
+  if (setup.light_height >= 0.0) a["light_height"] = format_number(setup.light_height);
   if (light.type == LightType::Ortho) {
     // Light-space extents: [right_min, right_max, down_min, down_max] in world units.
     a["ortho_extents"] = "[" + format_number(light.right_range.lo) + ", " + format_number(light.right_range.hi) + ", " +
@@ -203,6 +205,7 @@ std::map<std::string, std::string> layer_attributes(const SceneSetup& setup, con
   a["light_right"] = json_vector(light.right);
   a["light_down"] = json_vector(light.down);
   a["light_size"] = format_number(setup.light_size);
+  if (setup.light_height >= 0.0) a["light_height"] = format_number(setup.light_height);
   a["depth"] = "linear: d = M2 . (x, y, z, 1) of shadowfilter:world_to_map";
   // Row r of the matrix is (axis / length, -lo / length) for the range [lo, lo + length] along
   // the axis (cascade_layout.cpp); d's row gives near/far for every layout, u's and v's the

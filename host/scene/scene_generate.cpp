@@ -129,6 +129,8 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
     throw InputError("--fov must be between 0 and 170 degrees");
   if (request.light_size && !(*request.light_size >= 0.0 && std::isfinite(*request.light_size)))
     throw InputError("--light-size must be a finite number >= 0");
+  if (request.light_height && !(*request.light_height >= 0.0 && std::isfinite(*request.light_height)))
+    throw InputError("--light-size W,H: H must be a finite number >= 0");
   if (request.samples <= 0)
     throw InputError("--samples must be a positive square number, got " + std::to_string(request.samples));
   if (request.out_dir.empty()) throw InputError("-o DIR is required");
@@ -158,6 +160,7 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
   setup.map_width = request.map_size;
   setup.map_height = request.map_size;
   setup.light_size = request.light_size ? *request.light_size : defaults.light_size;
+  setup.light_height = request.light_height ? *request.light_height : -1.0;
   setup.samples = request.samples;
   setup.seed = request.seed;
   setup.progress = request.progress;
@@ -197,6 +200,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
                                                                 {"generator", kGeneratorVersion}};
   auto soft_attributes = camera_attributes;
   soft_attributes["light_size"] = format_number(setup.light_size);
+  if (setup.light_height >= 0.0) soft_attributes["light_height"] = format_number(setup.light_height);
   soft_attributes["samples"] = std::to_string(setup.samples);
   soft_attributes["seed"] = std::to_string(setup.seed);
   for (const SceneFrame& frame : summary.plan.frames) {

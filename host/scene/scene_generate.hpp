@@ -19,6 +19,7 @@ struct SceneRequest {
   std::optional<Vec3> light_pos;        // perspective position (default: from the direction)
   double fov_degrees = 0.0;             // perspective; 0 = fitted to the scene
   std::optional<double> light_size;     // default: the scene's
+  std::optional<double> light_height;   // a rectangular light's side along down (default: a square)
   int samples = 64;
   unsigned seed = 1;
   CameraRequest camera;  // --camera-*, --frames, --camera-path

@@ -18,8 +18,9 @@ struct SceneSetup {
   PerspectiveCamera camera;
   int map_width = 512;  // shadow-map size in texels
   int map_height = 512;
-  double light_size = 0.2;  // side of the square area light (world units)
-  int samples = 64;         // area-light samples per pixel, a square number
+  double light_size = 0.2;     // area light's side along the light's right (world units)
+  double light_height = -1.0;  // its side along down; < 0: light_size (a square)
+  int samples = 64;            // area-light samples per pixel, a square number
   unsigned seed = 1;
   bool progress = true;  // progress bars on stderr for stages over a second
   int threads = 0;       // 0 = hardware concurrency

@@ -130,8 +130,8 @@ Ray LightView::towards_light(Vec3 p, double& distance) const {
   return Ray{p, normalize(position - p)};
 }
 
-Vec3 LightView::area_light_point(Vec3 p, double size, double s, double t) const {
-  const Vec3 offset = (size * s) * right + (size * t) * down;
+Vec3 LightView::area_light_point(Vec3 p, double width, double height, double s, double t) const {
+  const Vec3 offset = (width * s) * right + (height * t) * down;
   if (type == LightType::Ortho) return p - (dot(p, forward) - near_plane) * forward + offset;
   return position + offset;
 }

@@ -56,12 +56,13 @@ struct LightView {
   // The point light of the hard reference: direction from p towards the light and the
   // distance to it (ortho: -forward, up to the near plane).
   Ray towards_light(Vec3 p, double& distance) const;
-  // A point of the square area light of side `size`, (s, t) in [-1/2, 1/2]^2 along (right,
-  // down). Perspective: the square centred on the light position, perpendicular to forward.
-  // Ortho: the square in the near plane centred on p's projection onto it (the PCSS model of a
-  // directional area light, so that penumbra = size (d_R - d_B) / d_B with depths measured from
-  // the near plane, and size -> 0 gives the hard reference).
-  Vec3 area_light_point(Vec3 p, double size, double s, double t) const;
+  // A point of the rectangular area light of sides width (along right) and height (along down),
+  // (s, t) in [-1/2, 1/2]^2 along (right, down). Perspective: the rectangle centred on the light
+  // position, perpendicular to forward. Ortho: the rectangle in the near plane centred on p's
+  // projection onto it (the PCSS model of a directional area light, so that a penumbra across
+  // right is width (d_R - d_B) / d_B with depths measured from the near plane, and sides -> 0
+  // give the hard reference).
+  Vec3 area_light_point(Vec3 p, double width, double height, double s, double t) const;
 };
 
 // Pinhole camera, square pixels; pixel (x, y) spans [x, x+1] x [y, y+1], row 0 at the top.

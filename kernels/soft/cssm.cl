@@ -9,15 +9,15 @@
 // mean pyramid and the trilinear weights are affine, a lookup maps its result back by 2 x - 1.
 // Reconstruction per receiver, d' = d - offset (stage 1: d - z_offset); parameters resolved on
 // the host (soft_filter.cpp cssm_params; docs/soft.md "cssm defaults"):
-//   stage 1: lookup of all planes at the search width w(d, 0) (the light's footprint at the near
-//     plane), at d - z_offset where a lit texel (z = d) reconstructs to 1 (weight 0 in z_avg);
+//   stage 1: lookup of all planes over the search footprint w(d, 0) (the light's rectangle at the
+//     near plane), at d - z_offset where a lit texel (z = d) reconstructs to 1 (weight 0 in z_avg);
 //     s_f  = 1/2 + 2 sum_k [cos(c_k d') bar(sin_k) - sin(c_k d') bar(cos_k)] / c_k
 //     z_avg = [bar(z/2) + 2 sum_k (sin(c_k d') bar(z cos_k) - cos(c_k d') bar(z sin_k)) / c_k]
 //             / (1 - s_f)                          (eq. 8.8 over eq. 8.6's normalisation)
 //     1 - s_f < min_den (or NaN): no blocker beyond z_offset, no division; z_avg = d (contact):
 //     stage 2 still runs at the receiver's footprint (contact = 0: lit, return 1).
-//   stage 2: f_w = width_scale w(d, z_avg) (sec. 8.3.1), lookup of the 2M CSM planes at
-//     max(f_w, f, 1) texels; v = clamp(0.5 + scale (s_f inv_lit - 0.5), 0, 1) (ringing
+//   stage 2: f_w = width_scale w(d, z_avg) (sec. 8.3.1), lookup of the 2M CSM planes over
+//     max(f_w, f, 1) texels on each side; v = clamp(0.5 + scale (s_f inv_lit - 0.5), 0, 1) (ringing
 //     suppression: scale, shift, clamp), then v^p, p = 1 + A exp(-B (d - z_avg)) (eq. 8.9).
 #ifndef SF_CSSM_ORDER
 #error "cssm needs SF_CSSM_ORDER"
@@ -32,6 +32,11 @@
 #else
 #define SF_CSSM_MIP_SCALE 1.0f
 #endif
+// A footprint fx x fy texels (a rectangular light's) reads the SAT's rectangle exactly; the mips
+// read it as hardware anisotropic filtering does: n = ceil(long / short) trilinear probes (at most
+// SF_CSSM_MAX_PROBES; ratios within 1% of 1 take one) at the centres of n equal parts of the
+// long side, each at the LOD of max(short, long / n), averaged.
+#define SF_CSSM_MAX_PROBES 8
 
 // ---- Lookups of the first nch planes (stage 2 reads only the 2M CSM planes). The same math as
 // lookup.clh's trilinear and box lookups (host/reference LookupRef checks both), except that
@@ -91,23 +96,43 @@ inline float2 sf_cssm_sat_at(__global const float* restrict pk, int W, int H, fl
   return sf_dd_sum(r, sf_dd_scale(sf_dd_scale(dxy, fx), fy));
 }
 
-inline void sf_cssm_lookup(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
-                           __global const float* restrict pk, int W, int H, float u, float v, float f, int nch,
-                           float* out) {
 #if SF_LOOKUP == SF_LOOKUP_MIPS
+// One trilinear probe of footprint f texels, added into acc with weight wt.
+inline void sf_cssm_trilinear(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
+                              int W, int H, float u, float v, float f, int nch, float wt, float* acc) {
   float t;
   const int k0 = sf_lod(f, sf_mip_top(W, H), &t);
-  sf_cssm_level(basis, chain, W, H, k0, u, v, nch, out);
+  float a[SF_CHANNELS];
+  sf_cssm_level(basis, chain, W, H, k0, u, v, nch, a);
   if (t > 0.0f) {
     float b[SF_CHANNELS];
     sf_cssm_level(basis, chain, W, H, k0 + 1, u, v, nch, b);
-    for (int c = 0; c < nch; ++c) out[c] = mix(out[c], b[c], t);
+    for (int c = 0; c < nch; ++c) a[c] = mix(a[c], b[c], t);
+  }
+  for (int c = 0; c < nch; ++c) acc[c] = fma(wt, a[c], acc[c]);
+}
+#endif
+
+// Mean of the first nch planes over fx x fy texels (each >= 1) centred at (u, v).
+inline void sf_cssm_lookup(__global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
+                           __global const float* restrict pk, int W, int H, float u, float v, float fx, float fy,
+                           int nch, float* out) {
+#if SF_LOOKUP == SF_LOOKUP_MIPS
+  const float lo = fmin(fx, fy), hi = fmax(fx, fy);
+  const int n = clamp((int)ceil(hi / lo - 0.01f), 1, SF_CSSM_MAX_PROBES);
+  const float step = hi / (float)n;
+  const float f = SF_CSSM_MIP_SCALE * fmax(lo, step);
+  for (int c = 0; c < nch; ++c) out[c] = 0.0f;
+  for (int j = 0; j < n; ++j) {
+    const float off = ((float)j + 0.5f - 0.5f * (float)n) * step;  // texels along the long side
+    const float pu = fx >= fy ? u + off / (float)W : u, pv = fx >= fy ? v : v + off / (float)H;
+    sf_cssm_trilinear(basis, chain, W, H, pu, pv, f, nch, 1.0f / (float)n, out);
   }
   for (int c = 0; c < nch; ++c) out[c] = SF_CSSM_DECODE(out[c]);
 #else
-  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);
-  const float X0 = fma(u, (float)W, -s), X1 = fma(u, (float)W, s);
-  const float Y0 = fma(v, (float)H, -s), Y1 = fma(v, (float)H, s);
+  const float sx = 0.5f * (isfinite(fx) ? fmax(fx, 1.0f) : 1.0f), sy = 0.5f * (isfinite(fy) ? fmax(fy, 1.0f) : 1.0f);
+  const float X0 = fma(u, (float)W, -sx), X1 = fma(u, (float)W, sx);
+  const float Y0 = fma(v, (float)H, -sy), Y1 = fma(v, (float)H, sy);
   const float area = (X1 - X0) * (Y1 - Y0);
   for (int c = 0; c < nch; ++c) {
     const float2 a = sf_dd_sum(sf_cssm_sat_at(pk, W, H, X1, Y1, c), -sf_cssm_sat_at(pk, W, H, X0, Y1, c));
@@ -191,8 +216,8 @@ __kernel void sf_cssm_points(__global const sf_stored* restrict basis, const int
   const float dd = clamp(di, 0.0f, 1.0f), dp = dd - P.offset;
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   float b[SF_CHANNELS];
-  const float search = clamp(fmax(sf_soft_width(L, dd, 0.0f) * (float)W, fp), 1.0f, L.max_width);
-  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, SF_CSSM_MIP_SCALE * search, SF_CHANNELS, b);
+  const float2 search = sf_soft_texels(L, sf_soft_width(L, dd, 0.0f), W, H, fp);
+  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, search.x, search.y, SF_CHANNELS, b);
   float num;
   // Stage 1 at d - z_offset (0.5 / M): there a lit texel (z = d) gives 1 - f ~ -0.09, close to
   // 0; at the visibility offset it would count as a quarter blocker at depth d.
@@ -207,8 +232,8 @@ __kernel void sf_cssm_points(__global const sf_stored* restrict basis, const int
   // the receiver's own footprint, where the visibility offset still finds close blockers.
   const float zavg = blocked ? clamp(num / den, 0.0f, dd) : dd;
   if (zavg_out) zavg_out[i] = blocked ? zavg : NAN;
-  const float fw = clamp(fmax(P.width_scale * sf_soft_width(L, dd, zavg) * (float)W, fp), 1.0f, L.max_width);
-  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, SF_CSSM_MIP_SCALE * fw, 2 * SF_M, b);
+  const float2 fw = sf_soft_texels(L, P.width_scale * sf_soft_width(L, dd, zavg), W, H, fp);
+  sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, fw.x, fw.y, 2 * SF_M, b);
   float vis = clamp(fma(P.scale, fma(sf_cssm_series(b, dp, 0), P.inv_lit, -0.5f), 0.5f), 0.0f, 1.0f);
   if (P.sharpen_a > 0.0f) vis = pow(vis, 1.0f + P.sharpen_a * exp(-P.sharpen_b * (dd - zavg)));
   out[i] = vis;

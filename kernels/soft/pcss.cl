@@ -2,10 +2,11 @@
 // Needs common.clh, receiver_plane.clh and soft/soft_common.clh before it.
 // Every texel t is tested against the receiver's plane d_t (receiver_plane.clh) with the bias b
 // (the light's constant plus the plane's slope-scaled term):
-// 1. blocker search: area-weighted box of width w(d, z = 0) (the light's footprint at the near
-//    plane: the widest any blocker can make it), mean z of the texels with z < d_t - b;
-// 2. PCF: area-weighted box of width w(d, z_avg) (at least the receiver footprint f and one
-//    texel) of the test z >= d_t - b. No blocker found: lit (1).
+// 1. blocker search: area-weighted box of the light's footprint w(d, z = 0) (at the near plane:
+//    the widest any blocker can make it), mean z of the texels with z < d_t - b;
+// 2. PCF: area-weighted box of the footprint w(d, z_avg) (each side at least the receiver
+//    footprint f and one texel) of the test z >= d_t - b. No blocker found: lit (1).
+// Both boxes are the light's rectangle (sf_soft_width: its two sides).
 // Times the fraction of the light above the receiver's own horizon (sf_soft_horizon), which the
 // plane's test leaves out.
 // Cost grows with the light size (widths in texels squared).
@@ -23,15 +24,14 @@ __kernel void sf_pcss_points(__global const float* restrict depth, const int W, 
   const float horizon = sf_soft_horizon(L, &p, W, H);
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const float cx = ui * (float)W, cy = vi * (float)H;
-  const float search = clamp(sf_soft_width(L, dd, 0.0f) * (float)W, 1.0f, L.max_width);
-  const float sy = (float)H / (float)W;  // uv widths map to W texels in x, H in y
-  const sf_box_acc s = sf_box_scan(depth, W, H, cx, cy, 0.5f * search, 0.5f * search * sy, &p, bias);
+  const float2 search = sf_soft_texels(L, sf_soft_width(L, dd, 0.0f), W, H, 1.0f);
+  const sf_box_acc s = sf_box_scan(depth, W, H, cx, cy, 0.5f * search.x, 0.5f * search.y, &p, bias);
   if (!(s.blk > 0.0f)) {
     out[i] = horizon;
     return;
   }
   const float zavg = s.blkz / s.blk;
-  const float width = clamp(fmax(sf_soft_width(L, dd, zavg) * (float)W, fp), 1.0f, L.max_width);
-  const sf_box_acc q = sf_box_scan(depth, W, H, cx, cy, 0.5f * width, 0.5f * width * sy, &p, bias);
+  const float2 width = sf_soft_texels(L, sf_soft_width(L, dd, zavg), W, H, fp);
+  const sf_box_acc q = sf_box_scan(depth, W, H, cx, cy, 0.5f * width.x, 0.5f * width.y, &p, bias);
   out[i] = clamp(q.lit / q.w, 0.0f, 1.0f) * horizon;
 }

@@ -7,7 +7,10 @@
 // horizon (sf_soft_horizon).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
 // (Shen 2016 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
-// Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh).
+// Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh), the
+// longer side of the light's footprint. A rectangular light's boxes have its shape: n texels
+// along its longer side, n times the ratio of its sides along the shorter (sf_soft_shape); a
+// square light's are n x n.
 //   mode 0 (ssmm): z_avg from a blocker search on the layer whose n x n box covers the search
 //     width w(d, 0) (constant cost), r = w(d, z_avg); layers a, b = a + 1 with r_a <= r < r_b,
 //     S = w_a S_a + w_b S_b, w_b = (r - r_a) / (r_b - r_a), w_a = 1 - w_b (eqs. 3.8-3.10).
@@ -47,7 +50,10 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;
-  const float search = sf_soft_width(L, dd, 0.0f);  // uv units
+  const float2 search2 = sf_soft_width(L, dd, 0.0f);  // uv units
+  const float search = fmax(search2.x, search2.y);
+  const float2 shape = sf_soft_shape(L);
+  const float bx = 0.5f * nf * shape.x, by = 0.5f * nf * shape.y;  // a layer's box, half sides (texels of x)
   // Highest layer whose box can matter: r_i < 2 * search (r_{i-1} <= search).
   int last = 0;
   while (last < top && nf * (float)(1 << last) / (float)W < search) ++last;
@@ -58,7 +64,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
       __global const float* img = sf_ssmm_level(depth, chain, W, H, k, &w, &h);
       const sf_plane pk = sf_plane_level(&p0, W, H, w, h);
       const float ri = nf / (float)w, rlo = 0.5f * ri, rhi = 2.0f * ri;
-      const float cx = ui * (float)w, cy = vi * (float)h, hx = 0.5f * nf, hy = 0.5f * nf * (float)h / (float)w;
+      const float cx = ui * (float)w, cy = vi * (float)h, hx = bx, hy = by * (float)h / (float)w;
       const float x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
       const int i0 = (int)floor(x0), i1 = (int)ceil(x1) - 1, j0 = (int)floor(y0), j1 = (int)ceil(y1) - 1;
       float acc = 0.0f, wsum = 0.0f;
@@ -75,7 +81,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
           const int tx = sf_clampi(x, 0, w - 1);
           const float z = row[tx];
           if (!(z < fma(pk.gx, (float)tx - pk.x, row_d))) continue;
-          const float r = sf_soft_width(L, dd, z);
+          const float r = sf_soft_major(L, dd, z);
           float wt;
           if (r <= ri)
             wt = (k == 0) ? 1.0f : fmax((r - rlo) / (ri - rlo), 0.0f);
@@ -91,20 +97,19 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   }
   // mode 0: blocker search on layer `last` (its n x n box covers the search width).
   __global const float* img = sf_ssmm_level(depth, chain, W, H, last, &w, &h);
-  const float sw = fmax(search * (float)w, 1.0f);
+  const float swx = fmax(search2.x * (float)w, 1.0f), swy = fmax(search2.y * (float)h, 1.0f);
   sf_plane pk = sf_plane_level(&p0, W, H, w, h);
-  sf_box_acc s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * sw,
-                             0.5f * sw * (float)h / (float)w, &pk, bias);
+  sf_box_acc s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * swx, 0.5f * swy, &pk, bias);
   if (!(s.blk > 0.0f)) {
     out[i] = horizon;
     return;
   }
-  const float r = sf_soft_width(L, dd, s.blkz / s.blk);
+  const float2 r2 = sf_soft_width(L, dd, s.blkz / s.blk);
+  const float r = fmax(r2.x, r2.y);
   const float r0 = nf / (float)W;
   if (r < r0) {
-    const float width = clamp(fmax(r * (float)W, fp), 1.0f, nf);
-    s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width,
-                    0.5f * width * (float)H / (float)W, &p0, bias);
+    const float2 width = clamp(fmax((float2)(r2.x * (float)W, r2.y * (float)H), (float2)(fp, fp)), 1.0f, nf);
+    s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width.x, 0.5f * width.y, &p0, bias);
     out[i] = clamp(s.lit / s.w, 0.0f, 1.0f) * horizon;
     return;
   }
@@ -119,8 +124,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
     if (wt <= 0.0f) continue;
     img = sf_ssmm_level(depth, chain, W, H, k, &w, &h);
     pk = sf_plane_level(&p0, W, H, w, h);
-    s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, 0.5f * nf, 0.5f * nf * (float)h / (float)w,
-                    &pk, bias);
+    s = sf_box_scan(img, w, h, ui * (float)w, vi * (float)h, bx, by * (float)h / (float)w, &pk, bias);
     res = fma(wt, s.lit / s.w, res);
   }
   out[i] = clamp(res, 0.0f, 1.0f) * horizon;

@@ -6,6 +6,8 @@ axis, texture coordinates u, v in [0, 1] with v = 0 the first row (docs/inputs.m
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import _core
@@ -179,12 +181,26 @@ def receivers(camera, camera_depth, light, *, map_size, camera_depth_kind="windo
 _LIGHT_KEYWORDS = ("light_type", "light_near", "light_far", "light_fov", "light_extent")
 
 
+def _light_sides(light_size):
+    """(size, height) of light_size: L (a square; height -1) or (W, H), as --light-size L or W,H."""
+    values = tuple(light_size) if isinstance(light_size, (tuple, list)) else (light_size,)
+    try:
+        sides = [float(v) for v in values]
+    except (TypeError, ValueError):
+        sides = []
+    if len(sides) != len(values) or len(values) != (2 if isinstance(light_size, (tuple, list)) else 1) \
+            or not all(math.isfinite(v) and v >= 0 for v in sides):
+        raise InputError("light_size must be L or W,H with each side >= 0")
+    return sides[0], (sides[1] if len(sides) == 2 else -1.0)
+
+
 def soft_light(light=None, *, light_size=None, light_type=None, light_near=None, light_far=None, light_fov=None,
                light_extent=None):
     """A SoftLight as the `soft` command builds it, from the same names as its flags.
 
     light: a light's View, dict or JSON file (its projection gives the type, planes and extent or
-    field of view; give light_size, the area light's width in world units). Without it:
+    field of view; give light_size, the area light's side L in world units, or its sides (W, H),
+    W along the map's u axis and H along v). Without it:
     light_type "ortho" (default) with light_extent (the map's width in light units) and
     light_near, light_far (view depths of d = 0 and 1; default 0 and 1), or "perspective" with
     light_near, light_far and light_fov (full field of view, degrees).
@@ -199,7 +215,7 @@ def soft_light(light=None, *, light_size=None, light_type=None, light_near=None,
                              + ", ".join(sorted(given)))
         if light_size is None:
             raise InputError("light has no area light size: give light_size (world units)")
-        return _core.soft_light(load_view(light), float(light_size))
+        return _core.soft_light(load_view(light), *_light_sides(light_size))
     if light_size is None:
         raise InputError("give light_size (the area light's width, world units) and the light's projection "
                          "(light=, or light_type with light_extent or light_fov)")
@@ -213,14 +229,15 @@ def soft_light(light=None, *, light_size=None, light_type=None, light_near=None,
         raise InputError("an orthographic light needs the map's width in light units (light_extent)")
     near = 0.0 if light_near is None else light_near
     far = 1.0 if light_far is None else light_far
-    return SoftLight(kind == "perspective", float(light_size), float(near), float(far),
+    size, height = _light_sides(light_size)
+    return SoftLight(kind == "perspective", size, float(near), float(far),
                      float(light_extent if light_extent is not None else 1.0),
-                     float(light_fov if light_fov is not None else 0.0))
+                     float(light_fov if light_fov is not None else 0.0), height)
 
 
 def soft(depth, receivers=None, *, receiver_depth=None, method="pcss", light=None, light_size=None, light_type=None,
          light_near=None, light_far=None, light_fov=None, light_extent=None, device=None, **options):
-    """Soft-shadow visibility in [0, 1] of each receiver from a square area light (docs/soft.md):
+    """Soft-shadow visibility in [0, 1] of each receiver from a rectangular area light (docs/soft.md):
     method pcss, cssm, ssmm or ssmm-improved, on the light's depth map `depth` (H, W).
 
     receivers / receiver_depth as filter() takes them. The light as soft_light() builds it (light=

@@ -28,11 +28,13 @@ class View:
 
 class SoftLight:
     def __init__(self, perspective: bool, size: float, near_plane: float, far_plane: float, extent: float,
-                 fov_degrees: float) -> None: ...
+                 fov_degrees: float, height: float = -1.0) -> None: ...
     @property
     def perspective(self) -> bool: ...
     @property
     def size(self) -> float: ...
+    @property
+    def height(self) -> float: ...
     @property
     def near_plane(self) -> float: ...
     @property
@@ -68,15 +70,17 @@ def receivers(camera: ViewLike, camera_depth: npt.ArrayLike, light: ViewLike, *,
               camera_depth_kind: str = "window", normals: Optional[npt.ArrayLike] = None,
               counts: Optional[Dict[str, int]] = None) -> npt.NDArray[np.float32]:
     """(h, w, 5) u, v, d, f, ndl of every camera pixel in the light's map."""
-def soft_light(light: Union[SoftLight, ViewLike, None] = None, *, light_size: Optional[float] = None,
+def soft_light(light: Union[SoftLight, ViewLike, None] = None, *,
+               light_size: Union[float, Tuple[float, float], None] = None,
                light_type: Optional[str] = None, light_near: Optional[float] = None,
                light_far: Optional[float] = None, light_fov: Optional[float] = None,
                light_extent: Optional[float] = None) -> SoftLight:
-    """A square area light as the soft command builds it: from a light's view and projection with
-    light_size (world units), or light_type ortho (light_extent) | perspective (light_fov)."""
+    """A rectangular area light as the soft command builds it: from a light's view and projection
+    with light_size L or (W, H) (world units; W along the map's u axis), or light_type ortho
+    (light_extent) | perspective (light_fov)."""
 def soft(depth: npt.ArrayLike, receivers: Optional[npt.ArrayLike] = None, *,
          receiver_depth: Optional[npt.ArrayLike] = None, method: str = "pcss",
-         light: Union[SoftLight, ViewLike, None] = None, light_size: Optional[float] = None,
+         light: Union[SoftLight, ViewLike, None] = None, light_size: Union[float, Tuple[float, float], None] = None,
          light_type: Optional[str] = None, light_near: Optional[float] = None, light_far: Optional[float] = None,
          light_fov: Optional[float] = None, light_extent: Optional[float] = None,
          device: Union[Device, str, None] = None,

@@ -121,18 +121,20 @@ Output2D run_soft(const Device& device, const std::string& method, const nb::dic
 
 void bind_soft(nb::module_& m) {
   nb::class_<sf::SoftLight>(m, "SoftLight",
-                            "A square area light: its size (world units), its projection (orthographic with the map's "
+                            "A rectangular area light: its sides size (along the map's u axis) and height (along v; "
+                            "< 0: size, a square), world units, its projection (orthographic with the map's "
                             "width `extent`, or perspective with the full field of view `fov_degrees`) and the view "
                             "depths of d = 0 and d = 1 (near_plane, far_plane)")
       .def(
           "__init__",
           [](sf::SoftLight* self, bool perspective, double size, double near_plane, double far_plane, double extent,
-             double fov_degrees) {
-            new (self) sf::SoftLight{perspective, size, near_plane, far_plane, extent, fov_degrees, 1.0};
+             double fov_degrees, double height) {
+            new (self) sf::SoftLight{perspective, size, near_plane, far_plane, extent, fov_degrees, 1.0, height};
           },
-          "perspective"_a, "size"_a, "near_plane"_a, "far_plane"_a, "extent"_a, "fov_degrees"_a)
+          "perspective"_a, "size"_a, "near_plane"_a, "far_plane"_a, "extent"_a, "fov_degrees"_a, "height"_a = -1.0)
       .def_ro("perspective", &sf::SoftLight::perspective)
       .def_ro("size", &sf::SoftLight::size)
+      .def_prop_ro("height", [](const sf::SoftLight& l) { return sf::light_height(l); })
       .def_ro("near_plane", &sf::SoftLight::near_plane)
       .def_ro("far_plane", &sf::SoftLight::far_plane)
       .def_ro("extent", &sf::SoftLight::extent)
@@ -141,15 +143,16 @@ void bind_soft(nb::module_& m) {
         return "SoftLight(" +
                std::string(l.perspective ? "perspective, fov " + sf::parameter_text(l.fov_degrees)
                                          : "ortho, extent " + sf::parameter_text(l.extent)) +
-               ", size " + sf::parameter_text(l.size) + ", planes " + sf::parameter_text(l.near_plane) + ".." +
-               sf::parameter_text(l.far_plane) + ")";
+               ", size " + sf::parameter_text(l.size) +
+               (l.height >= 0.0 ? "x" + sf::parameter_text(l.height) : std::string()) + ", planes " +
+               sf::parameter_text(l.near_plane) + ".." + sf::parameter_text(l.far_plane) + ")";
       });
   m.def(
       "soft_light",
-      [](const sf::ViewProjection& view, double size) {
-        return keyword_errors([&] { return sf::soft_light(view, size); });
+      [](const sf::ViewProjection& view, double size, double height) {
+        return keyword_errors([&] { return sf::soft_light(view, size, height); });
       },
-      "view"_a, "size"_a);
+      "view"_a, "size"_a, "height"_a = -1.0);
   m.def("soft_methods", [] {
     std::vector<std::string> names;
     for (sf::SoftMethod s :

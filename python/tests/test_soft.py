@@ -127,3 +127,32 @@ def test_cssm_storage_f16_is_float32_within_its_rounding():
     for storage in ("f16", "unorm16"):
         got = sf.soft(depth, receiver_depth=rd, cssm_storage=storage, **light)
         assert np.abs(got - f32).max() <= 2e-3, storage
+
+
+def test_rectangular_light_sides():
+    L = sf.soft_light(light_size=(0.4, 0.1), light_extent=8.0)
+    assert (L.size, L.height) == (0.4, 0.1)
+    assert sf.soft_light(light_size=0.3, light_extent=8.0).height == 0.3  # L: a square
+    for bad in ((0.4,), (0.4, 0.1, 0.2), (0.4, -0.1), ("a", 0.1), (0.4, math.nan), -1):
+        with pytest.raises(sf.InputError, match="light_size must be L"):
+            sf.soft_light(light_size=bad, light_extent=8.0)
+
+
+@needs_cli
+@pytest.mark.parametrize("method", ["pcss", "cssm"])
+def test_rectangular_light_equals_the_cli(method, tmp_path):
+    pytest.importorskip("OpenEXR")
+    s = os.path.join(DATA, "spheres")
+    out = tmp_path / "v.exr"
+    subprocess.run([CLI, "soft", "--method", method, "--shadow-map", f"{s}/shadowmap.exr", "--receivers",
+                    f"{s}/receivers.exr", "--light-size", "0.6,0.1", "-o", str(out), "-q"], check=True)
+    (cli,) = channels(str(out)).values()
+    rx = channels(f"{s}/receivers.exr")
+    receivers = np.stack([rx[k] for k in ("u", "v", "d", "f", "ndl")], axis=-1)
+    light = header_light(f"{s}/shadowmap.exr")
+    light["light_size"] = (0.6, 0.1)
+    ours = sf.soft(channels(f"{s}/shadowmap.exr")["Z"], receivers, method=method, **light)
+    np.testing.assert_array_equal(ours, cli)
+    square = sf.soft(channels(f"{s}/shadowmap.exr")["Z"], receivers, method=method,
+                     **dict(light, light_size=0.6))
+    assert np.abs(square - ours).max() > 0.05  # the rectangle is not its long side's square

@@ -1,7 +1,7 @@
 // `shadowfilter soft --lights FILE` (host/cli/options_soft.cpp; docs/soft.md "Several lights"):
 // a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
 // a missing file or a missing map is an input error: exit 2, one line naming the problem, no output;
-// --cssm-storage by name.
+// rectangular lights (--light-size W,H, size=W,H); --cssm-storage by name.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -111,6 +111,69 @@ TEST_F(SoftCli, MalformedListsAreOneLineInputErrors) {
   write("lights.txt", "a.exr rx.exr\n");
   expect_input_error("--lights " + path("lights.txt") + " --shadow-map " + path("a.exr"),
                      "--lights replaces --shadow-map");
+}
+
+// --light-size W,H: a rectangular light. The map and the receivers are symmetric about the
+// diagonal, so a W x H light's visibility is the H x W light's transposed (every method, the
+// mips' anisotropic probes along u against those along v); it differs from the square's; a light
+// list's size=W,H is the flag's; malformed sides are one-line input errors.
+TEST_F(SoftCli, RectangularLightsByFlagAndList) {
+  // 16 x 16 receivers on the floor: rx.exr's lie on the occluder's edges and corners, where a
+  // box of any shape centred on them sees the same fraction of it.
+  HostImage rx(16, 16, 4);
+  rx.channel_names = {"u", "v", "d", "f"};
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      rx.at(x, y, 0) = (x + 0.5f) / 16;
+      rx.at(x, y, 1) = (y + 0.5f) / 16;
+      rx.at(x, y, 2) = 0.8f;
+      rx.at(x, y, 3) = 1.0f;
+    }
+  io::write_image(path("rx16.exr"), rx);
+  const std::string common =
+      "soft --light-extent 1 --shadow-map " + path("a.exr") + " --receivers " + path("rx16.exr") + " -q";
+  for (const std::string method : {"pcss", "cssm --lookup sat", "cssm --lookup mips", "ssmm", "ssmm-improved"}) {
+    SCOPED_TRACE(method);
+    const auto visibility = [&](const std::string& size) {
+      const RunResult r =
+          run_cli(common + " --method " + method + " --light-size " + size + " -o " + path("v.exr"), dir_);
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return io::load_depth_map(path("v.exr"), {});
+    };
+    const HostImage wide = visibility("0.4,0.1"), tall = visibility("0.1,0.4"), square = visibility("0.2");
+    ASSERT_EQ(wide.data.size(), 256u);
+    double differ = 0;
+    size_t partial = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) {
+        EXPECT_NEAR(wide.at(x, y), tall.at(y, x), 1e-5f) << x << "," << y;
+        differ = std::max(differ, double(std::abs(wide.at(x, y) - square.at(x, y))));
+        partial += wide.at(x, y) > 0.02f && wide.at(x, y) < 0.98f;
+      }
+    EXPECT_GT(differ, 0.05) << "a 0.4 x 0.1 light must not shade as the 0.2 square";
+    EXPECT_GT(partial, 4u) << "the receivers must cross a penumbra";
+  }
+  ASSERT_EQ(run_cli(common + " --method pcss --light-size 0.4,0.1 -o " + path("flag.exr"), dir_).exit_code, 0);
+  write("rect.txt", "a.exr rx16.exr size=0.4,0.1\n");
+  ASSERT_EQ(run_cli(common.substr(0, common.find(" --shadow-map")) + " --method pcss --lights " + path("rect.txt") +
+                        " -q -o " + path("list.exr"),
+                    dir_)
+                .exit_code,
+            0);
+  const HostImage flag = io::load_depth_map(path("flag.exr"), {}), list = io::load_depth_map(path("list.exr"), {});
+  ASSERT_EQ(flag.data.size(), list.data.size());
+  for (size_t i = 0; i < flag.data.size(); ++i) EXPECT_EQ(flag.data[i], list.data[i]) << i;
+  const auto refused = [&](const std::string& size, const std::string& expect) {
+    const RunResult r = run_cli(common + " --method pcss --light-size " + size + " -o " + path("out.exr"), dir_);
+    EXPECT_EQ(r.exit_code, 2) << size << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+  };
+  refused("0.4,0.1,0.2", "--light-size");
+  refused("0.4,-0.1", "--light-size must be L or W,H with each side >= 0");
+  refused("0.4,nan", "must be a finite number");
+  refused("0.4,x", "--light-size");
 }
 
 // --cssm-storage: cssm's basis in f16 or unorm16 (mips) gives float32's visibility within their

@@ -91,7 +91,8 @@ struct RefCase {
   Lookup lookup;
   int order;
   bool perspective = false;
-  Storage storage = Storage::F32;  // cssm's basis (mips only)
+  Storage storage = Storage::F32;   // cssm's basis (mips only)
+  double width = 0.1, height = -1;  // the light's sides (map widths; height < 0: a square)
 };
 
 class SoftKernelVsReference : public ::testing::TestWithParam<RefCase> {};
@@ -118,10 +119,12 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   }
   rx.d[0] = NAN;   // background
   rx.u[1] = 1.5f;  // outside
-  SoftOptions o = ortho_options(c.method, 0.1, 1.0);
+  SoftOptions o = ortho_options(c.method, c.width, 1.0);
+  o.light.height = c.height;
   if (c.perspective) {  // near 2, far 6, 60 degrees: search box 0.1 / (2 tan 30) (D_R - D_B) / (D_R D_B)
     o.light.perspective = true;
-    o.light.size = 0.5;
+    o.light.size = 5 * c.width;
+    o.light.height = 5 * c.height;
     o.light.near_plane = 2.0;
     o.light.far_plane = 6.0;
     o.light.fov_degrees = 60.0;
@@ -152,7 +155,7 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
     if (c.method == SoftMethod::Pcss)
       want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], plane, rx.f[i]);
     else if (c.method == SoftMethod::Cssm)
-      want = ref::soft_cssm(*lk, depth.width, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+      want = ref::soft_cssm(*lk, depth.width, depth.height, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
     else
       want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], plane, rx.f[i]);
     ASSERT_TRUE(std::isfinite(got[i])) << i;
@@ -164,9 +167,9 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   }
   EXPECT_EQ(got[0], 1.0f);
   EXPECT_EQ(got[1], 1.0f);
-  std::printf("  %s%s: %zu of %d beyond %.0e (worst %.3g, mean %.2e), %zu partial receivers\n",
-              soft_method_name(c.method), c.perspective ? " (perspective)" : "", bad, rx.width, tol, worst, mean,
-              partial);
+  std::printf("  %s%s, light %g x %g: %zu of %d beyond %.0e (worst %.3g, mean %.2e), %zu partial receivers\n",
+              soft_method_name(c.method), c.perspective ? " (perspective)" : "", o.light.size, light_height(o.light),
+              bad, rx.width, tol, worst, mean, partial);
   EXPECT_LE(bad, size_t(rx.width / 200));
   EXPECT_LT(mean, narrow ? 3e-5 : 1e-5);
   EXPECT_GT(partial, size_t(50)) << "the case must exercise penumbrae";
@@ -180,7 +183,15 @@ INSTANTIATE_TEST_SUITE_P(
                       RefCase{SoftMethod::Ssmm, Lookup::Sat, 4}, RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4},
                       RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::F16},
                       RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::Unorm16},
-                      RefCase{SoftMethod::Cssm, Lookup::Mips, 16, false, Storage::F16}),
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 16, false, Storage::F16},
+                      // Rectangular lights (4:1 and 1:4, 6:1 perspective): the mips' anisotropic probes
+                      // along u and along v, the SAT's rectangle, the boxes of pcss and ssmm.
+                      RefCase{SoftMethod::Pcss, Lookup::Sat, 4, false, Storage::F32, 0.2, 0.05},
+                      RefCase{SoftMethod::Cssm, Lookup::Sat, 4, false, Storage::F32, 0.2, 0.05},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::F32, 0.2, 0.05},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4, true, Storage::F32, 0.03, 0.18},
+                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.05, 0.2},
+                      RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.2, 0.05}),
     [](const auto& info) {
       std::string s = soft_method_name(info.param.method);
       std::replace(s.begin(), s.end(), '-', '_');
@@ -188,6 +199,7 @@ INSTANTIATE_TEST_SUITE_P(
         s += std::string(info.param.lookup == Lookup::Sat ? "_sat" : "_mips") + "_M" + std::to_string(info.param.order);
       if (info.param.perspective) s += "_persp";
       if (info.param.storage != Storage::F32) s += std::string("_") + storage_name(info.param.storage);
+      if (info.param.height >= 0) s += info.param.height > info.param.width ? "_tall" : "_wide";
       return s;
     });
 
@@ -231,7 +243,7 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
         const double off = cssm_z_offset(o);
         ref::Plane flat;
         flat.d = d;
-        const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, flat, off);
+        const ref::BoxScan s = ref::box_scan(P.data.data(), P.width, P.height, sub.u[i], sub.v[i], w, w, flat, off);
         if (s.blk < 0.2) continue;
         absd.push_back(std::abs(zavg[i] - s.zavg));
         rel.push_back(std::abs(zavg[i] - s.zavg) / (d - s.zavg));

@@ -383,6 +383,21 @@ TEST(LightList, ParsesFilesWeightsAndSizes) {
   EXPECT_TRUE(std::isnan(lights[1].size));
 }
 
+TEST(LightList, RectangularSizes) {
+  const auto lights = lights_of("a.exr rx.exr size=0.4,0.125\nb.exr rx.exr size=0.2\n");
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_EQ(lights[0].size, 0.4);
+  EXPECT_EQ(lights[0].height, 0.125);
+  EXPECT_EQ(lights[1].size, 0.2);
+  EXPECT_LT(lights[1].height, 0.0) << "size=L is a square";
+  for (const std::string item : {"size=0.4,", "size=0.4,x", "size=0.4,0.1,0.2", "size=0.4,-1", "size=0.4,nan"}) {
+    SCOPED_TRACE(item);
+    expect_input_error([&] { lights_of("a.exr rx.exr " + item + "\n"); },
+                       {"lists/lights.txt:1: " + item + " is not two numbers >= 0 that a float holds"});
+  }
+  expect_input_error([] { lights_of("a.exr rx.exr size=,0.1\n"); }, {"size=,0.1 is not a number >= 0"});
+}
+
 TEST(LightList, RefusesValuesThatAreNotFiniteFloats) {
   for (const std::string item : {"weight=1e39", "weight=nan", "weight=inf", "weight=-1", "size=1e39", "size=-0.5",
                                  "weight=heavy", "weight=", "weight=1x"}) {

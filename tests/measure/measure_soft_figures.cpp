@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -376,6 +377,54 @@ TEST(SoftFigures, CostAgainstLightSize) {
       std::printf(" %.0f |", t.back());
     }
     if (!t.empty()) std::printf(" ratio 0.8/0.05 = %.2f", t.back() / t.front());
+    std::printf("\n");
+  }
+}
+
+// Rectangular lights (Annen 2008 sec. 8.5; issue: "within the RMSE they reach for square lights
+// of the same area"): every scene dir (generated with `scene --light-size W,H` at several aspect
+// ratios of one area), each method's RMSE against the ray-traced reference of its own light, per
+// scene, then the mean over the scenes of each aspect ratio W / H.
+TEST(SoftFigures, RectangularLights) {
+  const auto [scenes, dev] = load_scenes();
+  ASSERT_FALSE(scenes.empty());
+  std::map<double, std::map<std::string, std::vector<double>>> by_aspect;
+  std::map<double, std::map<std::string, std::vector<double>>> ms_by_aspect;
+  std::printf("| scene | light W x H | method | RMSE | ms |\n|---|---|---|---|---|\n");
+  for (size_t k = 0; k < scenes.size(); ++k) {
+    const Scene& s = scenes[k];
+    const double aspect = s.light.size / light_height(s.light);
+    for (const Variant& V : kVariants) {
+      if (V.m == SoftMethod::Cssm && V.order == 16) continue;
+      SoftOptions o;
+      o.method = V.m;
+      o.cssm.order = V.order;
+      o.cssm.lookup = V.lookup;
+      o.light = s.light;
+      SoftFilter F(runtime_ptr(), o, s.depth.width, s.depth.height);
+      const double sec = time_method(F, dev[k], 1);
+      const Errors E = errors(s, from_device(dev[k].out, dev[k].n));
+      ASSERT_EQ(E.nonfinite, 0u);
+      by_aspect[aspect][V.label].push_back(E.rmse);
+      ms_by_aspect[aspect][V.label].push_back(sec * 1e3);
+      std::printf("| %s | %.3g x %.3g | %s | %.4f | %.0f |\n", s.name.c_str(), s.light.size, light_height(s.light),
+                  V.label, E.rmse, sec * 1e3);
+    }
+  }
+  std::printf("\n| W / H | scenes |");
+  for (const Variant& V : kVariants)
+    if (!(V.m == SoftMethod::Cssm && V.order == 16)) std::printf(" %s RMSE (ms) |", V.label);
+  std::printf("\n|---|---|---|---|---|---|---|\n");
+  for (const auto& [aspect, methods] : by_aspect) {
+    std::printf("| %.3g | %zu |", aspect, methods.begin()->second.size());
+    for (const Variant& V : kVariants) {
+      if (V.m == SoftMethod::Cssm && V.order == 16) continue;
+      const std::vector<double>& r = methods.at(V.label);
+      const std::vector<double>& t = ms_by_aspect[aspect][V.label];
+      double mr = 0, mt = 0;
+      for (size_t i = 0; i < r.size(); ++i) mr += r[i] / r.size(), mt += t[i] / t.size();
+      std::printf(" %.4f (%.0f) |", mr, mt);
+    }
     std::printf("\n");
   }
 }

@@ -22,6 +22,7 @@ inline SoftLight header_light(const std::string& path) {
   L.near_plane = num("near");
   L.far_plane = num("far");
   L.size = num("light_size");
+  if (s.find_attribute("light_height")) L.height = num("light_height");
   L.fov_degrees = num("fov_degrees");
   std::string e = s.get_string_attribute("ortho_extents");
   for (char& c : e)

@@ -125,7 +125,8 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
 }
 
 // Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L
-// 4 units above the floor. Perspective light (a fixed square centred on the light position,
+// (or a rectangle L x H) 4 units above the floor; the penumbra across the edge takes the light's
+// side along the edge's normal. Perspective light (a fixed square centred on the light position,
 // Shen 2016 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light.
 // Orthographic light (the square in the near plane centred over each receiver): L (d_R - d_B)
 // / d_R. Measured as 1 / slope of a least-squares line through the visibility ramp across one
@@ -133,6 +134,7 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
 struct PenumbraCase {
   LightType type;
   double light_size;
+  double light_height = -1.0;  // < 0: a square
 };
 
 class ScenePenumbra : public ::testing::TestWithParam<PenumbraCase> {};
@@ -156,13 +158,15 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
   setup.camera.height = 240;
   setup.map_width = setup.map_height = 64;
   setup.light_size = c.light_size;
+  setup.light_height = c.light_height;
   setup.samples = 256;
   setup.progress = false;
   const SceneRenderer renderer(setup);
   const CameraImages view = renderer.camera_view(true);
   const double d_b = 4.0 - h, d_r = 4.0;
-  const double expected =
-      c.type == LightType::Perspective ? c.light_size * (d_r - d_b) / d_b : c.light_size * (d_r - d_b) / d_r;
+  // The edge at x = 1 runs along z: its penumbra is the light's side along x.
+  const double side = std::abs(setup.light.right.x) > 0.5 || c.light_height < 0.0 ? c.light_size : c.light_height;
+  const double expected = c.type == LightType::Perspective ? side * (d_r - d_b) / d_b : side * (d_r - d_b) / d_r;
   // Over the ramp's inner part (0.1..0.9), |z| < 0.6: away from the perpendicular edges.
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (int y = 0; y < setup.camera.height; ++y)
@@ -186,22 +190,27 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
   const double centre = (0.5 - (sy - slope * sx) / n) / slope;
   const double measured = 1.0 / slope;
   std::printf(
-      "  penumbra %s L=%.2f: measured %.4f, formula %.4f (%+.2f%%), centre x = %.4f "
-      "(edge at 1), %d ramp pixels\n",
-      c.type == LightType::Ortho ? "ortho" : "perspective", c.light_size, measured, expected,
+      "  penumbra %s L=%.2f H=%.2f (side across the edge %.2f): measured %.4f, formula %.4f (%+.2f%%), "
+      "centre x = %.4f (edge at 1), %d ramp pixels\n",
+      c.type == LightType::Ortho ? "ortho" : "perspective", c.light_size, c.light_height, side, measured, expected,
       100.0 * (measured / expected - 1.0), centre, int(n));
   EXPECT_NEAR(measured, expected, 0.05 * expected);
   EXPECT_NEAR(centre, 1.0, 0.05 * expected);
 }
 
-INSTANTIATE_TEST_SUITE_P(Lights, ScenePenumbra,
-                         ::testing::Values(PenumbraCase{LightType::Perspective, 0.75},
-                                           PenumbraCase{LightType::Perspective, 1.5},
-                                           PenumbraCase{LightType::Ortho, 1.5}),
-                         [](const auto& info) {
-                           return std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") + "_L" +
-                                  std::to_string(int(info.param.light_size * 100));
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Lights, ScenePenumbra,
+    ::testing::Values(PenumbraCase{LightType::Perspective, 0.75}, PenumbraCase{LightType::Perspective, 1.5},
+                      PenumbraCase{LightType::Ortho, 1.5},
+                      // Rectangles: the same penumbrae from one side or the other.
+                      PenumbraCase{LightType::Ortho, 1.5, 0.4}, PenumbraCase{LightType::Ortho, 0.4, 1.5},
+                      PenumbraCase{LightType::Perspective, 1.5, 0.3}, PenumbraCase{LightType::Perspective, 0.3, 1.5}),
+    [](const auto& info) {
+      std::string s = std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") + "_L" +
+                      std::to_string(int(info.param.light_size * 100));
+      if (info.param.light_height >= 0.0) s += "_H" + std::to_string(int(info.param.light_height * 100));
+      return s;
+    });
 
 // Slope-scaled bias: the receiver's depth change over one shadow-map texel, from the camera
 // neighbours' (u, v, d) (a neighbour counts when it lies within 3 texels in the map).

@@ -1,5 +1,5 @@
 #pragma once
-// Soft shadows from square area lights (methods.md sec. 4; docs/soft.md): pcss (brute force),
+// Soft shadows from rectangular area lights (methods.md sec. 4; docs/soft.md): pcss (brute force),
 // cssm (convolution soft shadows, Annen 2008 ch. 8), ssmm and ssmm-improved (soft shadow mip-maps,
 // Shen 2016). They read the raw depth (or their own bases and pyramids / SATs) and output
 // visibility per receiver, like the basis methods at the reconstruction end.
@@ -24,23 +24,28 @@ SoftMethod find_soft_method(const std::string& name);  // InputError for other n
 // depth; view depth = near + d (far - near).
 struct SoftLight {
   bool perspective = false;
-  double size = 0.1;        // width of the square light, light-space (world) units
+  double size = 0.1;        // side along the map's u axis (the light's right), world units
   double near_plane = 0.0;  // view depths of d = 0 and d = 1
   double far_plane = 1.0;
   double extent = 1.0;       // orthographic: width of the map in light-space units
   double fov_degrees = 0.0;  // perspective: full field of view of the (square) map
   double weight = 1.0;       // several lights: visibilities are combined by weight
+  double height = -1.0;      // side along the map's v axis (the light's down); < 0: size (a square)
 };
-// Width (uv units) of the light's footprint in the plane of a blocker at depth z, seen from a
-// receiver at depth d (soft_common.clh): ortho (L/extent)(D_R - D_B)/D_R; perspective
-// L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis.
+double light_height(const SoftLight& light);  // the v side in effect: height >= 0 ? height : size
+// Width (uv units) along u of the light's footprint in the plane of a blocker at depth z, seen
+// from a receiver at depth d (soft_common.clh): ortho (L/extent)(D_R - D_B)/D_R; perspective
+// L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis, L = size;
+// soft_height: the same along v, L = light_height.
 double soft_width(const SoftLight& light, double d, double z);
+double soft_height(const SoftLight& light, double d, double z);
 // The light of a light's view and projection (camera-file conventions, docs/inputs.md):
 // orthographic with the map's width in light units 2 / |projection[0][0]|, or perspective with
 // the full field of view 2 atan(1 / |projection[0][0]|) across the map's width; its planes from
-// the projection (light_projection_depth); `size` the area light's width in world units.
-// InputError for a projection light_projection_depth refuses and for a size not finite and >= 0.
-SoftLight soft_light(const ViewProjection& light, double size);
+// the projection (light_projection_depth); `size` x `height` the area light's sides in world units
+// (height < 0: a square of side size). InputError for a projection light_projection_depth refuses
+// and for sides not finite and >= 0.
+SoftLight soft_light(const ViewProjection& light, double size, double height = -1.0);
 
 // cssm (convolution soft shadows, Annen 2008 ch. 8). Defaults chosen on the bundled scenes
 // (docs/soft.md "cssm defaults"; the offset and scale by the defaults sweep, docs/results.md).

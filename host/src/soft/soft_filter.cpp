@@ -23,13 +23,14 @@ constexpr double kPi = 3.14159265358979323846;
 ClSoftLight cl_light(const SoftOptions& o) {
   const SoftLight& L = o.light;
   ClSoftLight c{};
+  const double unit = L.perspective ? 1.0 / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)) : 1.0 / L.extent;
+  c.ku = float(L.size * unit);
+  c.kv = float(light_height(L) * unit);
   if (L.perspective) {
-    c.k = float(L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)));
     c.a = float(L.near_plane);
     c.b = float(L.far_plane - L.near_plane);
     c.persp = 1;
   } else {
-    c.k = float(L.size / L.extent);
     c.a = 0.0f;
     c.b = 1.0f;
     c.persp = 0;
@@ -79,24 +80,35 @@ SoftMethod find_soft_method(const std::string& name) {
   throw InputError("unknown soft method '" + name + "' (known: " + known + ")");
 }
 
-double soft_width(const SoftLight& L, double d, double z) {
+double light_height(const SoftLight& L) { return L.height >= 0.0 ? L.height : L.size; }
+
+namespace {
+// The footprint of a light side of length `side` (soft_width, soft_height).
+double footprint(const SoftLight& L, double side, double d, double z) {
   if (L.perspective) {
-    const double k = L.size / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
+    const double k = side / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
     const double DR = std::max(L.near_plane + (L.far_plane - L.near_plane) * d, 1e-20);
     const double DB = std::max(L.near_plane + (L.far_plane - L.near_plane) * z, 1e-20);
     return k * std::max(DR - DB, 0.0) / (DR * DB);
   }
   const double DR = std::max(d, 1e-20), DB = std::max(z, 1e-20);
-  return L.size / L.extent * std::max(DR - DB, 0.0) / DR;
+  return side / L.extent * std::max(DR - DB, 0.0) / DR;
 }
+}  // namespace
 
-SoftLight soft_light(const ViewProjection& view, double size) {
+double soft_width(const SoftLight& L, double d, double z) { return footprint(L, L.size, d, z); }
+double soft_height(const SoftLight& L, double d, double z) { return footprint(L, light_height(L), d, z); }
+
+SoftLight soft_light(const ViewProjection& view, double size, double height) {
   if (!(size >= 0.0) || !std::isfinite(size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
+  if (!std::isfinite(height))
+    throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
   const ProjectionDepth pd = light_projection_depth(view);
   const double x_scale = std::fabs(view.projection[0]);
   SoftLight L;
   L.perspective = pd.perspective;
   L.size = size;
+  L.height = height;
   L.near_plane = pd.near_plane;
   L.far_plane = pd.far_plane;
   if (pd.perspective)
@@ -111,6 +123,7 @@ const std::vector<std::pair<std::string, std::string>>& soft_option_flags() {
       {"SoftOptions::receiver_plane.slope_bias", "--slope-bias"},
       {"SoftOptions::receiver_plane.max_slope", "--receiver-plane-max-slope"},
       {"SoftOptions::light.size", "--light-size"},
+      {"SoftOptions::light.height", "--light-size"},
       {"SoftOptions::light.near_plane", "--light-near"},
       {"SoftOptions::light.fov_degrees", "--light-fov"},
       {"SoftOptions::light.extent", "--light-extent"},
@@ -171,6 +184,8 @@ void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
   if (!(L.size >= 0.0) || !std::isfinite(L.size))
     throw InputError("SoftOptions::light.size must be a finite number >= 0");
+  if (!std::isfinite(L.height))
+    throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
   if (!(L.far_plane > L.near_plane)) throw InputError("the light's far plane must lie beyond its near plane");
   if (L.perspective) {
     if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs SoftOptions::light.near_plane > 0");

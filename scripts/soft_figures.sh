@@ -52,7 +52,7 @@ for spec in spheres:0.2 fence:0.1 backyard:0.15 contact:0.15 thin:0.1; do
   s=${spec%%:*}; L=${spec#*:}
   for wh in "1 1" "2 0.5" "0.5 2" "4 0.25"; do
     set -- $wh
-    W=$(echo "$L * $1" | bc -l | sed 's/0*$//'); H=$(echo "$L * $2" | bc -l | sed 's/0*$//')
+    W=$(printf '%g' "$(echo "$L * $1" | bc -l)"); H=$(printf '%g' "$(echo "$L * $2" | bc -l)")
     d=$OUT/$s-R${W}x$H
     [ -f "$d/reference_soft.exr" ] || "$B/shadowfilter" scene "$s" -o "$d" --size 512 --receivers 640x480 --samples 64 --light-size "$W,$H" -q
     rects="$rects $d"

@@ -18,10 +18,13 @@ bool outside(double u, double v, double d) {
 double fp_of(double f) { return std::isfinite(f) ? f : 1.0; }
 
 // The light's footprint (uv: u, v) in the plane of a blocker at z (soft_common.clh sf_soft_width).
+// ssmm's size of a footprint (sf_soft_scale): its shorter side, at least the longer / aniso
+// (ssmm 8, ssmm-improved 1.5: SF_SOFT_MAX_ANISO, SF_SSMM_IMPROVED_ANISO).
 struct Sides {
   double u, v;
-  double major() const { return std::max(u, v); }
+  double scale(double aniso) const { return std::max(std::min(u, v), std::max(u, v) / aniso); }
 };
+double ssmm_aniso(const SoftOptions& o) { return o.method == SoftMethod::SsmmImproved ? 1.5 : 8.0; }
 Sides soft_sides(const SoftLight& L, double d, double z) { return {soft_width(L, d, z), soft_height(L, d, z)}; }
 
 // Kernel sides in texels: each at least the footprint f and one texel, at most `cap`
@@ -30,9 +33,9 @@ Sides texels(const Sides& w, int W, int H, double f, double cap) {
   return {std::clamp(std::max(w.u * W, f), 1.0, cap), std::clamp(std::max(w.v * H, f), 1.0, cap)};
 }
 
-// The light's sides over its longer one (sf_soft_shape).
-Sides shape(const SoftLight& L) {
-  const double a = L.size, b = light_height(L), k = std::max(a, b);
+// The light's sides over that size (sf_soft_shape).
+Sides shape(const SoftLight& L, double aniso) {
+  const double a = L.size, b = light_height(L), k = Sides{a, b}.scale(aniso);
   return k > 0 ? Sides{a / k, b / k} : Sides{1.0, 1.0};
 }
 
@@ -127,8 +130,9 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
   const double n = o.ssmm.n;
   const Sides search2 = soft_sides(o.light, d, 0.0);
-  const double search = search2.major();
-  const Sides box = shape(o.light);  // a layer's box: n x n of the light's shape (texels of x)
+  const double aniso = ssmm_aniso(o);
+  const double search = search2.scale(aniso);
+  const Sides box = shape(o.light, aniso);  // a layer's box: n x n of the light's shape (texels of x)
   const double horizon = soft_horizon(o, plane, W, H);
   int last = 0;
   while (last < top && n * double(1 << last) / W < search) ++last;
@@ -152,7 +156,7 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
           const int ti = std::clamp(i, 0, w - 1), tj = std::clamp(j, 0, h - 1);
           const double z = P.at(0, ti, tj);
           if (!(z < pk.at(ti, tj) - bias)) continue;
-          const double r = soft_sides(o.light, d, z).major();
+          const double r = soft_sides(o.light, d, z).scale(aniso);
           double wt;
           if (r <= ri)
             wt = k == 0 ? 1.0 : std::max((r - rlo) / (ri - rlo), 0.0);
@@ -170,9 +174,11 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
                              std::max(search2.v * S.height, 1.0), plane_level(plane, W, H, S.width, S.height), bias);
   if (!(s.blk > 0)) return horizon;
   const Sides r2 = soft_sides(o.light, d, s.zavg);
-  const double r = r2.major(), r0 = n / W;
+  const double r = r2.scale(aniso), r0 = n / W;
   if (r < r0) {
-    const Sides width = texels(r2, W, H, fp_of(f), n);
+    // At most layer 0's box (n texels times the light's shape), at least one texel.
+    const Sides width{std::clamp(std::max(r2.u * W, fp_of(f)), 1.0, std::max(n * box.u, 1.0)),
+                      std::clamp(std::max(r2.v * H, fp_of(f)), 1.0, std::max(n * box.v * H / W, 1.0))};
     return box_scan(chain[0].data.data(), W, H, u, v, width.u, width.v, plane, bias).lit * horizon;
   }
   const int a = std::min(int(std::floor(std::log2(r / r0))), top);

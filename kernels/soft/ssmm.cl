@@ -7,10 +7,11 @@
 // horizon (sf_soft_horizon).
 // Layer i (level i of the pyramid, w_i texels wide) filters an area-weighted n x n box
 // (Shen 2016 sec. 3.4): its filter width in uv units is r_i = n / w_i (eq. 3.4, h_i = 1 / w_i).
-// Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh), the
-// longer side of the light's footprint. A rectangular light's boxes have its shape: n texels
-// along its longer side, n times the ratio of its sides along the shorter (sf_soft_shape); a
-// square light's are n x n.
+// Filter size of a blocker at z for a receiver at d: r = w(d, z) (eq. 3.3; soft_common.clh). A
+// rectangular light's r is a size between its footprint's sides (sf_soft_scale: ssmm the shorter,
+// at least the longer / 8; ssmm-improved at least the longer / 1.5), and its boxes have its
+// shape: n texels along the side r measures, n times the ratio of the sides along the other
+// (sf_soft_shape); a square light's are n x n.
 //   mode 0 (ssmm): z_avg from a blocker search on the layer whose n x n box covers the search
 //     width w(d, 0) (constant cost), r = w(d, z_avg); layers a, b = a + 1 with r_a <= r < r_b,
 //     S = w_a S_a + w_b S_b, w_b = (r - r_a) / (r_b - r_a), w_a = 1 - w_b (eqs. 3.8-3.10).
@@ -51,8 +52,9 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;
   const float2 search2 = sf_soft_width(L, dd, 0.0f);  // uv units
-  const float search = fmax(search2.x, search2.y);
-  const float2 shape = sf_soft_shape(L);
+  const float aniso = mode == 1 ? SF_SSMM_IMPROVED_ANISO : SF_SOFT_MAX_ANISO;
+  const float search = sf_soft_scale(L, dd, 0.0f, aniso);
+  const float2 shape = sf_soft_shape(L, aniso);
   const float bx = 0.5f * nf * shape.x, by = 0.5f * nf * shape.y;  // a layer's box, half sides (texels of x)
   // Highest layer whose box can matter: r_i < 2 * search (r_{i-1} <= search).
   int last = 0;
@@ -81,7 +83,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
           const int tx = sf_clampi(x, 0, w - 1);
           const float z = row[tx];
           if (!(z < fma(pk.gx, (float)tx - pk.x, row_d))) continue;
-          const float r = sf_soft_major(L, dd, z);
+          const float r = sf_soft_scale(L, dd, z, aniso);
           float wt;
           if (r <= ri)
             wt = (k == 0) ? 1.0f : fmax((r - rlo) / (ri - rlo), 0.0f);
@@ -105,10 +107,12 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
     return;
   }
   const float2 r2 = sf_soft_width(L, dd, s.blkz / s.blk);
-  const float r = fmax(r2.x, r2.y);
+  const float r = sf_soft_scale(L, dd, s.blkz / s.blk, aniso);
   const float r0 = nf / (float)W;
   if (r < r0) {
-    const float2 width = clamp(fmax((float2)(r2.x * (float)W, r2.y * (float)H), (float2)(fp, fp)), 1.0f, nf);
+    // At most layer 0's box (n texels times the light's shape), at least one texel.
+    const float2 cap = fmax((float2)(2.0f * bx, 2.0f * by * (float)H / (float)W), 1.0f);
+    const float2 width = clamp(fmax((float2)(r2.x * (float)W, r2.y * (float)H), (float2)(fp, fp)), 1.0f, cap);
     s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width.x, 0.5f * width.y, &p0, bias);
     out[i] = clamp(s.lit / s.w, 0.0f, 1.0f) * horizon;
     return;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "finite_numbers.hpp"
 #include "scene_files.hpp"
 #include "scene_generate.hpp"
 #include "shadowfilter/errors.hpp"
@@ -35,12 +36,9 @@ CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
   c->add_option("--light-dir", a.light_dir, "Light direction X Y Z (into the scene)")->expected(3)->delimiter(',');
   c->add_option("--light-pos", a.light_pos, "Perspective light position X Y Z")->expected(3)->delimiter(',');
   c->add_option("--fov", a.fov, "Perspective light field of view in degrees (default: fitted)");
-  c->add_option("--light-size", a.light_size,
-                "Area light: L (a square) or W,H (W along the light's right, H along its down), light-space "
-                "units (default: the scene's square)")
-      ->expected(1, 2)
-      ->delimiter(',')
-      ->type_name("FLOAT[,FLOAT]");
+  add_light_size_option(c, a.light_size,
+                        "Area light: L (a square) or W,H (W along the light's right, H along its down), "
+                        "light-space units (default: the scene's square)");
   c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")->capture_default_str();
   c->add_option("--seed", a.seed, "Seed of the area-light sampling")->capture_default_str();
   c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")

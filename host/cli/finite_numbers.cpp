@@ -22,6 +22,26 @@ std::string finite_number(const std::string& text) {
 
 }  // namespace
 
+CLI::Option* add_light_size_option(CLI::App* command, std::vector<double>& sides, const std::string& help) {
+  auto parse = [&sides](const std::string& text) {
+    std::vector<double> v;
+    size_t start = 0;
+    for (;;) {
+      const size_t comma = text.find(',', start);
+      const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      char* end = nullptr;
+      const double x = item.empty() ? NAN : std::strtod(item.c_str(), &end);
+      v.push_back(!item.empty() && *end == '\0' && x >= 0.0 && x <= FLT_MAX ? x : NAN);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (v.size() > 2 || !std::isfinite(v[0]) || !std::isfinite(v.back()))
+      throw CLI::ValidationError("--light-size", "must be a finite number >= 0 (L) or two (W,H), got '" + text + "'");
+    sides = v;
+  };
+  return command->add_option_function<std::string>("--light-size", parse, help)->type_name("L|W,H");
+}
+
 void require_finite_numbers(CLI::App& app) {
   // No description: the help keeps showing FLOAT.
   const CLI::Validator finite(finite_number, "");

@@ -12,6 +12,7 @@
 #include "camera_io.hpp"
 #include "commands.hpp"
 #include "filter_options.hpp"
+#include "finite_numbers.hpp"
 #include "help_format.hpp"
 #include "image_io.hpp"
 #include "image_bounds.hpp"
@@ -85,12 +86,6 @@ double header_extent(const OIIO::ImageSpec& spec, double given, const std::strin
 
 }  // namespace
 
-// --light-size's sides, each >= 0 (a negative height would otherwise read as "square").
-void check_light_size(const std::vector<double>& sides) {
-  for (double s : sides)
-    if (!(s >= 0.0)) throw InputError("--light-size must be L or W,H with each side >= 0");
-}
-
 // The light of a light file: orthographic (the map's width in light units from the projection's
 // x scale) or perspective (its full field of view across the map's width), its planes, and the
 // area light's size from --light-size.
@@ -100,7 +95,6 @@ SoftLight light_from_view(const io::ViewFile& file, const std::string& path, con
     throw InputError("--light '" + path +
                      "' gives the light's type, planes and extent (its projection); drop --light-type, --light-near, "
                      "--light-far, --light-fov and --light-extent");
-  check_light_size(a.light_size);
   if (a.light_size.empty())
     throw InputError("--light '" + path + "' has no area light size: give --light-size L or W,H (world units)");
   return soft_light(file.view_projection, a.light_size[0], a.light_size.size() == 2 ? a.light_size[1] : -1.0);
@@ -120,7 +114,6 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
     const HeaderNumber height = header_number(spec, "light_height");
     if (height.present) L.height = light_value(NAN, height, "light_height", "--light-size", path);
   } else {
-    check_light_size(a.light_size);
     L.size = a.light_size[0];
     if (a.light_size.size() == 2) L.height = a.light_size[1];
   }
@@ -171,12 +164,9 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "Batch: run part K of N (frames K, K + N, K + 2N, ... of the list; 1 <= K <= N): N processes with "
                 "K = 1..N write what one run writes")
       ->type_name("K/N");
-  c->add_option("--light-size", a.light_size,
-                "Area light: L (a square) or W,H (W along the map's u axis, H along v), light-space units "
-                "(default: header light_size, light_height)")
-      ->expected(1, 2)
-      ->delimiter(',')
-      ->type_name("FLOAT[,FLOAT]");
+  add_light_size_option(c, a.light_size,
+                        "Area light: L (a square) or W,H (W along the map's u axis, H along v), light-space units "
+                        "(default: header light_size, light_height)");
   c->add_option("--light-type", a.light_type, "ortho | perspective (default: header light_type)");
   c->add_option("--light-near", a.light_near, "Perspective: near plane distance (default: header near)");
   c->add_option("--light-far", a.light_far, "Perspective: far plane distance (default: header far)");
@@ -338,11 +328,11 @@ int run_soft(const SoftArgs& a) {
     print_json(j);
   } else if (!a.quiet)
     std::cout << formatted(
-        "shadowfilter soft: %s, %zu light(s), light size %g (%s) | receivers %dx%d (%zu background) | "
+        "shadowfilter soft: %s, %zu light(s), light size %g x %g (%s) | receivers %dx%d (%zu background) | "
         "device ms: transform %.3f, mips %.3f, sat %.3f, reconstruct %.3f | wall ms: run %.1f, total %.1f | %s\n",
-        soft_method_name(opt.method), lights.size(), opt.light.size, opt.light.perspective ? "perspective" : "ortho",
-        r.visibility.width, r.visibility.height, r.background, r.times.transform * 1e3, r.times.pyramid * 1e3,
-        r.times.sat * 1e3, r.times.reconstruct * 1e3, run_ms,
+        soft_method_name(opt.method), lights.size(), opt.light.size, light_height(opt.light),
+        opt.light.perspective ? "perspective" : "ortho", r.visibility.width, r.visibility.height, r.background,
+        r.times.transform * 1e3, r.times.pyramid * 1e3, r.times.sat * 1e3, r.times.reconstruct * 1e3, run_ms,
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), a.output.c_str());
   return 0;
 }

@@ -183,14 +183,16 @@ _LIGHT_KEYWORDS = ("light_type", "light_near", "light_far", "light_fov", "light_
 
 def _light_sides(light_size):
     """(size, height) of light_size: L (a square; height -1) or (W, H), as --light-size L or W,H."""
-    values = tuple(light_size) if isinstance(light_size, (tuple, list)) else (light_size,)
+    pair = isinstance(light_size, (tuple, list))
+    values = tuple(light_size) if pair else (light_size,)
     try:
         sides = [float(v) for v in values]
     except (TypeError, ValueError):
         sides = []
-    if len(sides) != len(values) or len(values) != (2 if isinstance(light_size, (tuple, list)) else 1) \
-            or not all(math.isfinite(v) and v >= 0 for v in sides):
-        raise InputError("light_size must be L or W,H with each side >= 0")
+    if len(sides) != len(values) or len(values) != (2 if pair else 1) \
+            or not all(math.isfinite(v) and 0 <= v <= 3.4028234663852886e38 for v in sides):
+        raise InputError("light_size: must be a finite number >= 0 (L) or two (W,H), got '%s'"
+                         % ",".join(str(v) for v in values))
     return sides[0], (sides[1] if len(sides) == 2 else -1.0)
 
 

@@ -134,7 +134,7 @@ def test_rectangular_light_sides():
     assert (L.size, L.height) == (0.4, 0.1)
     assert sf.soft_light(light_size=0.3, light_extent=8.0).height == 0.3  # L: a square
     for bad in ((0.4,), (0.4, 0.1, 0.2), (0.4, -0.1), ("a", 0.1), (0.4, math.nan), -1):
-        with pytest.raises(sf.InputError, match="light_size must be L"):
+        with pytest.raises(sf.InputError, match="light_size: must be a finite number >= 0"):
             sf.soft_light(light_size=bad, light_extent=8.0)
 
 

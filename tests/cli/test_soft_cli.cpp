@@ -30,25 +30,33 @@ class SoftCli : public ::testing::Test {
         for (int x = 10 + shift; x < 22 + shift && x < 32; ++x) depth.at(x, y) = 0.3f;
       io::write_image(path(shift ? "b.exr" : "a.exr"), depth);
     }
-    HostImage rx(8, 8, 4);
+    write_receivers("rx.exr", 8);
+  }
+  // n x n receivers on the floor (d = 0.8) at the centres of an n x n grid over the map.
+  void write_receivers(const std::string& name, int n) const {
+    HostImage rx(n, n, 4);
     rx.channel_names = {"u", "v", "d", "f"};
-    for (int y = 0; y < 8; ++y)
-      for (int x = 0; x < 8; ++x) {
-        rx.at(x, y, 0) = (x + 0.5f) / 8;
-        rx.at(x, y, 1) = (y + 0.5f) / 8;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        rx.at(x, y, 0) = (x + 0.5f) / n;
+        rx.at(x, y, 1) = (y + 0.5f) / n;
         rx.at(x, y, 2) = 0.8f;
         rx.at(x, y, 3) = 1.0f;
       }
-    io::write_image(path("rx.exr"), rx);
+    io::write_image(path(name), rx);
   }
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
   void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
-  RunResult run(const std::string& args) const {
-    return run_cli("soft --method pcss --light-extent 1 --light-size 0.2 " + args, dir_);
-  }
+  // The command most tests run: pcss under a 0.2 square light over a map 1 unit wide.
+  static constexpr const char* kPcss = "soft --method pcss --light-extent 1 --light-size 0.2 ";
+  RunResult run(const std::string& args) const { return run_cli(kPcss + args, dir_); }
   void expect_input_error(const std::string& args, const std::string& expect) const {
-    const RunResult r = run(args + " -o " + path("out.exr"));
-    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    expect_refusal(kPcss + args, expect);
+  }
+  // The whole command line `command -o out.exr`: exit 2, one line holding `expect`, no output.
+  void expect_refusal(const std::string& command, const std::string& expect) const {
+    const RunResult r = run_cli(command + " -o " + path("out.exr"), dir_);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
     EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
     EXPECT_EQ(count_lines(r.err), 1u) << r.err;
     EXPECT_FALSE(fs::exists(path("out.exr")));
@@ -120,16 +128,7 @@ TEST_F(SoftCli, MalformedListsAreOneLineInputErrors) {
 TEST_F(SoftCli, RectangularLightsByFlagAndList) {
   // 16 x 16 receivers on the floor: rx.exr's lie on the occluder's edges and corners, where a
   // box of any shape centred on them sees the same fraction of it.
-  HostImage rx(16, 16, 4);
-  rx.channel_names = {"u", "v", "d", "f"};
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x) {
-      rx.at(x, y, 0) = (x + 0.5f) / 16;
-      rx.at(x, y, 1) = (y + 0.5f) / 16;
-      rx.at(x, y, 2) = 0.8f;
-      rx.at(x, y, 3) = 1.0f;
-    }
-  io::write_image(path("rx16.exr"), rx);
+  write_receivers("rx16.exr", 16);
   const std::string common =
       "soft --light-extent 1 --shadow-map " + path("a.exr") + " --receivers " + path("rx16.exr") + " -q";
   for (const std::string method : {"pcss", "cssm --lookup sat", "cssm --lookup mips", "ssmm", "ssmm-improved"}) {
@@ -163,17 +162,11 @@ TEST_F(SoftCli, RectangularLightsByFlagAndList) {
   const HostImage flag = io::load_depth_map(path("flag.exr"), {}), list = io::load_depth_map(path("list.exr"), {});
   ASSERT_EQ(flag.data.size(), list.data.size());
   for (size_t i = 0; i < flag.data.size(); ++i) EXPECT_EQ(flag.data[i], list.data[i]) << i;
-  const auto refused = [&](const std::string& size, const std::string& expect) {
-    const RunResult r = run_cli(common + " --method pcss --light-size " + size + " -o " + path("out.exr"), dir_);
-    EXPECT_EQ(r.exit_code, 2) << size << "\n" << r.err;
-    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
-    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
-    EXPECT_FALSE(fs::exists(path("out.exr")));
-  };
-  refused("0.4,0.1,0.2", "--light-size");
-  refused("0.4,-0.1", "--light-size must be L or W,H with each side >= 0");
-  refused("0.4,nan", "must be a finite number");
-  refused("0.4,x", "--light-size");
+  for (const std::string bad : {"0.4,0.1,0.2", "0.4,-0.1", "0.4,nan", "0.4,x", "0.4,", "-1", "1e39"})
+    expect_refusal(common + " --method pcss --light-size " + bad,
+                   "--light-size: must be a finite number >= 0 (L) or two (W,H), got '" + bad + "'");
+  // A second --light-size is an error, not the rectangle's other side.
+  expect_refusal(common + " --method pcss --light-size 0.4 --light-size 0.1", "--light-size");
 }
 
 // --cssm-storage: cssm's basis in f16 or unorm16 (mips) gives float32's visibility within their
@@ -194,11 +187,7 @@ TEST_F(SoftCli, CssmStorageByName) {
     for (size_t i = 0; i < got.data.size(); ++i) EXPECT_NEAR(got.data[i], f32.data[i], 2e-3f) << st << " " << i;
   }
   const auto refused = [&](const std::string& args, const std::string& expect) {
-    const RunResult r = run_cli(common + " " + args + " -o " + path("out.exr"), dir_);
-    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(expect), std::string::npos) << "stderr: " << r.err;
-    EXPECT_EQ(count_lines(r.err), 1u) << r.err;
-    EXPECT_FALSE(fs::exists(path("out.exr")));
+    expect_refusal(common + " " + args, expect);
   };
   refused("--lookup mips --cssm-storage unorm8", "--cssm-storage unorm8 is refused");
   refused("--lookup sat --cssm-storage f16", "--cssm-storage f16 needs --lookup mips");

@@ -278,11 +278,14 @@ TEST(SoftCssm, AverageBlockerDepthMatchesBruteForce) {
 // test_scene.cpp). The penumbra (1 / slope of a least-squares line through the 0.1..0.9 ramp of
 // floor receivers across the edge x = 1, |z| < 0.6) must be within 10% of L (d_R - d_B) / d_R
 // (ortho; docs/scenes.md) or L (d_R - d_B) / d_B (perspective, eq. 2.1), and the umbra (floor
-// under the occluder farther than the penumbra from every edge) below 0.05.
+// under the occluder farther than the penumbra from every edge) below 0.05. A rectangular light
+// 0.4 x 1.5 (0.4 along the map's u, the world's x) gives the edge the penumbra of L = 0.4: the
+// kernels' u side is the scene's right side.
 struct PlanesCase {
   bool perspective;
   SoftMethod method;
   Lookup lookup;
+  double height = -1;  // the light's v side (its u side: 0.4 when given, else 1.5); < 0: a square
 };
 class SoftParallelPlanes : public ::testing::TestWithParam<PlanesCase> {};
 
@@ -292,7 +295,7 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
   SceneSetup setup;
   add_floor(setup.geometry, 4.0);
   add_quad(setup.geometry, "occluder", {-1.0, 1.0, -1.0}, {2.0, 0.0, 0.0}, {0.0, 0.0, 2.0});
-  const double L = 1.5;
+  const double L = c.height >= 0 ? 0.4 : 1.5;
   if (!c.perspective) {
     setup.light.type = LightType::Ortho;
     setup.light.forward = {0, -1, 0};
@@ -328,6 +331,7 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
   o.cssm.lookup = c.lookup;
   o.cssm.order = 16;
   o.light.size = L;
+  o.light.height = c.height;
   o.light.perspective = c.perspective;
   o.light.near_plane = setup.light.near_plane;
   o.light.far_plane = setup.light.far_plane;
@@ -377,10 +381,12 @@ TEST_P(SoftParallelPlanes, PenumbraWidthAndUmbra) {
   ASSERT_GT(umbra, 50u) << "ramp receivers " << n;
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   const double measured = 1.0 / slope;
-  std::printf("  %s %s%s: penumbra %.4f, formula %.4f (%+.1f%%), %d ramp receivers, umbra > 0.05: %zu of %zu\n",
-              c.perspective ? "perspective" : "ortho", soft_method_name(c.method),
-              c.method == SoftMethod::Cssm ? (c.lookup == Lookup::Sat ? " sat" : " mips") : "", measured, expected,
-              100 * (measured / expected - 1), int(n), umbra_bad, umbra);
+  std::printf(
+      "  %s %s%s, light %g x %g: penumbra %.4f, formula %.4f (%+.1f%%), %d ramp receivers, umbra > 0.05: "
+      "%zu of %zu\n",
+      c.perspective ? "perspective" : "ortho", soft_method_name(c.method),
+      c.method == SoftMethod::Cssm ? (c.lookup == Lookup::Sat ? " sat" : " mips") : "", L, light_height(o.light),
+      measured, expected, 100 * (measured / expected - 1), int(n), umbra_bad, umbra);
   EXPECT_NEAR(measured, expected, 0.10 * expected);
   EXPECT_LE(umbra_bad, umbra / 100);
 }
@@ -392,11 +398,14 @@ INSTANTIATE_TEST_SUITE_P(
         PlanesCase{false, SoftMethod::Cssm, Lookup::Mips}, PlanesCase{false, SoftMethod::Ssmm, Lookup::Sat},
         PlanesCase{false, SoftMethod::SsmmImproved, Lookup::Sat}, PlanesCase{true, SoftMethod::Pcss, Lookup::Sat},
         PlanesCase{true, SoftMethod::Cssm, Lookup::Sat}, PlanesCase{true, SoftMethod::Cssm, Lookup::Mips},
-        PlanesCase{true, SoftMethod::Ssmm, Lookup::Sat}, PlanesCase{true, SoftMethod::SsmmImproved, Lookup::Sat}),
+        PlanesCase{true, SoftMethod::Ssmm, Lookup::Sat}, PlanesCase{true, SoftMethod::SsmmImproved, Lookup::Sat},
+        PlanesCase{false, SoftMethod::Pcss, Lookup::Sat, 1.5}, PlanesCase{false, SoftMethod::Cssm, Lookup::Sat, 1.5},
+        PlanesCase{false, SoftMethod::Ssmm, Lookup::Sat, 1.5}),
     [](const auto& info) {
       std::string s = std::string(info.param.perspective ? "persp_" : "ortho_") + soft_method_name(info.param.method);
       std::replace(s.begin(), s.end(), '-', '_');
       if (info.param.method == SoftMethod::Cssm) s += info.param.lookup == Lookup::Sat ? "_sat" : "_mips";
+      if (info.param.height >= 0) s += "_rect";
       return s;
     });
 

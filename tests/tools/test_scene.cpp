@@ -125,16 +125,17 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
 }
 
 // Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L
-// (or a rectangle L x H) 4 units above the floor; the penumbra across the edge takes the light's
-// side along the edge's normal. Perspective light (a fixed square centred on the light position,
-// Shen 2016 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light.
-// Orthographic light (the square in the near plane centred over each receiver): L (d_R - d_B)
-// / d_R. Measured as 1 / slope of a least-squares line through the visibility ramp across one
-// edge (x = 1), from floor pixels of the camera view.
+// (or a rectangle L x H, L along the light's right) 4 units above the floor; the penumbra across
+// the edge takes the light's side along the edge's normal: L, or H where the light is turned a
+// quarter about its axis (its down along the edge's normal). Perspective light (a fixed square centred on the light
+// position, Shen 2016 eq. 2.1): the penumbra is L (d_R - d_B) / d_B wide, d = distance from the light. Orthographic
+// light (the square in the near plane centred over each receiver): L (d_R - d_B) / d_R. Measured as 1 / slope of a
+// least-squares line through the visibility ramp across one edge (x = 1), from floor pixels of the camera view.
 struct PenumbraCase {
   LightType type;
   double light_size;
   double light_height = -1.0;  // < 0: a square
+  bool turned = false;         // a quarter turn about the light's axis: right -> down, down -> -right
 };
 
 class ScenePenumbra : public ::testing::TestWithParam<PenumbraCase> {};
@@ -157,6 +158,14 @@ TEST_P(ScenePenumbra, ParallelPlanesWidthMatchesFormula) {
   setup.camera.width = 240;
   setup.camera.height = 240;
   setup.map_width = setup.map_height = 64;
+  if (c.turned) {  // right x down = forward still holds; the ortho map's ranges turn with it
+    const Vec3 right = setup.light.right;
+    const Interval right_range = setup.light.right_range;
+    setup.light.right = setup.light.down;
+    setup.light.right_range = setup.light.down_range;
+    setup.light.down = -right;
+    setup.light.down_range = Interval{-right_range.hi, -right_range.lo};
+  }
   setup.light_size = c.light_size;
   setup.light_height = c.light_height;
   setup.samples = 256;
@@ -202,13 +211,15 @@ INSTANTIATE_TEST_SUITE_P(
     Lights, ScenePenumbra,
     ::testing::Values(PenumbraCase{LightType::Perspective, 0.75}, PenumbraCase{LightType::Perspective, 1.5},
                       PenumbraCase{LightType::Ortho, 1.5},
-                      // Rectangles: the same penumbrae from one side or the other.
-                      PenumbraCase{LightType::Ortho, 1.5, 0.4}, PenumbraCase{LightType::Ortho, 0.4, 1.5},
-                      PenumbraCase{LightType::Perspective, 1.5, 0.3}, PenumbraCase{LightType::Perspective, 0.3, 1.5}),
+                      // Rectangles: the same penumbrae from one side or the other, the light turned or not.
+                      PenumbraCase{LightType::Ortho, 1.5, 0.4}, PenumbraCase{LightType::Ortho, 0.4, 1.5, true},
+                      PenumbraCase{LightType::Perspective, 1.5, 0.3},
+                      PenumbraCase{LightType::Perspective, 0.3, 1.5, true}),
     [](const auto& info) {
       std::string s = std::string(info.param.type == LightType::Ortho ? "ortho" : "perspective") + "_L" +
                       std::to_string(int(info.param.light_size * 100));
       if (info.param.light_height >= 0.0) s += "_H" + std::to_string(int(info.param.light_height * 100));
+      if (info.param.turned) s += "_turned";
       return s;
     });
 

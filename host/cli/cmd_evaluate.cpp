@@ -20,7 +20,10 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
       ->required()
       ->check(CLI::ExistingDirectory);
   c->add_option("-o,--output", a.out_dir, "Output directory")->required();
-  c->add_option("--methods", a.methods, "'all' or a comma-separated list of methods")->capture_default_str();
+  c->add_option("--methods", a.methods,
+                "'all' (every non-soft method), 'soft' (pcss, cssm, ssmm, ssmm-improved, under the scene's area "
+                "light) or a comma-separated list of both kinds")
+      ->capture_default_str();
   c->add_option("--grid", a.grid, "Parameter grid: quick | default | wide")->capture_default_str();
   c->add_option("--runs", a.runs, "Timed runs per configuration (median), after --warmup")
       ->capture_default_str()
@@ -73,7 +76,9 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
 
 int run_evaluate(const EvaluateArgs& a) {
   const eval::Grid grid = eval::parse_grid(a.grid);
-  const auto methods = eval::parse_methods(a.methods);
+  const eval::MethodLists methods = eval::parse_evaluated_methods(a.methods);
+  if (a.auto_args.enabled && methods.hard.empty())
+    throw InputError("--auto chooses among the non-soft methods: --methods names none");
   // The plots' reference: --pareto-reference, or the one a prefixed --pareto-metric names
   // (the older spelling, "hard_rmse"); both at once must agree.
   std::string metric;
@@ -90,7 +95,8 @@ int run_evaluate(const EvaluateArgs& a) {
   eval::EvaluationRequest q;
   q.dirs = a.dirs;
   q.out_dir = a.out_dir;
-  q.methods = methods;
+  q.methods = methods.hard;
+  q.soft_methods = methods.soft;
   q.grid = grid;
   q.reference = requested;
   q.metric = metric;

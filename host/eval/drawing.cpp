@@ -4,6 +4,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <filesystem>
+#include <map>
 
 #include "io_detail.hpp"
 #include "method_catalogue.hpp"
@@ -35,6 +36,12 @@ int text_width(const std::string& s, int size) {
 }
 
 std::vector<float> method_colour(const std::string& m) {
+  // The soft methods (not in the registry): pink, gold, sky blue, slate, apart from the catalogue's.
+  static const std::map<std::string, std::vector<float>> soft = {{"pcss", {0.95f, 0.35f, 0.65f}},
+                                                                 {"cssm", {0.80f, 0.70f, 0.10f}},
+                                                                 {"ssmm", {0.30f, 0.70f, 0.95f}},
+                                                                 {"ssmm-improved", {0.25f, 0.30f, 0.45f}}};
+  if (const auto it = soft.find(m); it != soft.end()) return it->second;
   const auto& c = catalogue_entry(method(m)).colour;
   return {c[0], c[1], c[2]};
 }

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "shadowfilter/options.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/runtime.hpp"
+#include "shadowfilter/soft.hpp"
 
 namespace sf::eval {
 
@@ -35,6 +37,10 @@ struct Scene {
   std::vector<uint8_t> traced;
   size_t traced_count = 0;
   double max_footprint = 1.0;  // over valid receivers (1 when the receivers carry none)
+  // The area light of the map's header as `scene` writes it (light_type, near, far,
+  // ortho_extents or fov_degrees, light_size and light_height): what the soft methods run
+  // under; none when the header names no light_size.
+  std::optional<SoftLight> light;
 };
 Scene load_scene(const std::string& dir);
 // A scene from memory (filter --auto): no ray-traced references.
@@ -52,6 +58,14 @@ enum class Grid { Quick, Default, Wide };
 Grid parse_grid(const std::string& name);  // quick | default | wide; InputError otherwise
 // "all" or a comma-separated list of method names (validated against the registry).
 std::vector<std::string> parse_methods(const std::string& list);
+// evaluate's --methods: the registry's methods as parse_methods takes them, and the soft methods
+// (soft.hpp: pcss, cssm, ssmm, ssmm-improved; "soft" names all four; "all" names the registry's
+// only), each list in the order given. InputError names both kinds for an unknown name.
+struct MethodLists {
+  std::vector<std::string> hard;
+  std::vector<SoftMethod> soft;
+};
+MethodLists parse_evaluated_methods(const std::string& list);
 // Every configuration of the grid for these methods. Footprint lookups (mips, sat) are only
 // generated when `max_footprint` > 1 (otherwise they equal bilinear and only cost time).
 // sm and pcf get depth_test.bias = sref_bias (so that they compute s_ref itself).
@@ -59,6 +73,11 @@ std::vector<FilterOptions> make_grid(const std::vector<std::string>& methods, Gr
                                      double sref_bias = kDefaultSrefBias);
 // One short human-readable label: "esm c=80 R=3 mips f32".
 std::string config_label(const FilterOptions& o);
+// The soft methods' grid (their parameters; the light is the scene's): pcss; cssm M = 4 with mips
+// and with the SAT (default: also M = 8 and 16 with mips; wide: and with the SAT); ssmm n = 4
+// (default: 3, 4, 6); ssmm-improved n = 4 (default: 3, 4). Labels: "cssm M=4 mips", "ssmm n=4".
+std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid);
+std::string soft_label(const SoftOptions& o);
 
 // --- errors -----------------------------------------------------------------------------------
 struct ErrorStats {
@@ -140,12 +159,21 @@ struct Row {
   ErrorStats sref, hard, soft, target;
   AcneLeak acne_leak;             // against reference_hard over Scene::traced
   std::vector<float> visibility;  // kept for error images; cleared when not needed
+  // A soft method's row: its options (`options` is then unused). It has no s_ref (its filter is
+  // the light's, not a footprint of the map): sref and target stay invalid.
+  std::optional<SoftOptions> soft_options;
 };
 // `target_ref` (may be null: Row::target stays invalid) is s_ref of the target filter.
 Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const FilterOptions& o, SrefCache& sref,
                     const TimingSettings& t, const std::vector<double>* target_ref = nullptr);
 // A row's identity and timings from one measurement; the caller adds the errors it needs.
 Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m);
+Row timed_row(const Scene& scene, const std::string& method, const std::string& label, const Measured& m);
+// A soft method under the scene's light (InputError without one, or for options validate()
+// refuses), timed as measure() times a pipeline (prefilter + reconstruct + finish), its errors
+// against the ray-traced references and its acne and leaks.
+Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftOptions& o,
+                         const TimingSettings& t);
 
 struct Skipped {
   std::string scene, label, reason;

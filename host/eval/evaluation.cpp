@@ -53,18 +53,28 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
     // and sat when every footprint <= 1).
     const double fp = q.auto_request ? scene.max_footprint : std::max(scene.max_footprint, 2.0);
     const auto configs = make_grid(q.methods, q.grid, fp, q.sref_bias);
+    const auto soft_configs = make_soft_grid(q.soft_methods, q.grid);
     SrefCache sref(scene, q.sref_bias);
     // One s_ref of the target filter per scene, the same reference for every configuration.
     const std::vector<double>& target_ref = sref.get(q.target.blur, q.target.lookup);
     std::vector<Row> rows;
     {
-      scene::Progress bar(scene.name + " (" + std::to_string(configs.size()) + " configurations)", configs.size(),
-                          q.progress);
+      const size_t total = configs.size() + soft_configs.size();
+      scene::Progress bar(scene.name + " (" + std::to_string(total) + " configurations)", total, q.progress);
       for (const auto& o : configs) {
         try {
           rows.push_back(evaluate_config(runtime, scene, o, sref, q.timing, &target_ref));
         } catch (const InputError& e) {
           result.skipped.push_back({scene.name, config_label(o), q.describe_refusal(e.what())});
+        }
+        bar.add(1);
+      }
+      // The soft methods under the scene's light: errors against the ray-traced references only.
+      for (const auto& o : soft_configs) {
+        try {
+          rows.push_back(evaluate_soft_config(runtime, scene, o, q.timing));
+        } catch (const InputError& e) {
+          result.skipped.push_back({scene.name, soft_label(o), q.describe_refusal(e.what())});
         }
         bar.add(1);
       }

@@ -19,6 +19,7 @@ struct EvaluationRequest {
   std::vector<std::string> dirs;  // scene directories (load_scene)
   std::string out_dir;            // created when missing
   std::vector<std::string> methods;
+  std::vector<SoftMethod> soft_methods;  // run under each scene's light (Scene::light)
   Grid grid;
   Reference reference = Reference::Soft;  // of the plots (plot_reference may fall back to target)
   std::string metric = "rmse";            // of the plots and contact sheets

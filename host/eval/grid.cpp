@@ -35,6 +35,82 @@ std::vector<std::string> parse_methods(const std::string& list) {
   return out;
 }
 
+MethodLists parse_evaluated_methods(const std::string& list) {
+  MethodLists out;
+  std::stringstream ss(list);
+  std::string item, hard;
+  auto add_soft = [&](SoftMethod m) {
+    if (std::find(out.soft.begin(), out.soft.end(), m) == out.soft.end()) out.soft.push_back(m);
+  };
+  while (std::getline(ss, item, ',')) {
+    if (item.empty()) continue;
+    if (item == "soft") {
+      for (SoftMethod m : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved}) add_soft(m);
+    } else if (item == "all" ||
+               std::any_of(methods().begin(), methods().end(), [&](const MethodDesc& m) { return m.name == item; })) {
+      hard += (hard.empty() ? "" : ",") + item;
+    } else {
+      try {
+        add_soft(find_soft_method(item));
+      } catch (const InputError&) {
+        std::string known;
+        for (const auto& m : methods()) known += m.name + ", ";
+        throw InputError("unknown method '" + item + "' (known: " + known +
+                         "the soft methods pcss, cssm, ssmm, ssmm-improved; all: every non-soft one; soft: the four)");
+      }
+    }
+  }
+  if (!hard.empty()) out.hard = parse_methods(hard);
+  if (out.hard.empty() && out.soft.empty())
+    throw InputError("the method list '" + list + "' names no method ('all', 'soft' or a comma-separated list)");
+  return out;
+}
+
+std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid) {
+  const bool quick = grid == Grid::Quick, wide = grid == Grid::Wide;
+  std::vector<SoftOptions> out;
+  for (SoftMethod m : methods) {
+    SoftOptions base;
+    base.method = m;
+    switch (m) {
+      case SoftMethod::Pcss:
+        out.push_back(base);
+        break;
+      case SoftMethod::Cssm:
+        for (int order : quick ? std::vector<int>{4} : std::vector<int>{4, 8, 16})
+          for (Lookup lk : {Lookup::Mips, Lookup::Sat}) {
+            if (lk == Lookup::Sat && order > 4 && !wide) continue;  // the SAT at M > 4: seconds a frame on PoCL
+            SoftOptions o = base;
+            o.cssm.order = order;
+            o.cssm.lookup = lk;
+            out.push_back(o);
+          }
+        break;
+      case SoftMethod::Ssmm:
+      case SoftMethod::SsmmImproved:
+        for (int n : quick                           ? std::vector<int>{4}
+                     : m == SoftMethod::Ssmm || wide ? std::vector<int>{3, 4, 6}
+                                                     : std::vector<int>{3, 4}) {
+          SoftOptions o = base;
+          o.ssmm.n = n;
+          out.push_back(o);
+        }
+        break;
+    }
+  }
+  return out;
+}
+
+std::string soft_label(const SoftOptions& o) {
+  std::ostringstream s;
+  s << soft_method_name(o.method);
+  if (o.method == SoftMethod::Cssm)
+    s << " M=" << o.cssm.order << (o.cssm.lookup == Lookup::Sat ? " sat" : " mips")
+      << (o.cssm.storage != Storage::F32 ? std::string(" ") + storage_name(o.cssm.storage) : std::string());
+  if (o.method == SoftMethod::Ssmm || o.method == SoftMethod::SsmmImproved) s << " n=" << o.ssmm.n;
+  return s.str();
+}
+
 std::string config_label(const FilterOptions& o) {
   std::ostringstream s;
   const MethodDesc& m = *o.method;

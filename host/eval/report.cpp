@@ -56,15 +56,45 @@ void stats_json(std::ostream& f, const char* name, const ErrorStats& e) {
     << ", \"darken\": " << e.darken << "}";
 }
 
+// A row's filter as the files list it: blur radius, lookup, storage and the parameters in effect.
+// A soft row has no blur; cssm reads its basis through its lookup in its storage, pcss and ssmm
+// the raw depth ("raw", f32); its parameters: cssm's order M, ssmm's n, and the light's sides.
+struct RowFilter {
+  int radius = 0;
+  std::string lookup, storage;
+  std::vector<std::pair<std::string, double>> parameters;
+};
+RowFilter row_filter(const Row& r) {
+  RowFilter f;
+  if (r.soft_options) {
+    const SoftOptions& o = *r.soft_options;
+    const bool cssm = o.method == SoftMethod::Cssm;
+    f.lookup = cssm ? lookup_name(o.cssm.lookup) : "raw";
+    f.storage = storage_name(cssm ? o.cssm.storage : Storage::F32);
+    if (cssm) f.parameters.emplace_back("order", o.cssm.order);
+    if (o.method == SoftMethod::Ssmm || o.method == SoftMethod::SsmmImproved) f.parameters.emplace_back("n", o.ssmm.n);
+    f.parameters.emplace_back("light_size", o.light.size);
+    f.parameters.emplace_back("light_height", light_height(o.light));
+    return f;
+  }
+  const FilterOptions& o = r.options;
+  f.radius = o.blur.radius;
+  f.lookup = lookup_name(o.lookup.kind);
+  f.storage = storage_name(o.storage);
+  for (const MethodParameter& p : o.method->parameter_values(o)) f.parameters.emplace_back(p.key, p.value);
+  return f;
+}
+
 }  // namespace
 
-// The method's parameters in effect, "key=value" separated by spaces (the registry's names).
-std::string parameter_text(const FilterOptions& o) {
+// The parameters in effect, "key=value" separated by spaces (the registry's names; a soft row's,
+// row_filter).
+std::string parameter_text(const Row& r) {
   std::string s;
-  for (const MethodParameter& p : o.method->parameter_values(o)) {
+  for (const auto& [key, value] : row_filter(r).parameters) {
     std::ostringstream v;
-    v << p.value;
-    s += (s.empty() ? "" : " ") + p.key + "=" + v.str();
+    v << value;
+    s += (s.empty() ? "" : " ") + key + "=" + v.str();
   }
   return s;
 }
@@ -93,12 +123,12 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, const Targ
       << "," << e.darken;
   };
   for (const auto& r : rows) {
-    const auto& o = r.options;
-    f << r.scene << "," << r.method << "," << csv_quote(r.label) << "," << o.blur.radius << ","
-      << lookup_name(o.lookup.kind) << "," << storage_name(o.storage) << "," << csv_quote(parameter_text(o)) << ","
-      << r.time_ms << "," << r.min_ms << "," << r.runs << "," << r.stages.transform * 1e3 << "," << r.stages.blur * 1e3
-      << "," << r.stages.pyramid * 1e3 << "," << r.stages.sat * 1e3 << "," << r.stages.zmax * 1e3 << ","
-      << r.stages.reconstruct * 1e3 << "," << r.stages.classify * 1e3 << "," << r.device_bytes;
+    const RowFilter o = row_filter(r);
+    f << r.scene << "," << r.method << "," << csv_quote(r.label) << "," << o.radius << "," << o.lookup << ","
+      << o.storage << "," << csv_quote(parameter_text(r)) << "," << r.time_ms << "," << r.min_ms << "," << r.runs << ","
+      << r.stages.transform * 1e3 << "," << r.stages.blur * 1e3 << "," << r.stages.pyramid * 1e3 << ","
+      << r.stages.sat * 1e3 << "," << r.stages.zmax * 1e3 << "," << r.stages.reconstruct * 1e3 << ","
+      << r.stages.classify * 1e3 << "," << r.device_bytes;
     for (const ErrorStats* e : {&r.sref, &r.hard, &r.soft}) stats(*e);
     const AcneLeak& al = r.acne_leak;
     if (al.valid)
@@ -129,12 +159,12 @@ void write_json(const std::string& path, const std::vector<Row>& rows, const std
     << "  \"results\": [\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
-    const auto& o = r.options;
+    const RowFilter o = row_filter(r);
     f << "    {\"scene\": \"" << json_escape(r.scene) << "\", \"method\": \"" << r.method << "\", \"config\": \""
-      << json_escape(r.label) << "\", \"parameters\": {\"blur_radius\": " << o.blur.radius << ", \"lookup\": \""
-      << lookup_name(o.lookup.kind) << "\", \"storage\": \"" << storage_name(o.storage) << "\"";
-    for (const MethodParameter& p : o.method->parameter_values(o))
-      f << ", \"" << json_escape(p.key) << "\": " << p.value;
+      << json_escape(r.label) << "\", \"soft\": " << (r.soft_options ? "true" : "false")
+      << ", \"parameters\": {\"blur_radius\": " << o.radius << ", \"lookup\": \"" << o.lookup << "\", \"storage\": \""
+      << o.storage << "\"";
+    for (const auto& [key, value] : o.parameters) f << ", \"" << json_escape(key) << "\": " << value;
     f << "}, \"time_ms\": " << r.time_ms << ", \"min_ms\": " << r.min_ms << ", \"runs\": " << r.runs
       << ", \"stages_ms\": {\"transform\": " << r.stages.transform * 1e3 << ", \"blur\": " << r.stages.blur * 1e3
       << ", \"mips\": " << r.stages.pyramid * 1e3 << ", \"sat\": " << r.stages.sat * 1e3

@@ -1,9 +1,14 @@
 // Scenes for evaluate: the generator's directories (docs/scenes.md) or images in memory, with
 // the receivers that the map can shadow.
+#include <OpenImageIO/imageio.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <sstream>
 
 #include "evaluate.hpp"
+#include "image_bounds.hpp"
 #include "image_io.hpp"
 #include "io_detail.hpp"
 #include "shadowfilter/errors.hpp"
@@ -23,6 +28,47 @@ HostImage load_reference(const std::string& path) {
   img = HostImage(raw.width, raw.height, 1);
   for (size_t i = 0; i < img.texels(); ++i) img.data[i] = raw.at(i, 0);
   return img;
+}
+
+// The area light of a shadow map's header (Scene::light): none without light_size; InputError
+// when an attribute it needs is there but not a finite number (evaluate never guesses a light).
+std::optional<SoftLight> header_light(const std::string& path) {
+  const auto in = io::detail::open_checked_image(path, "shadow map");
+  const OIIO::ImageSpec& spec = in->spec();
+  auto number = [&](const char* name, bool needed) -> double {
+    const OIIO::ParamValue* p = spec.find_attribute(name);
+    if (!p) {
+      if (needed) throw InputError("shadow map '" + path + "': its light_size needs a header " + name);
+      return NAN;
+    }
+    const std::string text = p->get_string();
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw InputError("shadow map '" + path + "': header " + name + "='" + io::detail::one_line(text) +
+                       "' is not a finite number");
+    return v;
+  };
+  if (!spec.find_attribute("light_size")) return std::nullopt;
+  SoftLight L;
+  L.size = number("light_size", true);
+  if (spec.find_attribute("light_height")) L.height = number("light_height", true);
+  L.perspective = spec.get_string_attribute("light_type") == "perspective";
+  L.near_plane = number("near", true);
+  L.far_plane = number("far", true);
+  if (L.perspective) {
+    L.fov_degrees = number("fov_degrees", true);
+  } else {
+    std::string e = spec.get_string_attribute("ortho_extents");
+    for (char& c : e)
+      if (c == '[' || c == ']' || c == ',') c = ' ';
+    std::istringstream es(e);
+    double x0 = NAN, x1 = NAN;
+    if (!(es >> x0 >> x1) || !std::isfinite(x1 - x0))
+      throw InputError("shadow map '" + path + "': its light_size needs a header ortho_extents [x0, x1, y0, y1]");
+    L.extent = x1 - x0;
+  }
+  return L;
 }
 
 void analyse(Scene& s) {
@@ -67,6 +113,7 @@ Scene load_scene(const std::string& dir) {
                        io::load_receiver_image((p / "receivers.exr").string()));
   if (s.name.empty()) s.name = fs::absolute(p).lexically_normal().parent_path().filename().string();
   s.dir = dir;
+  s.light = header_light((p / "shadowmap.exr").string());
   s.ref_hard = load_reference((p / "reference_hard.exr").string());
   s.ref_soft = load_reference((p / "reference_soft.exr").string());
   for (const HostImage* r : {&s.ref_hard, &s.ref_soft})

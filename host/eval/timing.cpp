@@ -6,28 +6,84 @@
 #include "eval_util.hpp"
 #include "evaluate.hpp"
 #include "shadowfilter/depth_range.hpp"
+#include "shadowfilter/errors.hpp"
 
 namespace sf::eval {
 
 using detail::median;
 
+namespace {
+
+// A read-only device copy of `h` (at least 4 bytes: OpenCL refuses empty buffers).
+cl::Buffer upload(Runtime& rt, const std::vector<float>& h) {
+  cl::Buffer b(rt.context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));
+  if (!h.empty()) rt.queue().enqueueWriteBuffer(b, CL_TRUE, 0, h.size() * sizeof(float), h.data());
+  return b;
+}
+
+// The row's errors against the ray-traced references (only the receivers facing the light count,
+// Scene::traced) and its acne and leaks.
+void traced_errors(Row& row, const Scene& scene, const std::vector<float>& v) {
+  auto vs_image = [&](const HostImage& img) {
+    if (img.texels() != v.size()) return ErrorStats{};
+    return error_stats(v, std::vector<double>(img.data.begin(), img.data.end()), scene.traced);
+  };
+  row.hard = vs_image(scene.ref_hard);
+  row.soft = vs_image(scene.ref_soft);
+  row.acne_leak = acne_leak(v, scene.ref_hard, scene.traced);
+}
+
+// Warm-up, then runs of prefilter + reconstruct + finish of a filter in Pipeline's shape (Pipeline,
+// SoftFilter): median and min wall ms, the median of each stage's device time, the visibility.
+template <class Filter>
+Measured time_filter(Runtime& rt, Filter& filter, const cl::Buffer& depth, const DeviceReceivers& rx,
+                     const TimingSettings& t) {
+  using Clock = std::chrono::steady_clock;
+  auto& q = rt.queue();
+  cl::Buffer vis(rt.context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, rx.count * sizeof(float)));
+  Measured m;
+  std::vector<double> wall, tr, bl, rc, py, sa, zm, cls;
+  for (int i = 0; i < t.warmup + std::max(1, t.runs); ++i) {
+    const auto t0 = Clock::now();
+    cl::Event f = filter.prefilter(depth);
+    EventList after{f};
+    filter.reconstruct(rx, vis, &after);
+    q.finish();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (i < t.warmup) continue;
+    wall.push_back(ms);
+    const StageTimes s = filter.times();
+    tr.push_back(s.transform), bl.push_back(s.blur), rc.push_back(s.reconstruct), py.push_back(s.pyramid);
+    sa.push_back(s.sat), zm.push_back(s.zmax), cls.push_back(s.classify);
+  }
+  m.runs = int(wall.size());
+  m.median_ms = median(wall);
+  m.min_ms = *std::min_element(wall.begin(), wall.end());
+  m.stages.transform = median(tr);
+  m.stages.blur = median(bl);
+  m.stages.reconstruct = median(rc);
+  m.stages.pyramid = median(py);
+  m.stages.sat = median(sa);
+  m.stages.zmax = median(zm);
+  m.stages.classify = median(cls);
+  m.visibility.resize(rx.count);
+  if (rx.count) q.enqueueReadBuffer(vis, CL_TRUE, 0, rx.count * sizeof(float), m.visibility.data());
+  return m;
+}
+
+}  // namespace
+
 // --- timing ----------------------------------------------------------------------------------------
 
 Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const Scene& scene,
                  const TimingSettings& t) {
-  using Clock = std::chrono::steady_clock;
   const Receivers& r = scene.receivers;
   // The map's depth range from the host copy: refused lookups throw here, and prefilter() runs
   // no range reduction inside the timed loop.
   FilterOptions run = o;
   if (!run.depth_range) run.depth_range = depth_range(scene.depth);
   Pipeline pipe(rt, run, scene.depth.width, scene.depth.height);  // validates, may throw InputError
-  auto& q = rt->queue();
-  auto up = [&](const std::vector<float>& h) {
-    cl::Buffer b(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));
-    if (!h.empty()) q.enqueueWriteBuffer(b, CL_TRUE, 0, h.size() * sizeof(float), h.data());
-    return b;
-  };
+  auto up = [&](const std::vector<float>& h) { return upload(*rt, h); };
   const size_t count = r.count();
   cl::Buffer depth = up(scene.depth.data);
   DeviceReceivers rx;
@@ -45,51 +101,28 @@ Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, con
       rx_bytes += count * sizeof(float);
     }
   }
-  cl::Buffer vis(rt->context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, count * sizeof(float)));
-
-  Measured m;
-  std::vector<double> wall, tr, bl, rc, py, sa, zm, cls;
-  for (int i = 0; i < t.warmup + std::max(1, t.runs); ++i) {
-    const auto t0 = Clock::now();
-    cl::Event f = pipe.prefilter(depth);
-    EventList after{f};
-    pipe.reconstruct(rx, vis, &after);
-    q.finish();
-    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (i < t.warmup) continue;
-    wall.push_back(ms);
-    const StageTimes s = pipe.times();
-    tr.push_back(s.transform), bl.push_back(s.blur), rc.push_back(s.reconstruct), py.push_back(s.pyramid);
-    sa.push_back(s.sat), zm.push_back(s.zmax), cls.push_back(s.classify);
-  }
-  m.runs = int(wall.size());
-  m.median_ms = median(wall);
-  m.min_ms = *std::min_element(wall.begin(), wall.end());
-  m.stages.transform = median(tr);
-  m.stages.blur = median(bl);
-  m.stages.reconstruct = median(rc);
-  m.stages.pyramid = median(py);
-  m.stages.sat = median(sa);
-  m.stages.zmax = median(zm);
-  m.stages.classify = median(cls);
-  m.visibility.resize(count);
-  if (count) q.enqueueReadBuffer(vis, CL_TRUE, 0, count * sizeof(float), m.visibility.data());
+  Measured m = time_filter(*rt, pipe, depth, rx, t);
   m.device_bytes = pipe.device_bytes() + scene.depth.data.size() * sizeof(float) + rx_bytes + count * sizeof(float);
   return m;
 }
 
 // A result row's identity and timings; the caller adds the errors it needs.
-Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
+Row timed_row(const Scene& scene, const std::string& method, const std::string& label, const Measured& m) {
   Row row;
   row.scene = scene.name;
-  row.method = o.method.name();
-  row.label = config_label(o);
-  row.options = o;
+  row.method = method;
+  row.label = label;
   row.time_ms = m.median_ms;
   row.min_ms = m.min_ms;
   row.stages = m.stages;
   row.device_bytes = m.device_bytes;
   row.runs = m.runs;
+  return row;
+}
+
+Row timed_row(const Scene& scene, const FilterOptions& o, const Measured& m) {
+  Row row = timed_row(scene, o.method.name(), config_label(o), m);
+  row.options = o;
   return row;
 }
 
@@ -100,14 +133,36 @@ Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, cons
   row.sref = error_stats(m.visibility, sref.for_options(o), scene.valid);
   // The target, like self, is s_ref: defined on every valid receiver, facing the light or not.
   if (target_ref) row.target = error_stats(m.visibility, *target_ref, scene.valid);
-  auto vs_image = [&](const HostImage& img) {
-    if (img.texels() != m.visibility.size()) return ErrorStats{};
-    return error_stats(m.visibility, std::vector<double>(img.data.begin(), img.data.end()), scene.traced);
-  };
-  // Against the ray-traced references only the receivers facing the light count (Scene::traced).
-  row.hard = vs_image(scene.ref_hard);
-  row.soft = vs_image(scene.ref_soft);
-  row.acne_leak = acne_leak(m.visibility, scene.ref_hard, scene.traced);
+  traced_errors(row, scene, m.visibility);
+  row.visibility = std::move(m.visibility);
+  return row;
+}
+
+Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftOptions& opt,
+                         const TimingSettings& t) {
+  if (!scene.light)
+    throw InputError("the scene's shadow map names no area light (header light_size): the soft methods need one");
+  if (scene.receivers.grid) throw InputError("the soft methods take receiver images, not a receiver depth grid");
+  SoftOptions o = opt;
+  o.light = *scene.light;
+  SoftFilter filter(rt, o, scene.depth.width, scene.depth.height);  // validates, may throw InputError
+  auto up = [&](const std::vector<float>& h) { return upload(*rt, h); };
+  const Receivers& r = scene.receivers;
+  const size_t count = r.count();
+  cl::Buffer depth = up(scene.depth.data);
+  DeviceReceivers rx;
+  rx.count = count;
+  rx.row = r.width;
+  rx.u = up(r.u);
+  rx.v = up(r.v);
+  rx.d = up(r.d);
+  if (r.has_footprint) rx.f = up(r.f);
+  Measured m = time_filter(*rt, filter, depth, rx, t);
+  m.device_bytes = filter.device_bytes() + scene.depth.data.size() * sizeof(float) +
+                   (r.has_footprint ? 5 : 4) * count * sizeof(float);
+  Row row = timed_row(scene, soft_method_name(o.method), soft_label(o), m);
+  row.soft_options = o;
+  traced_errors(row, scene, m.visibility);
   row.visibility = std::move(m.visibility);
   return row;
 }

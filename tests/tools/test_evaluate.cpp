@@ -1,9 +1,10 @@
 // host/eval: error statistics, the grid, the Pareto front, --auto, and `shadowfilter evaluate`
-// end to end on a small synthetic scene directory.
+// end to end on a small synthetic scene directory and, with the soft methods, a generated one.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include "cli_runner.hpp"
 #include "evaluate.hpp"
+#include "expect_input_error.hpp"
 #include "image_io.hpp"
 #include "sf_test_env.hpp"
 
@@ -101,6 +103,31 @@ TEST(EvalGrid, FootprintLookupsOnlyWhenNeeded) {
   EXPECT_EQ(eval::parse_methods("all").size(), methods().size());
   EXPECT_THROW(eval::parse_methods("esm,nope"), InputError);
   EXPECT_THROW(eval::parse_grid("huge"), InputError);
+}
+
+// evaluate's method lists: the registry's methods and the soft ones, "soft" for the four, "all"
+// for the registry's only; the soft grid per size.
+TEST(EvalGrid, SoftMethodsBesideTheRegistry) {
+  const eval::MethodLists both = eval::parse_evaluated_methods("esm,cssm,pcss,cssm");
+  EXPECT_EQ(both.hard, std::vector<std::string>{"esm"});
+  EXPECT_EQ(both.soft, (std::vector<SoftMethod>{SoftMethod::Cssm, SoftMethod::Pcss}));
+  EXPECT_EQ(eval::parse_evaluated_methods("soft").soft.size(), 4u);
+  EXPECT_TRUE(eval::parse_evaluated_methods("soft").hard.empty());
+  EXPECT_EQ(eval::parse_evaluated_methods("all").hard.size(), methods().size());
+  EXPECT_TRUE(eval::parse_evaluated_methods("all").soft.empty());
+  expect_input_error([] { eval::parse_evaluated_methods("esm,nope"); },
+                     {"unknown method 'nope'", "the soft methods pcss, cssm, ssmm, ssmm-improved"});
+  expect_input_error([] { eval::parse_evaluated_methods(","); }, {"names no method"});
+  const std::vector<SoftMethod> all{SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved};
+  // quick: pcss, cssm M=4 mips and sat, ssmm n=4, ssmm-improved n=4; default: cssm M=8 and 16
+  // mips, ssmm n=3 and 6, ssmm-improved n=3 more; wide: cssm M=8 and 16 sat, ssmm-improved n=6.
+  EXPECT_EQ(eval::make_soft_grid(all, eval::Grid::Quick).size(), 5u);
+  EXPECT_EQ(eval::make_soft_grid(all, eval::Grid::Default).size(), 10u);
+  EXPECT_EQ(eval::make_soft_grid(all, eval::Grid::Wide).size(), 13u);
+  std::vector<std::string> labels;
+  for (const SoftOptions& o : eval::make_soft_grid(all, eval::Grid::Quick)) labels.push_back(eval::soft_label(o));
+  EXPECT_EQ(labels,
+            (std::vector<std::string>{"pcss", "cssm M=4 mips", "cssm M=4 sat", "ssmm n=4", "ssmm-improved n=4"}));
 }
 
 TEST(EvalPareto, FrontIsFastestThenStrictlyBetter) {
@@ -468,6 +495,77 @@ TEST(EvalCli, WritesResults) {
   EXPECT_NE(text.find("skipped mip pyramid"), std::string::npos) << text;  // footprints 1
   EXPECT_EQ(run_cli("evaluate " + scene + " --auto --metric p98 -o " + auto_out, dir).exit_code, 2);
   EXPECT_EQ(run_cli("evaluate " + dir + "/missing -o " + out, dir).exit_code, 2);
+  // The soft methods need the area light of the map's header, which this scene lacks: each is
+  // skipped with the reason, and --auto takes no soft method.
+  ASSERT_EQ(run_cli("evaluate " + scene + " --methods sm,pcss --grid quick --runs 1 -q -o " + out, dir).exit_code, 0);
+  std::ifstream json(out + "/results.json");
+  const std::string json_text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json_text.find("\"config\": \"pcss\", \"reason\": \"the scene's shadow map names no area light"),
+            std::string::npos)
+      << json_text;
+  const RunResult soft_auto = run_cli("evaluate " + scene + " --methods pcss --auto -o " + auto_out, dir);
+  EXPECT_EQ(soft_auto.exit_code, 2);
+  EXPECT_NE(soft_auto.err.find("--auto chooses among the non-soft methods"), std::string::npos) << soft_auto.err;
+}
+
+// The soft methods in evaluate (issue 32 part 3): a generated scene under a rectangular light,
+// every soft method of the quick grid beside esm, errors against the ray-traced references of
+// that light (no s_ref: self and target empty), the light's sides in the parameters, the rows
+// in the plots' legend.
+TEST(EvalCli, SoftMethodsAgainstTheRayTracedReferences) {
+  const std::string dir = temp_dir("eval_soft");
+  ASSERT_EQ(
+      run_cli("scene spheres -o " + dir + "/sph --size 128 --receivers 96x72 --samples 16 --light-size 0.4,0.1 -q", dir)
+          .exit_code,
+      0);
+  const std::string out = dir + "/out";
+  const RunResult run = run_cli("evaluate " + dir + "/sph --methods esm,soft --grid quick --runs 1 -q -o " + out, dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream csv(out + "/results.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  // Comma-separated fields, empty ones included (the config and parameters columns are quoted
+  // and hold no comma here).
+  auto split = [](const std::string& text) {
+    std::vector<std::string> f;
+    for (size_t a = 0;;) {
+      const size_t b = text.find(',', a);
+      f.push_back(text.substr(a, b == std::string::npos ? std::string::npos : b - a));
+      if (b == std::string::npos) return f;
+      a = b + 1;
+    }
+  };
+  const std::vector<std::string> columns = split(header);
+  auto column = [&](const char* name) {
+    return size_t(std::find(columns.begin(), columns.end(), name) - columns.begin());
+  };
+  std::vector<std::string> soft_configs;
+  double best_soft = 1, best_esm = 1;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = split(line);
+    ASSERT_EQ(f.size(), columns.size()) << line;
+    const std::string method = f[column("method")];
+    const double soft_rmse = std::atof(f[column("soft_rmse")].c_str());
+    EXPECT_GT(soft_rmse, 0.0) << line;
+    EXPECT_LT(soft_rmse, 0.2) << line;
+    EXPECT_FALSE(f[column("hard_rmse")].empty()) << line;
+    if (method == "esm") {
+      best_esm = std::min(best_esm, soft_rmse);
+      continue;
+    }
+    soft_configs.push_back(f[column("config")]);
+    best_soft = std::min(best_soft, soft_rmse);
+    EXPECT_TRUE(f[column("self_rmse")].empty()) << line;
+    EXPECT_TRUE(f[column("target_rmse")].empty()) << line;
+    EXPECT_NE(f[column("parameters")].find("light_size=0.4 light_height=0.1"), std::string::npos) << line;
+  }
+  EXPECT_EQ(soft_configs, (std::vector<std::string>{"\"pcss\"", "\"cssm M=4 mips\"", "\"cssm M=4 sat\"", "\"ssmm n=4\"",
+                                                    "\"ssmm-improved n=4\""}));
+  // The soft methods model the area light; esm filters a footprint of the map.
+  std::printf("  best soft RMSE against reference_soft: soft methods %.4f, esm %.4f\n", best_soft, best_esm);
+  EXPECT_LT(best_soft, best_esm);
+  for (const char* f : {"pareto_sph.png", "contact_sph.png", "results.json"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
 }
 
 }  // namespace

@@ -39,8 +39,11 @@ struct Scene {
   double max_footprint = 1.0;  // over valid receivers (1 when the receivers carry none)
   // The area light of the map's header as `scene` writes it (light_type, near, far,
   // ortho_extents or fov_degrees, light_size and light_height): what the soft methods run
-  // under; none when the header names no light_size.
+  // under. None when the header names no light_size or an attribute it needs is missing or not
+  // a finite number; `no_light` then says which (the soft methods are skipped with it, the
+  // others run).
   std::optional<SoftLight> light;
+  std::string no_light;
 };
 Scene load_scene(const std::string& dir);
 // A scene from memory (filter --auto): no ray-traced references.

@@ -30,9 +30,9 @@ HostImage load_reference(const std::string& path) {
   return img;
 }
 
-// The area light of a shadow map's header (Scene::light): none without light_size; InputError
-// when an attribute it needs is there but not a finite number (evaluate never guesses a light).
-std::optional<SoftLight> header_light(const std::string& path) {
+// The area light of a shadow map's header (Scene::light), or InputError saying why there is none
+// (evaluate never guesses a light).
+SoftLight header_light(const std::string& path) {
   const auto in = io::detail::open_checked_image(path, "shadow map");
   const OIIO::ImageSpec& spec = in->spec();
   auto number = [&](const char* name, bool needed) -> double {
@@ -49,7 +49,8 @@ std::optional<SoftLight> header_light(const std::string& path) {
                        "' is not a finite number");
     return v;
   };
-  if (!spec.find_attribute("light_size")) return std::nullopt;
+  if (!spec.find_attribute("light_size"))
+    throw InputError("the scene's shadow map names no area light (header light_size)");
   SoftLight L;
   L.size = number("light_size", true);
   if (spec.find_attribute("light_height")) L.height = number("light_height", true);
@@ -113,7 +114,11 @@ Scene load_scene(const std::string& dir) {
                        io::load_receiver_image((p / "receivers.exr").string()));
   if (s.name.empty()) s.name = fs::absolute(p).lexically_normal().parent_path().filename().string();
   s.dir = dir;
-  s.light = header_light((p / "shadowmap.exr").string());
+  try {
+    s.light = header_light((p / "shadowmap.exr").string());
+  } catch (const InputError& e) {
+    s.no_light = e.what();
+  }
   s.ref_hard = load_reference((p / "reference_hard.exr").string());
   s.ref_soft = load_reference((p / "reference_soft.exr").string());
   for (const HostImage* r : {&s.ref_hard, &s.ref_soft})

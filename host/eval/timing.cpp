@@ -141,7 +141,8 @@ Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, cons
 Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftOptions& opt,
                          const TimingSettings& t) {
   if (!scene.light)
-    throw InputError("the scene's shadow map names no area light (header light_size): the soft methods need one");
+    throw InputError((scene.no_light.empty() ? std::string("the scene has no area light") : scene.no_light) +
+                     ": the soft methods need one");
   if (scene.receivers.grid) throw InputError("the soft methods take receiver images, not a receiver depth grid");
   SoftOptions o = opt;
   o.light = *scene.light;

@@ -506,6 +506,16 @@ TEST(EvalCli, WritesResults) {
   const RunResult soft_auto = run_cli("evaluate " + scene + " --methods pcss --auto -o " + auto_out, dir);
   EXPECT_EQ(soft_auto.exit_code, 2);
   EXPECT_NE(soft_auto.err.find("--auto chooses among the non-soft methods"), std::string::npos) << soft_auto.err;
+  // A light_size without the rest of the light: the soft methods are skipped saying what is
+  // missing, the others run.
+  HostImage half_lit = s.depth;
+  half_lit.attributes = {{"light_size", "0.2"}};
+  io::write_image(scene + "/shadowmap.exr", half_lit);
+  ASSERT_EQ(run_cli("evaluate " + scene + " --methods sm,pcss --grid quick --runs 1 -q -o " + out, dir).exit_code, 0);
+  std::ifstream json2(out + "/results.json");
+  const std::string json2_text((std::istreambuf_iterator<char>(json2)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json2_text.find("its light_size needs a header near"), std::string::npos) << json2_text;
+  EXPECT_NE(json2_text.find("\"method\": \"sm\""), std::string::npos) << json2_text;
 }
 
 // The soft methods in evaluate (issue 32 part 3): a generated scene under a rectangular light,

@@ -35,12 +35,9 @@ HostImage load_reference(const std::string& path) {
 SoftLight header_light(const std::string& path) {
   const auto in = io::detail::open_checked_image(path, "shadow map");
   const OIIO::ImageSpec& spec = in->spec();
-  auto number = [&](const char* name, bool needed) -> double {
+  auto number = [&](const char* name) {
     const OIIO::ParamValue* p = spec.find_attribute(name);
-    if (!p) {
-      if (needed) throw InputError("shadow map '" + path + "': its light_size needs a header " + name);
-      return NAN;
-    }
+    if (!p) throw InputError("shadow map '" + path + "': its light_size needs a header " + name);
     const std::string text = p->get_string();
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
@@ -52,13 +49,18 @@ SoftLight header_light(const std::string& path) {
   if (!spec.find_attribute("light_size"))
     throw InputError("the scene's shadow map names no area light (header light_size)");
   SoftLight L;
-  L.size = number("light_size", true);
-  if (spec.find_attribute("light_height")) L.height = number("light_height", true);
-  L.perspective = spec.get_string_attribute("light_type") == "perspective";
-  L.near_plane = number("near", true);
-  L.far_plane = number("far", true);
+  L.size = number("light_size");
+  if (spec.find_attribute("light_height")) L.height = number("light_height");
+  // As `soft` reads it: orthographic (also "ortho", and when absent) or perspective.
+  const std::string type = spec.get_string_attribute("light_type");
+  if (!type.empty() && type != "orthographic" && type != "ortho" && type != "perspective")
+    throw InputError("shadow map '" + path + "': header light_type='" + io::detail::one_line(type) +
+                     "' is neither orthographic nor perspective");
+  L.perspective = type == "perspective";
+  L.near_plane = number("near");
+  L.far_plane = number("far");
   if (L.perspective) {
-    L.fov_degrees = number("fov_degrees", true);
+    L.fov_degrees = number("fov_degrees");
   } else {
     std::string e = spec.get_string_attribute("ortho_extents");
     for (char& c : e)

@@ -113,6 +113,10 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
     L.size = light_value(NAN, header_number(spec, "light_size"), "light_size", "--light-size", path);
     const HeaderNumber height = header_number(spec, "light_height");
     if (height.present) L.height = light_value(NAN, height, "light_height", "--light-size", path);
+    // SoftLight reads a negative height as "square": a header's must be a side.
+    if (height.present && !(L.height >= 0.0))
+      throw InputError("shadow map '" + path + "': header light_height='" + io::detail::one_line(height.text) +
+                       "' is not a side >= 0; give --light-size");
   } else {
     L.size = a.light_size[0];
     if (a.light_size.size() == 2) L.height = a.light_size[1];

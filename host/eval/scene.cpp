@@ -50,7 +50,11 @@ SoftLight header_light(const std::string& path) {
     throw InputError("the scene's shadow map names no area light (header light_size)");
   SoftLight L;
   L.size = number("light_size");
-  if (spec.find_attribute("light_height")) L.height = number("light_height");
+  if (spec.find_attribute("light_height")) {
+    L.height = number("light_height");
+    // SoftLight reads a negative height as "square": a header's must be a side.
+    if (!(L.height >= 0.0)) throw InputError("shadow map '" + path + "': header light_height is not a side >= 0");
+  }
   // As `soft` reads it: orthographic (also "ortho", and when absent) or perspective.
   const std::string type = spec.get_string_attribute("light_type");
   if (!type.empty() && type != "orthographic" && type != "ortho" && type != "perspective")

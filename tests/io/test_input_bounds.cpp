@@ -592,8 +592,15 @@ TEST_F(InputBounds, CliNamesANonFiniteLightSizeInTheHeader) {
   map.attributes["ortho_extents"] = "[0, 2, nan, 2]";
   io::write_image(path("map.exr"), map);
   expect_cli_refusal(run, dir_, "header ortho_extents='[0, 2, nan, 2]' is not four finite numbers");
-  map.attributes.erase("light_size");
+  // A rectangle's height must be a side: negative would read as "square".
   map.attributes["ortho_extents"] = "[0, 2, 0, 2]";
+  for (const char* bad : {"-0.5", "nan"}) {
+    map.attributes["light_height"] = bad;
+    io::write_image(path("map.exr"), map);
+    expect_cli_refusal(run, dir_, std::string("header light_height='") + bad + "' is not");
+  }
+  map.attributes.erase("light_height");
+  map.attributes.erase("light_size");
   io::write_image(path("map.exr"), map);
   expect_cli_refusal(run, dir_, "has no light_size attribute: give --light-size");
 }

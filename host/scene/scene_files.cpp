@@ -57,7 +57,7 @@ void write_light(std::ostream& out, const SceneSetup& setup) {
                              "tan(fov/2)), v likewise along down, d = (z - near) / (far - near)")
       << ",\n"
       << "    \"size\": " << format_number(setup.light_size) << ",\n"
-      << "    \"height\": " << format_number(setup.light_height >= 0.0 ? setup.light_height : setup.light_size) << ",\n"
+      << "    \"height\": " << format_number(setup.area_light_height()) << ",\n"
       << "    \"area_light\": "
       << json_string(ortho ? "rectangle of sides size (along right) and height (along down) in the near plane, "
                              "centred on the receiver's projection onto the near plane"
@@ -169,6 +169,11 @@ std::string json_vector(Vec3 v) {
   return "[" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + "]";
 }
 
+void add_light_sides(std::map<std::string, std::string>& a, const SceneSetup& setup) {
+  a["light_size"] = format_number(setup.light_size);
+  if (setup.light_height >= 0.0) a["light_height"] = format_number(setup.light_height);
+}
+
 std::map<std::string, std::string> light_attributes(const SceneSetup& setup) {
   const LightView& light = setup.light;
   std::map<std::string, std::string> a = {
@@ -180,10 +185,9 @@ std::map<std::string, std::string> light_attributes(const SceneSetup& setup) {
       {"light_direction", json_vector(light.forward)},
       {"light_right", json_vector(light.right)},
       {"light_down", json_vector(light.down)},
-      {"light_size", format_number(setup.light_size)},
       {"depth", "linear: (view depth - near) / (far - near)"},
   };
-  if (setup.light_height >= 0.0) a["light_height"] = format_number(setup.light_height);
+  add_light_sides(a, setup);
   if (light.type == LightType::Ortho) {
     // Light-space extents: [right_min, right_max, down_min, down_max] in world units.
     a["ortho_extents"] = "[" + format_number(light.right_range.lo) + ", " + format_number(light.right_range.hi) + ", " +
@@ -204,8 +208,7 @@ std::map<std::string, std::string> layer_attributes(const SceneSetup& setup, con
   a["light_direction"] = json_vector(light.forward);
   a["light_right"] = json_vector(light.right);
   a["light_down"] = json_vector(light.down);
-  a["light_size"] = format_number(setup.light_size);
-  if (setup.light_height >= 0.0) a["light_height"] = format_number(setup.light_height);
+  add_light_sides(a, setup);
   a["depth"] = "linear: d = M2 . (x, y, z, 1) of shadowfilter:world_to_map";
   // Row r of the matrix is (axis / length, -lo / length) for the range [lo, lo + length] along
   // the axis (cascade_layout.cpp); d's row gives near/far for every layout, u's and v's the

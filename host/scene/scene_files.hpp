@@ -37,6 +37,9 @@ std::string json_vector(Vec3 v);
 // Header attributes of the light-view images: scene, generator, light type, near, far, basis,
 // extents or position/fov (plain strings, no time stamps).
 std::map<std::string, std::string> light_attributes(const SceneSetup& setup);
+// The area light's sides as every header holds them: light_size, and light_height where the
+// light is a rectangle (docs/scenes.md).
+void add_light_sides(std::map<std::string, std::string>& attributes, const SceneSetup& setup);
 // Header attributes of layer k of a frame's cascade set: io::cascade_layer_attributes (what
 // io::load_cascade_set reads back), the scene's light (type, direction, axes, size) and, from the
 // layer's matrix, near/far (the world depths along the light of d = 0 and 1) and, for an

@@ -199,8 +199,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
   const std::map<std::string, std::string> camera_attributes = {{"scene", setup.geometry.name},
                                                                 {"generator", kGeneratorVersion}};
   auto soft_attributes = camera_attributes;
-  soft_attributes["light_size"] = format_number(setup.light_size);
-  if (setup.light_height >= 0.0) soft_attributes["light_height"] = format_number(setup.light_height);
+  add_light_sides(soft_attributes, setup);
   soft_attributes["samples"] = std::to_string(setup.samples);
   soft_attributes["seed"] = std::to_string(setup.seed);
   for (const SceneFrame& frame : summary.plan.frames) {

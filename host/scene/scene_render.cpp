@@ -99,8 +99,7 @@ double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream)
     for (int sx = 0; sx < strata_; ++sx) {
       const double s = (sx + uniform(state)) / strata_ - 0.5;
       const double t = (sy + uniform(state)) / strata_ - 0.5;
-      const Vec3 target = setup_.light.area_light_point(
-          point, setup_.light_size, setup_.light_height >= 0.0 ? setup_.light_height : setup_.light_size, s, t);
+      const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, setup_.area_light_height(), s, t);
       const Vec3 delta = target - origin;
       const double distance = length(delta);
       if (!(distance > 0.0)) continue;

@@ -20,7 +20,8 @@ struct SceneSetup {
   int map_height = 512;
   double light_size = 0.2;     // area light's side along the light's right (world units)
   double light_height = -1.0;  // its side along down; < 0: light_size (a square)
-  int samples = 64;            // area-light samples per pixel, a square number
+  double area_light_height() const { return light_height >= 0.0 ? light_height : light_size; }
+  int samples = 64;  // area-light samples per pixel, a square number
   unsigned seed = 1;
   bool progress = true;  // progress bars on stderr for stages over a second
   int threads = 0;       // 0 = hardware concurrency

@@ -33,6 +33,9 @@ struct SoftLight {
   double height = -1.0;      // side along the map's v axis (the light's down); < 0: size (a square)
 };
 double light_height(const SoftLight& light);  // the v side in effect: height >= 0 ? height : size
+// The footprint's scale k per unit of light side (soft_common.clh): ortho 1 / extent, perspective
+// 1 / (2 tan(fov/2)); a side L covers k L g(d, z) in uv, with g as soft_width gives it.
+double soft_side_scale(const SoftLight& light);
 // Width (uv units) along u of the light's footprint in the plane of a blocker at depth z, seen
 // from a receiver at depth d (soft_common.clh): ortho (L/extent)(D_R - D_B)/D_R; perspective
 // L/(2 tan(fov/2)) (D_R - D_B)/(D_R D_B), D = distance from the light along its axis, L = size;

@@ -23,7 +23,7 @@ constexpr double kPi = 3.14159265358979323846;
 ClSoftLight cl_light(const SoftOptions& o) {
   const SoftLight& L = o.light;
   ClSoftLight c{};
-  const double unit = L.perspective ? 1.0 / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)) : 1.0 / L.extent;
+  const double unit = soft_side_scale(L);
   c.ku = float(L.size * unit);
   c.kv = float(light_height(L) * unit);
   if (L.perspective) {
@@ -82,17 +82,28 @@ SoftMethod find_soft_method(const std::string& name) {
 
 double light_height(const SoftLight& L) { return L.height >= 0.0 ? L.height : L.size; }
 
+double soft_side_scale(const SoftLight& L) {
+  return L.perspective ? 1.0 / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0)) : 1.0 / L.extent;
+}
+
 namespace {
 // The footprint of a light side of length `side` (soft_width, soft_height).
 double footprint(const SoftLight& L, double side, double d, double z) {
+  const double k = side * soft_side_scale(L);
   if (L.perspective) {
-    const double k = side / (2.0 * std::tan(0.5 * L.fov_degrees * kPi / 180.0));
     const double DR = std::max(L.near_plane + (L.far_plane - L.near_plane) * d, 1e-20);
     const double DB = std::max(L.near_plane + (L.far_plane - L.near_plane) * z, 1e-20);
     return k * std::max(DR - DB, 0.0) / (DR * DB);
   }
   const double DR = std::max(d, 1e-20), DB = std::max(z, 1e-20);
-  return side / L.extent * std::max(DR - DB, 0.0) / DR;
+  return k * std::max(DR - DB, 0.0) / DR;
+}
+
+// The light's sides (soft_light, validate): size >= 0, height finite (< 0: a square).
+void check_sides(double size, double height) {
+  if (!(size >= 0.0) || !std::isfinite(size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
+  if (!std::isfinite(height))
+    throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
 }
 }  // namespace
 
@@ -100,9 +111,7 @@ double soft_width(const SoftLight& L, double d, double z) { return footprint(L, 
 double soft_height(const SoftLight& L, double d, double z) { return footprint(L, light_height(L), d, z); }
 
 SoftLight soft_light(const ViewProjection& view, double size, double height) {
-  if (!(size >= 0.0) || !std::isfinite(size)) throw InputError("SoftOptions::light.size must be a finite number >= 0");
-  if (!std::isfinite(height))
-    throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
+  check_sides(size, height);
   const ProjectionDepth pd = light_projection_depth(view);
   const double x_scale = std::fabs(view.projection[0]);
   SoftLight L;
@@ -182,10 +191,7 @@ float cssm_z_offset(const SoftOptions& o) {
 
 void validate(const SoftOptions& o) {
   const SoftLight& L = o.light;
-  if (!(L.size >= 0.0) || !std::isfinite(L.size))
-    throw InputError("SoftOptions::light.size must be a finite number >= 0");
-  if (!std::isfinite(L.height))
-    throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
+  check_sides(L.size, L.height);
   if (!(L.far_plane > L.near_plane)) throw InputError("the light's far plane must lie beyond its near plane");
   if (L.perspective) {
     if (!(L.near_plane > 0.0)) throw InputError("a perspective light needs SoftOptions::light.near_plane > 0");

@@ -207,6 +207,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "cssm: 1 = receivers without a stage-1 blocker still run stage 2 at their footprint")
       ->capture_default_str();
   c->add_option("--ssmm-n", a.options.ssmm.n, "ssmm: n x n texels per layer")->capture_default_str();
+  add_soft_auto_options(*c, a);
   add_depth_options(*c, a.inputs);
   add_camera_options(*c, a.inputs);
   c->add_option("--device", a.device, "OpenCL device");
@@ -219,6 +220,8 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
             "data/spheres/receivers.exr -o soft.exr\n"
             "  shadowfilter soft --method cssm --shadow-map spot_depth.exr --light spot.json --light-size 0.3 "
             "--camera camera.json --camera-depth camera_depth.exr -o soft.exr\n"
+            "  shadowfilter soft --auto --reference data/spheres/reference_soft.exr --shadow-map "
+            "data/spheres/shadowmap.exr --receivers data/spheres/receivers.exr -o soft.exr\n"
             "docs/soft.md (methods), docs/inputs.md (your own depth buffers)");
   return c;
 }
@@ -261,13 +264,22 @@ SoftOptions soft_options(const SoftArgs& a) {
 }
 
 int run_soft(const SoftArgs& a) {
+  if (a.auto_args.enabled && !a.frames.empty())
+    throw InputError("--auto measures one input; run it on one frame and give the batch the options it chose");
   if (!a.frames.empty()) return run_soft_batch(a);
+  if (!a.reference.empty() && !a.auto_args.enabled) throw InputError("--reference is the target of --auto");
+  if (a.auto_args.enabled && a.reference.empty())
+    throw InputError(
+        "--auto needs --reference FILE: the exact soft visibility of these receivers (a ray-traced "
+        "render, or a scene's reference_soft.exr)");
+  if (a.auto_args.enabled && !a.lights.empty())
+    throw InputError("--auto measures one light's map and receivers; it cannot take --lights");
   if (a.keep_going) throw InputError("--keep-going is for a batch (--frames)");
   if (!a.shard.empty()) throw InputError("--shard is for a batch (--frames)");
   const auto t0 = std::chrono::steady_clock::now();
   SoftOptions opt = soft_options(a);
   if (a.output.empty()) throw InputError("give -o/--output (or --frames LIST)");
-  io::check_outputs({a.output}, {a.shadow_map, a.receivers, a.receiver_depth, a.lights});
+  io::check_outputs({a.output}, {a.shadow_map, a.receivers, a.receiver_depth, a.lights, a.reference});
   std::vector<SoftLightInput> lights;
   std::vector<std::string> warnings;  // printed once the output is written
   if (!a.lights.empty()) {
@@ -292,7 +304,7 @@ int run_soft(const SoftArgs& a) {
     require_one_receiver_source(files);
     validate_depth_args(a.inputs);
     const std::vector<std::string> inputs{a.shadow_map,          a.receivers,    a.receiver_depth, a.inputs.camera,
-                                          a.inputs.camera_depth, a.inputs.light, a.inputs.normals};
+                                          a.inputs.camera_depth, a.inputs.light, a.inputs.normals, a.reference};
     io::check_outputs({a.output}, inputs);
     lights.push_back(load_soft_frame(files, a, &warnings));
   }
@@ -305,6 +317,8 @@ int run_soft(const SoftArgs& a) {
   }
   auto rt = Runtime::create(a.device);
   apply_verbose(*rt, a.verbose);
+  nlohmann::json chosen;
+  if (a.auto_args.enabled) opt = choose_soft_auto_options(a, lights.front(), opt, rt, chosen);
   const auto t1 = std::chrono::steady_clock::now();
   const SoftResult r = soft_filter_lights(rt, opt, lights);
   const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
@@ -327,6 +341,7 @@ int run_soft(const SoftArgs& a) {
     j["wall_ms"] = {
         {"run", run_ms},
         {"total", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()}};
+    if (a.auto_args.enabled) j["auto"] = chosen;
     j["outputs"] = {a.output};
     j["warnings"] = warnings;
     print_json(j);

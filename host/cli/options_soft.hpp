@@ -1,11 +1,13 @@
 #pragma once
 // `shadowfilter soft`: soft shadows from area lights (docs/soft.md).
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "commands.hpp"
 #include "depth_inputs.hpp"
 #include "shadowfilter/soft.hpp"
 
@@ -26,6 +28,10 @@ struct SoftArgs {
   bool keep_going = false;  // batch: report a failed frame and carry on
   std::string shard;        // batch: --shard K/N, the frames this process runs (frame_list.hpp)
   SoftOptions options;
+  // --auto (soft_auto.cpp): its bound, metric (rmse by default), candidate methods ("soft" by
+  // default), runs and rounds; the target is --reference, the grid --auto-grid.
+  AutoArgs auto_args{false, 0.05, "rmse", "soft"};
+  std::string reference, auto_grid = "default";
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);
 int run_soft(const SoftArgs& args);
@@ -42,6 +48,14 @@ SoftLightInput load_soft_frame(const FrameFiles& files, const SoftArgs& args,
 
 // The options of --method, --lookup, --cssm-sharpen and the rest (the light comes per map).
 SoftOptions soft_options(const SoftArgs& args);
+// --auto's options on the soft command (soft_auto.cpp).
+void add_soft_auto_options(CLI::App& cmd, SoftArgs& args);
+// `soft --auto`: the fastest configuration of evaluate's soft grid (from `base`: the light and the
+// knobs the grid does not vary) whose error against --reference stays under --max-error on this
+// light's map and receivers (eval::choose_soft_auto). Prints what it chose and why unless quiet
+// or JSON (then `summary` gets it); InputError when no configuration meets the bound.
+SoftOptions choose_soft_auto_options(const SoftArgs& args, const SoftLightInput& light, const SoftOptions& base,
+                                     const std::shared_ptr<Runtime>& runtime, nlohmann::json& summary);
 // `soft --frames LIST`: one frame a line as `filter --frames` reads it, each map's light from its
 // header; the exit code is the number of failed frames with --keep-going (at most 125).
 int run_soft_batch(const SoftArgs& args);

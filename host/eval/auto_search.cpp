@@ -136,8 +136,14 @@ TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, cons
 // time over the round's fastest, ties within the measured noise to the lowest estimate), which
 // makes the choice repeatable. Finalists: the hits whose first pass is within 3x of the fastest,
 // at most 8.
-static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
-                            const std::vector<size_t>& hits, AutoResult& res) {
+// A soft row runs its soft options again, any other its filter options.
+static double rerun_ms(const std::shared_ptr<Runtime>& rt, const Row& row, const Scene& scene,
+                       const TimingSettings& t) {
+  return row.soft_options ? measure(rt, *row.soft_options, scene, t).min_ms : measure(rt, row.options, scene, t).min_ms;
+}
+
+static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& scene, const TimingSettings& timing,
+                            int final_rounds, double time_tolerance, const std::vector<size_t>& hits, AutoResult& res) {
   constexpr size_t kMaxFinalists = 8;
   std::vector<size_t> fin = hits;
   std::stable_sort(fin.begin(), fin.end(),
@@ -145,13 +151,13 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
   const double first_best = res.tried[fin.front()].min_ms;
   while (fin.size() > kMaxFinalists || res.tried[fin.back()].min_ms > 3.0 * first_best) fin.pop_back();
   std::vector<std::vector<double>> rounds;  // the fastest run of each finalist per round
-  const TimingSettings t{1, std::max(1, req.timing.runs)};
-  for (int round = 0; round < req.final_rounds && fin.size() > 1; ++round) {
+  const TimingSettings t{1, std::max(1, timing.runs)};
+  for (int round = 0; round < final_rounds && fin.size() > 1; ++round) {
     std::vector<double> pass(fin.size());
     for (size_t j = 0; j < fin.size(); ++j) {
       const size_t k = (j + size_t(round)) % fin.size();  // rotate: no fixed position in a round
       Row& row = res.tried[fin[k]];
-      pass[k] = measure(rt, row.options, scene, t).min_ms;
+      pass[k] = rerun_ms(rt, row, scene, t);
       row.min_ms = std::min(row.min_ms, pass[k]);
       row.runs += t.runs;
     }
@@ -163,7 +169,7 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
   }
   std::vector<double> cost;
   for (size_t i : fin) cost.push_back(res.tried_cost[i]);
-  const TimedChoice c = choose_by_times(rounds, cost, req.time_tolerance);
+  const TimedChoice c = choose_by_times(rounds, cost, time_tolerance);
   res.noise = c.noise;
   res.tolerance = c.tolerance;
   for (size_t k : c.order) {
@@ -173,7 +179,8 @@ static void choose_measured(const std::shared_ptr<Runtime>& rt, const Scene& sce
   const size_t pick = c.pick, fastest = c.order.front();
   if (pick != fastest)
     res.tie = res.tried[fin[fastest]].label + " scored " + fmt(100.0 * (c.score[pick] / c.score[fastest] - 1.0), 2) +
-              "% faster, within the " + fmt(100.0 * res.tolerance, 2) + "% band, and has a higher estimate";
+              "% faster, within the " + fmt(100.0 * res.tolerance, 2) + "% band, and " +
+              (res.tried[fin[pick]].soft_options ? "uses more device memory" : "has a higher estimate");
   res.chosen = res.tried[fin[pick]].options;
   res.chosen_row = res.tried[fin[pick]];
   res.chosen_score = c.score[pick];
@@ -241,7 +248,7 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   }
   if (progress) progress(cands.size(), cands.size());
   if (!hits.empty()) {
-    choose_measured(rt, scene, req, hits, res);
+    choose_measured(rt, scene, req.timing, req.final_rounds, req.time_tolerance, hits, res);
     res.found = true;
   }
   // What the choice does without, and why.
@@ -276,6 +283,63 @@ AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, c
   return res;
 }
 
+const ErrorStats& auto_errors(const Row& row) { return row.soft_options ? row.soft : row.sref; }
+
+AutoResult choose_soft_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftAutoRequest& req,
+                            const std::function<void(size_t, size_t)>& progress) {
+  check_metric(req.metric);
+  if (!(req.max_error >= 0)) throw InputError("--max-error must be a non-negative number");
+  if (req.final_rounds < 0 || !(req.time_tolerance >= 0))
+    throw InputError("--auto final rounds and tolerance must be >= 0");
+  if (!scene.light)
+    throw InputError((scene.no_light.empty() ? std::string("the scene has no area light") : scene.no_light) +
+                     ": the soft methods need one");
+  const HostImage& ref = scene.ref_soft;
+  if (ref.width != scene.receivers.width || ref.height != scene.receivers.height || ref.channels != 1)
+    throw InputError(req.reference + " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) + " with " +
+                     std::to_string(ref.channels) + " channel(s); the receivers need one channel of " +
+                     std::to_string(scene.receivers.width) + "x" + std::to_string(scene.receivers.height));
+  // The counted receivers' reference is a visibility: a value outside [0, 1] is not one (a
+  // radiance image, a wrong channel), and is refused rather than compared with.
+  for (size_t i = 0; i < ref.texels(); ++i)
+    if (scene.traced[i] && !(ref.data[i] >= 0.0f && ref.data[i] <= 1.0f))
+      throw InputError(req.reference + ": pixel (" + std::to_string(i % ref.width) + ", " +
+                       std::to_string(i / ref.width) + ") holds " + fmt(ref.data[i]) +
+                       ", not a visibility in [0, 1], where the receivers face the light");
+  if (scene.traced_count == 0)
+    throw InputError("no receiver inside the map faces the light: nothing to measure the choice on");
+  AutoResult res;
+  res.notes.push_back("target: " + req.reference + "; " + req.metric + " <= " + fmt(req.max_error) + " over " +
+                      std::to_string(scene.traced_count) + " receivers inside the map and facing the light");
+  const std::vector<SoftMethod> methods =
+      req.methods.empty()
+          ? std::vector<SoftMethod>{SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved}
+          : req.methods;
+  const std::vector<SoftOptions> grid = make_soft_grid(methods, req.grid, req.base);
+  std::vector<size_t> hits;
+  size_t done = 0;
+  for (const SoftOptions& o : grid) {
+    Row row;
+    try {
+      row = evaluate_soft_config(rt, scene, o, req.timing);
+    } catch (const InputError& e) {
+      res.refused.push_back({scene.name, soft_label(o), e.what()});
+      if (progress) progress(++done, grid.size());
+      continue;
+    }
+    if (progress) progress(++done, grid.size());
+    row.visibility.clear();
+    res.tried.push_back(row);
+    res.tried_cost.push_back(row.device_bytes / 1048576.0);  // ties go to the smaller footprint
+    if (metric_value(row.soft, req.metric) <= req.max_error) hits.push_back(res.tried.size() - 1);
+  }
+  if (!hits.empty()) {
+    choose_measured(rt, scene, req.timing, req.final_rounds, req.time_tolerance, hits, res);
+    res.found = true;
+  }
+  return res;
+}
+
 std::string describe(const AutoResult& r, const std::string& metric) {
   std::ostringstream s;
   for (const auto& n : r.notes) s << "auto: " << n << "\n";
@@ -283,21 +347,27 @@ std::string describe(const AutoResult& r, const std::string& metric) {
     s << "auto: no configuration meets the bound";
     const Row* best = nullptr;
     for (const auto& row : r.tried)
-      if (!best || metric_value(row.sref, metric) < metric_value(best->sref, metric)) best = &row;
+      if (!best || metric_value(auto_errors(row), metric) < metric_value(auto_errors(*best), metric)) best = &row;
     if (best)
-      s << "; closest: " << best->label << " (" << metric << " " << fmt(metric_value(best->sref, metric)) << ", "
-        << fmt(best->time_ms) << " ms)";
+      s << "; closest: " << best->label << " (" << metric << " " << fmt(metric_value(auto_errors(*best), metric))
+        << ", " << fmt(best->time_ms) << " ms)";
     s << "\n";
   } else {
     const Row& c = r.chosen_row;
+    const ErrorStats& e = auto_errors(c);
     s << "auto: chose " << c.label << ": " << fmt(c.min_ms) << " ms (fastest of " << c.runs
-      << " runs; median of the first pass " << fmt(c.time_ms) << "), " << metric << " "
-      << fmt(metric_value(c.sref, metric)) << " (p99 " << fmt(c.sref.p99) << ", rmse " << fmt(c.sref.rmse) << ", max "
-      << fmt(c.sref.max) << "), " << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
-    s << "auto: why: " << r.first_hit << " was the first configuration under the bound in estimated-cost order; "
-      << "of the " << r.tried.size() << " tried up to the cost slack, the " << r.finalists.size()
-      << " under the bound ran again in interleaved rounds and this one was the fastest"
-      << (r.tie.empty() ? "" : " within noise (" + r.tie + ")") << "\n";
+      << " runs; median of the first pass " << fmt(c.time_ms) << "), " << metric << " " << fmt(metric_value(e, metric))
+      << " (p99 " << fmt(e.p99) << ", rmse " << fmt(e.rmse) << ", max " << fmt(e.max) << "), "
+      << fmt(c.device_bytes / 1048576.0, 3) << " MiB\n";
+    if (c.soft_options)
+      s << "auto: why: of the " << r.tried.size() << " configurations measured, the " << r.finalists.size()
+        << " under the bound ran again in interleaved rounds and this one was the fastest"
+        << (r.tie.empty() ? "" : " within noise (" + r.tie + ")") << "\n";
+    else
+      s << "auto: why: " << r.first_hit << " was the first configuration under the bound in estimated-cost order; "
+        << "of the " << r.tried.size() << " tried up to the cost slack, the " << r.finalists.size()
+        << " under the bound ran again in interleaved rounds and this one was the fastest"
+        << (r.tie.empty() ? "" : " within noise (" + r.tie + ")") << "\n";
     std::string list;
     for (const auto& f : r.finalists)
       list += (list.empty() ? "" : ", ") + f.label + " x" + fmt(f.score, 3) + " (" + fmt(f.min_ms) + " ms)";
@@ -307,8 +377,9 @@ std::string describe(const AutoResult& r, const std::string& metric) {
   for (const auto& k : r.skipped) s << "auto: skipped " << k << "\n";
   for (size_t i = 0; i < r.tried.size(); ++i) {
     const Row& row = r.tried[i];
-    s << "auto:   tried " << row.label << ": " << fmt(row.time_ms) << " ms (estimate " << fmt(r.tried_cost[i], 3)
-      << "), " << metric << " " << fmt(metric_value(row.sref, metric)) << "\n";
+    s << "auto:   tried " << row.label << ": " << fmt(row.time_ms) << " ms ("
+      << (row.soft_options ? fmt(r.tried_cost[i], 3) + " MiB" : "estimate " + fmt(r.tried_cost[i], 3)) << "), "
+      << metric << " " << fmt(metric_value(auto_errors(row), metric)) << "\n";
   }
   // Refusals grouped by reason.
   std::map<std::string, std::string> by_reason;

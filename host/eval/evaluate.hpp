@@ -48,6 +48,10 @@ struct Scene {
 Scene load_scene(const std::string& dir);
 // A scene from memory (filter --auto): no ray-traced references.
 Scene make_scene(std::string name, HostImage depth, Receivers receivers);
+// A soft visibility image of a user's own (soft --auto --reference): one channel, read as every
+// input image is; InputError otherwise. Its values are checked where they are compared
+// (choose_soft_auto).
+HostImage load_soft_reference(const std::string& path);
 
 // s_ref in evaluations tests each texel against the receiver's plane (FilterOptions::
 // receiver_plane, docs/receiver_plane.md), sum_t W_x(t) H(z_t - d_t + b): exact for planar
@@ -79,7 +83,10 @@ std::string config_label(const FilterOptions& o);
 // The soft methods' grid (their parameters; the light is the scene's): pcss; cssm M = 4 with mips
 // and with the SAT (default: also M = 8 and 16 with mips; wide: and with the SAT); ssmm n = 4
 // (default: 3, 4, 6); ssmm-improved n = 4 (default: 3, 4). Labels: "cssm M=4 mips", "ssmm n=4".
-std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid);
+// Each grid entry is `base` (the light and the knobs the grid does not vary: bias, receiver plane,
+// max width, ...) with the method and the varied parameters set.
+std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid,
+                                        const SoftOptions& base = {});
 std::string soft_label(const SoftOptions& o);
 
 // --- errors -----------------------------------------------------------------------------------
@@ -147,6 +154,9 @@ struct TimingSettings {
 // Throws InputError when the options are refused (e.g. a storage the method cannot hold).
 Measured measure(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const Scene& scene,
                  const TimingSettings& t);
+// A soft method under the scene's light (InputError without one, or for options validate()
+// refuses), timed the same way; planar receivers (Receivers::grid) are read at their texel centres.
+Measured measure(const std::shared_ptr<Runtime>& rt, const SoftOptions& o, const Scene& scene, const TimingSettings& t);
 
 // --- one evaluated configuration ----------------------------------------------------------------
 struct Row {
@@ -361,5 +371,32 @@ TimedChoice choose_by_times(const std::vector<std::vector<double>>& rounds, cons
 AutoResult choose_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const AutoRequest& req,
                        const std::function<void(size_t, size_t)>& progress = {});
 std::string describe(const AutoResult& r, const std::string& metric = "p99");  // the lines --auto prints
+
+// `soft --auto`: the fastest soft configuration whose error against the scene's soft reference
+// (Scene::ref_soft: a ray-traced, or otherwise exact, soft visibility of the same receivers, over
+// Scene::traced) stays under the bound. A soft method filters with the light's footprint, not a
+// footprint of the map, so there is no s_ref to aim at and no cost model: every configuration of
+// the grid (make_soft_grid over `methods` from `base`, the scene's light) is measured, and the
+// ones under the bound are compared as choose_auto compares its finalists, a tie within noise
+// going to the one with fewer device bytes. The result's rows are soft rows (Row::soft_options;
+// chosen_row.soft_options is the choice, `chosen` is unused; their error is Row::soft).
+// InputError when the scene has no light or no soft reference of the receivers' size, or when
+// the reference holds a counted value that is not a finite number in [0, 1].
+struct SoftAutoRequest {
+  double max_error = 0.05;
+  std::string metric = "rmse";      // against the soft reference
+  std::vector<SoftMethod> methods;  // empty = all four
+  Grid grid = Grid::Default;
+  SoftOptions base;
+  TimingSettings timing{1, 3};
+  int final_rounds = 5;
+  double time_tolerance = 0.05;
+  std::string reference = "the soft reference";  // what the notes call it (a file name)
+};
+AutoResult choose_soft_auto(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftAutoRequest& req,
+                            const std::function<void(size_t, size_t)>& progress = {});
+// The errors a row of --auto is judged by: a soft row's against the soft reference, any other's
+// against s_ref.
+const ErrorStats& auto_errors(const Row& row);
 
 }  // namespace sf::eval

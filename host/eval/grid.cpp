@@ -66,11 +66,11 @@ MethodLists parse_evaluated_methods(const std::string& list) {
   return out;
 }
 
-std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid) {
+std::vector<SoftOptions> make_soft_grid(const std::vector<SoftMethod>& methods, Grid grid, const SoftOptions& from) {
   const bool quick = grid == Grid::Quick, wide = grid == Grid::Wide;
   std::vector<SoftOptions> out;
   for (SoftMethod m : methods) {
-    SoftOptions base;
+    SoftOptions base = from;
     base.method = m;
     switch (m) {
       case SoftMethod::Pcss:

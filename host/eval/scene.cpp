@@ -101,6 +101,16 @@ void analyse(Scene& s) {
 
 }  // namespace
 
+HostImage load_soft_reference(const std::string& path) {
+  const io::detail::RawImage raw = io::detail::read_raw(path, "soft reference");
+  if (raw.channels != 1)
+    throw InputError("soft reference '" + path + "' has " + std::to_string(raw.channels) +
+                     " channels; give a one-channel visibility image");
+  HostImage img(raw.width, raw.height, 1);
+  img.data = raw.pixels;
+  return img;
+}
+
 Scene make_scene(std::string name, HostImage depth, Receivers receivers) {
   Scene s;
   s.name = std::move(name);

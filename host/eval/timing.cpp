@@ -138,12 +138,11 @@ Row evaluate_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, cons
   return row;
 }
 
-Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftOptions& opt,
-                         const TimingSettings& t) {
+Measured measure(const std::shared_ptr<Runtime>& rt, const SoftOptions& opt, const Scene& scene,
+                 const TimingSettings& t) {
   if (!scene.light)
     throw InputError((scene.no_light.empty() ? std::string("the scene has no area light") : scene.no_light) +
                      ": the soft methods need one");
-  if (scene.receivers.grid) throw InputError("the soft methods take receiver images, not a receiver depth grid");
   SoftOptions o = opt;
   o.light = *scene.light;
   SoftFilter filter(rt, o, scene.depth.width, scene.depth.height);  // validates, may throw InputError
@@ -154,13 +153,32 @@ Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene,
   DeviceReceivers rx;
   rx.count = count;
   rx.row = r.width;
-  rx.u = up(r.u);
-  rx.v = up(r.v);
+  if (r.grid) {  // SoftFilter takes points: a planar receiver sits at its texel's centre
+    std::vector<float> u(count), v(count);
+    for (int y = 0; y < r.height; ++y)
+      for (int x = 0; x < r.width; ++x) {
+        u[size_t(y) * r.width + x] = (x + 0.5f) / float(scene.depth.width);
+        v[size_t(y) * r.width + x] = (y + 0.5f) / float(scene.depth.height);
+      }
+    rx.u = up(u);
+    rx.v = up(v);
+  } else {
+    rx.u = up(r.u);
+    rx.v = up(r.v);
+    if (r.has_footprint) rx.f = up(r.f);
+  }
   rx.d = up(r.d);
-  if (r.has_footprint) rx.f = up(r.f);
   Measured m = time_filter(*rt, filter, depth, rx, t);
   m.device_bytes = filter.device_bytes() + scene.depth.data.size() * sizeof(float) +
-                   (r.has_footprint ? 5 : 4) * count * sizeof(float);
+                   (r.has_footprint && !r.grid ? 5 : 4) * count * sizeof(float);
+  return m;
+}
+
+Row evaluate_soft_config(const std::shared_ptr<Runtime>& rt, const Scene& scene, const SoftOptions& opt,
+                         const TimingSettings& t) {
+  Measured m = measure(rt, opt, scene, t);
+  SoftOptions o = opt;
+  o.light = *scene.light;
   Row row = timed_row(scene, soft_method_name(o.method), soft_label(o), m);
   row.soft_options = o;
   traced_errors(row, scene, m.visibility);

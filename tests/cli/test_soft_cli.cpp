@@ -1,8 +1,11 @@
 // `shadowfilter soft --lights FILE` (host/cli/options_soft.cpp; docs/soft.md "Several lights"):
 // a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
 // a missing file or a missing map is an input error: exit 2, one line naming the problem, no output;
-// rectangular lights (--light-size W,H, size=W,H); --cssm-storage by name.
+// rectangular lights (--light-size W,H, size=W,H); --cssm-storage by name; --auto against a
+// soft reference (soft_auto.cpp): its output meets the bound, on the test map and on a bundled
+// scene's ray-traced reference, and what it cannot measure is refused.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -192,6 +195,104 @@ TEST_F(SoftCli, CssmStorageByName) {
   refused("--lookup mips --cssm-storage unorm8", "--cssm-storage unorm8 is refused");
   refused("--lookup sat --cssm-storage f16", "--cssm-storage f16 needs --lookup mips");
   refused("--lookup mips --cssm-storage f64", "--cssm-storage: unknown storage 'f64'");
+}
+
+// --auto's output is the chosen configuration's and meets the bound. The reference is pcss's own
+// output, so pcss meets a bound of 1e-6 and the written image must too (whichever configuration
+// ties with it); on planar receivers (--receiver-depth) as on a receiver image.
+TEST_F(SoftCli, AutoMeetsTheBoundAgainstItsReference) {
+  const std::string light = " --light-extent 1 --light-size 0.2 --shadow-map " + path("a.exr");
+  HostImage plane(32, 32, 1, 0.8f);
+  io::write_image(path("plane.exr"), plane);
+  for (const std::string& receivers : {" --receivers " + path("rx.exr"), " --receiver-depth " + path("plane.exr")}) {
+    ASSERT_EQ(run_cli("soft --method pcss -q" + light + receivers + " -o " + path("ref.exr"), dir_).exit_code, 0);
+    const RunResult r = run_cli("soft --auto --reference " + path("ref.exr") +
+                                    " --max-error 1e-6 --auto-grid quick --auto-runs 1 --auto-rounds 2" + light +
+                                    receivers + " -o " + path("auto.exr"),
+                                dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("auto: chose "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("auto:   tried pcss"), std::string::npos) << r.out;
+    const HostImage ref = io::load_depth_map(path("ref.exr"), {}), got = io::load_depth_map(path("auto.exr"), {});
+    ASSERT_EQ(got.data.size(), ref.data.size());
+    size_t partial = 0;
+    for (size_t i = 0; i < got.data.size(); ++i) {
+      EXPECT_NEAR(got.data[i], ref.data[i], 1e-6f) << i;
+      partial += ref.data[i] > 0.02f && ref.data[i] < 0.98f;
+    }
+    EXPECT_GT(partial, 4u) << "the receivers must cross a penumbra" << receivers;
+  }
+}
+
+// On a bundled scene against its ray-traced soft reference: the JSON summary names the choice
+// and its error, and the written image has that error over the receivers inside the map that
+// face the light (the receivers' ndl > 0), within the bound.
+TEST_F(SoftCli, AutoOnABundledSceneMeetsItsRayTracedReference) {
+  const std::string scene = data_path("spheres");
+  const RunResult r = run_cli(
+      "soft --auto --json --auto-grid quick --auto-runs 1 --auto-rounds 1 --max-error 0.05 "
+      "--reference " +
+          scene + "/reference_soft.exr --shadow-map " + scene + "/shadowmap.exr --receivers " + scene +
+          "/receivers.exr -o " + path("auto.exr"),
+      dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("auto")) << r.out;
+  EXPECT_EQ(j["auto"]["metric"], "rmse");
+  const double reported = j["auto"]["error"];
+  EXPECT_LE(reported, 0.05);
+  EXPECT_EQ(j["auto"]["tried"], 5);
+  const HostImage got = io::load_depth_map(path("auto.exr"), {});
+  const HostImage ref = io::load_depth_map(scene + "/reference_soft.exr", {});
+  const Receivers rx = io::load_receiver_image(scene + "/receivers.exr");
+  ASSERT_EQ(got.data.size(), rx.count());
+  ASSERT_TRUE(rx.has_ndl);
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < rx.count(); ++i) {
+    if (!std::isfinite(rx.d[i]) || !(rx.u[i] >= 0 && rx.u[i] <= 1 && rx.v[i] >= 0 && rx.v[i] <= 1)) continue;
+    if (rx.ndl[i] <= 0.0f) continue;
+    const double e = double(got.data[i]) - ref.data[i];
+    sum += e * e;
+    ++n;
+  }
+  ASSERT_GT(n, 10000u);
+  EXPECT_NEAR(std::sqrt(sum / n), reported, 1e-6);
+}
+
+// What --auto cannot measure, or would override, is a one-line input error with no output.
+TEST_F(SoftCli, AutoRefusals) {
+  const std::string in =
+      "soft --light-extent 1 --light-size 0.2 --shadow-map " + path("a.exr") + " --receivers " + path("rx.exr");
+  ASSERT_EQ(run_cli("soft --method pcss -q" + in.substr(4) + " -o " + path("ref.exr"), dir_).exit_code, 0);
+  HostImage wide(8, 8, 1, 2.0f), half(8, 8, 1, 0.5f);
+  io::write_image(path("wide.exr"), wide);
+  io::write_image(path("half.exr"), half);
+  const std::string ref = " --reference " + path("ref.exr");
+  expect_refusal(in + " --auto", "--auto needs --reference FILE");
+  expect_refusal(in + ref, "--reference is the target of --auto");
+  expect_refusal(in + ref + " --auto --method cssm", "--method excludes --auto");
+  expect_refusal(in + ref + " --auto --auto-methods pcss,esm", "'esm' is a method of filter");
+  expect_refusal(in + ref + " --auto --auto-grid huge", "huge");
+  expect_refusal(in + " --auto --reference " + path("a.exr"), "the receivers need one channel of 8x8");
+  expect_refusal(in + " --auto --reference " + path("rx.exr"), "has 4 channels");
+  expect_refusal(in + " --auto --reference " + path("wide.exr"), "not a visibility in [0, 1]");
+  expect_refusal(in + " --auto --reference " + path("missing.exr"), "missing.exr");
+  // No configuration reaches a flat 0.5 exactly: the closest is named.
+  expect_refusal(in + " --auto --auto-grid quick --auto-runs 1 --max-error 0 --reference " + path("half.exr"),
+                 "no soft configuration meets rmse <= 0");
+  write("lights.txt", "a.exr rx.exr\n");
+  expect_refusal("soft --light-extent 1 --light-size 0.2 --auto" + ref + " --lights " + path("lights.txt"),
+                 "--auto measures one light's map");
+  write("frames.txt", "a.exr rx.exr out1.exr\n");
+  const RunResult batch =
+      run_cli(in.substr(0, in.find(" --shadow-map")) + " --auto" + ref + " --frames " + path("frames.txt"), dir_);
+  EXPECT_EQ(batch.exit_code, 2) << batch.err;
+  EXPECT_NE(batch.err.find("--auto measures one input"), std::string::npos) << batch.err;
+  EXPECT_FALSE(fs::exists(path("out1.exr")));
+  const RunResult same = run_cli(in + " --auto" + ref + " -o " + path("ref.exr"), dir_);
+  EXPECT_EQ(same.exit_code, 2) << same.err;
+  EXPECT_TRUE(fs::exists(path("ref.exr")));
 }
 
 }  // namespace

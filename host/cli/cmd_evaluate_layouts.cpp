@@ -46,7 +46,10 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
                 "Side of the single map; every layout gets its texels (K layers of total/sqrt(K))")
       ->capture_default_str();
   c->add_flag("!--no-unstable", a.request.unstabilized_too, "Leave out pssm without stabilisation");
-  c->add_option("--methods", a.methods, "Comma-separated methods")->capture_default_str();
+  c->add_option("--methods", a.methods,
+                "Comma-separated methods: filter's, and the soft ones (pcss, cssm, ssmm, ssmm-improved) on layouts "
+                "without a warp (single, pssm)")
+      ->capture_default_str();
   c->add_option("--blur-radius", a.request.blur_radius, "Gaussian radius in layer 0's texels (scaled per layer)")
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
@@ -109,7 +112,7 @@ int run_evaluate_layouts(EvaluateLayoutsArgs& a) {
   const int root = static_cast<int>(std::lround(std::sqrt(std::max(0, r.soft_samples))));
   if (r.soft_samples < 0 || root * root != r.soft_samples) throw InputError("--samples must be a square number");
   r.lookup = a.lookup == "bilinear" ? Lookup::Bilinear : a.lookup == "sat" ? Lookup::Sat : Lookup::Mips;
-  for (const std::string& m : r.methods) method(m);  // InputError for unknown methods
+  for (const std::string& m : r.methods) eval::check_layout_method(m);
   if (r.methods.empty()) throw InputError("--methods names no method");
 
   auto runtime = Runtime::create(r.device);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <OpenImageIO/imagebuf.h>
@@ -22,6 +23,7 @@
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/soft.hpp"
 
 namespace sf::eval {
 namespace {
@@ -64,9 +66,34 @@ struct LayeredTiming {
   double median_ms = 0, prefilter_ms = 0, reconstruct_ms = 0;
 };
 
-LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptions& o, const CascadeSet& set,
+// A method of the comparison: one of FilterOptions, or a soft one under the scene's area light
+// (its sides in world units and the plane it lies in, layer_soft_light).
+struct LayeredMethod {
+  std::string name;
+  FilterOptions options;
+  std::optional<SoftOptions> soft;
+  double light_plane = 0.0;
+  LayeredPipeline pipeline(const std::shared_ptr<Runtime>& rt, const CascadeSet& set) const {
+    return soft ? LayeredPipeline(rt, *soft, set, light_plane) : LayeredPipeline(rt, options, set);
+  }
+};
+
+bool is_soft(const std::string& name) {
+  for (SoftMethod m : {SoftMethod::Pcss, SoftMethod::Cssm, SoftMethod::Ssmm, SoftMethod::SsmmImproved})
+    if (name == soft_method_name(m)) return true;
+  return false;
+}
+
+// Whether a layout's layers are all unwarped (the soft methods need orthographic layers).
+bool unwarped(const CascadeSet& set) {
+  for (const CascadeLayer& l : set.layers)
+    if (l.transform.m[12] != 0.0 || l.transform.m[13] != 0.0 || l.transform.m[14] != 0.0) return false;
+  return true;
+}
+
+LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const LayeredMethod& method, const CascadeSet& set,
                            const std::vector<HostImage>& maps, const DeviceReceivers& rx, int runs) {
-  LayeredPipeline pipe(rt, o, set);
+  LayeredPipeline pipe = method.pipeline(rt, set);
   auto& q = rt->queue();
   const auto up = [&](const std::vector<float>& h) {
     cl::Buffer b(rt->context(), CL_MEM_READ_ONLY, std::max<size_t>(4, h.size() * sizeof(float)));
@@ -79,7 +106,7 @@ LayeredTiming time_layered(const std::shared_ptr<Runtime>& rt, const FilterOptio
     depth.push_back(up(m.data));
     ranges.push_back(depth_range(m));
   }
-  pipe.set_depth_ranges(ranges);  // no device reduction inside the timed loop
+  if (!pipe.soft()) pipe.set_depth_ranges(ranges);  // no device reduction inside the timed loop
   cl::Buffer vis(rt->context(), CL_MEM_WRITE_ONLY, std::max<size_t>(4, rx.count * sizeof(float)));
   std::vector<double> wall, pre, rec;
   for (int i = 0; i < 1 + runs; ++i) {
@@ -112,6 +139,15 @@ struct Previous {
 };
 
 }  // namespace
+
+void check_layout_method(const std::string& name) {
+  if (is_soft(name)) return;
+  try {
+    method(name);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + "; the soft methods pcss, cssm, ssmm, ssmm-improved");
+  }
+}
 
 std::string LayoutConfig::label() const {
   std::string s;
@@ -179,7 +215,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
   if (r.frames < 1 || r.frames > 1000) throw InputError("--frames must lie in 1..1000");
   if (r.total_size < 8 || r.total_size > 16384) throw InputError("--total-size must lie in 8..16384");
   if (r.timing_runs < 1) throw InputError("--runs must be at least 1");
-  for (const std::string& m : r.methods) method(m);  // InputError for unknown methods
+  for (const std::string& m : r.methods) check_layout_method(m);
   const std::vector<LayoutConfig> configs = make_configs(r);
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);
@@ -277,11 +313,28 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           if (near[i]) texels_near.push_back(f);
         }
 
+        const double texels_p10 = quantile(texels, 0.1), texels_p50 = quantile(texels, 0.5),
+                     texels_p90 = quantile(texels, 0.9), texels_near_p50 = quantile(texels_near, 0.5);
         for (const std::string& method : r.methods) {
-          FilterOptions o;
-          o.method = method;
-          o.blur.radius = r.blur_radius;
-          o.lookup.kind = r.lookup;
+          LayeredMethod o;
+          o.name = method;
+          if (is_soft(method)) {
+            SoftOptions so;
+            so.method = find_soft_method(method);
+            so.light.size = setup.light_size;
+            so.light.height = setup.light_height;
+            o.soft = so;
+            o.light_plane = setup.light.near_plane;  // where `scene` puts the area light
+            if (!unwarped(set)) {
+              say(scene_name + " frame " + std::to_string(frame) + ": " + config.label() + " " + method +
+                  " skipped: the soft methods need orthographic layers");
+              continue;
+            }
+          } else {
+            o.options.method = method;
+            o.options.blur.radius = r.blur_radius;
+            o.options.lookup.kind = r.lookup;
+          }
           Accumulator& a = acc[config.label() + "|" + method];
           LayoutRow& row = a.row;
           row.scene = setup.geometry.name;
@@ -304,10 +357,10 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           a.prefilter.push_back(timed.prefilter_ms);
           a.reconstruct.push_back(timed.reconstruct_ms);
           if (!soft.empty()) ++a.frames_soft;
-          row.texels_p10 += quantile(texels, 0.1);
-          row.texels_p50 += quantile(texels, 0.5);
-          row.texels_p90 += quantile(texels, 0.9);
-          row.texels_near_p50 += quantile(texels_near, 0.5);
+          row.texels_p10 += texels_p10;
+          row.texels_p50 += texels_p50;
+          row.texels_p90 += texels_p90;
+          row.texels_near_p50 += texels_near_p50;
           if (previous[c].valid) {
             // The same world points (this frame's receivers) through last frame's layers, each
             // picking its layer by its view depth in last frame's camera: what the previous frame
@@ -324,6 +377,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
     }
     for (const LayoutConfig& config : configs) {
       for (const std::string& method : r.methods) {
+        if (!acc.count(config.label() + "|" + method)) continue;  // skipped on every frame
         Accumulator& a = acc[config.label() + "|" + method];
         LayoutRow row = a.row;
         const double frames = std::max(1, row.frames);

@@ -34,11 +34,11 @@ int equal_texel_side(int total_size, int layers);
 struct LayoutEvalRequest {
   std::vector<std::string> scenes;  // built-in names or mesh files
   std::vector<std::string> layouts{"single", "pssm", "tsm", "pssm+tsm"};
-  std::vector<int> cascade_counts{4};  // for pssm and pssm+tsm
-  int total_size = 4096;               // side of the single map; the others match its texels
-  bool unstabilized_too = true;        // pssm also without stabilisation (the flicker figure)
-  std::vector<std::string> methods{"pcf", "esm", "vsm"};
-  int blur_radius = 1;  // in layer 0's texels (layered.hpp scales it per layer)
+  std::vector<int> cascade_counts{4};                     // for pssm and pssm+tsm
+  int total_size = 4096;                                  // side of the single map; the others match its texels
+  bool unstabilized_too = true;                           // pssm also without stabilisation (the flicker figure)
+  std::vector<std::string> methods{"pcf", "esm", "vsm"};  // check_layout_method's names
+  int blur_radius = 1;                                    // in layer 0's texels (layered.hpp scales it per layer)
   Lookup lookup = Lookup::Mips;
   int frames = 4;                    // along the camera path
   std::string camera_path = "walk";  // walk | orbit (layer_render.hpp)
@@ -90,6 +90,11 @@ FrameMetrics frame_metrics(const std::vector<float>& v, const std::vector<float>
 double mean_abs_difference(const std::vector<float>& a, const std::vector<float>& b, const std::vector<uint8_t>& mask);
 // Quantile q in [0, 1] of the values (nearest rank; 0 for none).
 double quantile(std::vector<double> values, double q);
+
+// A name of --methods: a method of FilterOptions (methods.hpp) or a soft method (soft.hpp: pcss,
+// cssm, ssmm, ssmm-improved, under the scene's area light on every layer, layered.hpp);
+// InputError naming both kinds otherwise.
+void check_layout_method(const std::string& name);
 
 // Runs the whole comparison; `progress` (may be empty) gets one line per finished step.
 std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, const LayoutEvalRequest& request,

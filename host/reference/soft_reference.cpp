@@ -86,7 +86,8 @@ Plane plane_level(const Plane& p, int W, int H, int w, int h) {
 double soft_horizon(const SoftOptions& o, const Plane& pl, int W, int H) {
   const SoftLight& L = o.light;
   const double unit = soft_side_scale(L);
-  const double a = L.perspective ? L.near_plane : 0.0, b = L.perspective ? L.far_plane - L.near_plane : 1.0;
+  const SoftDistance D = soft_distance(L);
+  const double a = D.a, b = D.b;
   const double Ax = pl.gx * W * L.size * unit, Ay = pl.gy * H * light_height(L) * unit, A = std::hypot(Ax, Ay);
   const double DR = std::max(a + b * pl.d, 1e-20);
   const double s = L.perspective ? b / (DR * DR) : b / DR;

@@ -93,6 +93,7 @@ struct RefCase {
   bool perspective = false;
   Storage storage = Storage::F32;   // cssm's basis (mips only)
   double width = 0.1, height = -1;  // the light's sides (map widths; height < 0: a square)
+  double light_distance = 0;        // ortho: the light's plane this far before d = 0 (map depths)
 };
 
 class SoftKernelVsReference : public ::testing::TestWithParam<RefCase> {};
@@ -121,6 +122,7 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
   rx.u[1] = 1.5f;  // outside
   SoftOptions o = ortho_options(c.method, c.width, 1.0);
   o.light.height = c.height;
+  o.light.light_distance = c.light_distance;
   if (c.perspective) {  // near 2, far 6, 60 degrees: search box 0.1 / (2 tan 30) (D_R - D_B) / (D_R D_B)
     o.light.perspective = true;
     o.light.size = 5 * c.width;
@@ -193,7 +195,13 @@ INSTANTIATE_TEST_SUITE_P(
                       RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.05, 0.2},
                       RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.2, 0.05},
                       // 12:1, beyond ssmm's anisotropy cap of 8: boxes under n texels across.
-                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.3, 0.025}),
+                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.3, 0.025},
+                      // A light half the map's depth range before its plane d = 0 (a cascade
+                      // layer's, layer_soft_light): narrower footprints, the horizon's slope.
+                      RefCase{SoftMethod::Pcss, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::F32, 0.15, -1, 0.5},
+                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5},
+                      RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5}),
     [](const auto& info) {
       std::string s = soft_method_name(info.param.method);
       std::replace(s.begin(), s.end(), '-', '_');
@@ -201,6 +209,7 @@ INSTANTIATE_TEST_SUITE_P(
         s += std::string(info.param.lookup == Lookup::Sat ? "_sat" : "_mips") + "_M" + std::to_string(info.param.order);
       if (info.param.perspective) s += "_persp";
       if (info.param.storage != Storage::F32) s += std::string("_") + storage_name(info.param.storage);
+      if (info.param.light_distance > 0) s += "_behind";
       if (info.param.height >= 0)
         s += info.param.height > info.param.width       ? "_tall"
              : info.param.width > 8 * info.param.height ? "_wider"

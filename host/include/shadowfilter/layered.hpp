@@ -8,6 +8,9 @@
 // Per layer the blur keeps layer 0's world width: layer_filter_options(). Per receiver the
 // footprint and the receiver plane are the layer's own (through its Jacobian).
 //
+// The soft methods (soft.hpp) layer the same way: a SoftFilter per layer under the one area light,
+// which keeps its world size and place in every layer (layer_soft_light).
+//
 // Ownership, queues, events, threads and sub-buffers as pipeline.hpp says for Pipeline: the
 // depth maps, view receivers and visibility are the caller's buffers; the LayeredPipeline owns
 // its K pipelines and, from the first reconstruct() on, the per-receiver arrays of the layers
@@ -19,6 +22,7 @@
 #include "shadowfilter/cascades.hpp"
 #include "shadowfilter/map_range.hpp"
 #include "shadowfilter/pipeline.hpp"
+#include "shadowfilter/soft.hpp"
 
 namespace sf {
 
@@ -44,12 +48,28 @@ double layer_reference_texel(const CascadeSet& set, int layer);
 constexpr float kWarpedSlopeBias = 0.5f;
 FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSet& set, int layer);
 
+// The area light of layer k for the soft methods: sides `size` along the layer's u axis and
+// `height` along v (world units; height < 0: a square), lying in the plane at world depth
+// `light_plane` along the light's axis. The light's axis and depths are those of the layer's d
+// row, d = M2 . p: depth = n . p with n the unit normal of the row, so the layer's d = 0 and 1
+// lie at depths near = -M2[3] / |M2.xyz| and far = near + 1 / |M2.xyz| (the layer headers' near
+// and far). The result is orthographic, extent 1 / |grad u| (the map's width in world units),
+// height scaled by |grad v| / |grad u| (so both sides keep their world lengths on a map whose
+// texels are not square), near and far as above, light_distance = near - light_plane.
+// InputError for a warped layer (a projective row 3: a light's footprint in it is no rectangle
+// of one size) and for one whose u or v row is not perpendicular to its d row.
+SoftLight layer_soft_light(const CascadeSet& set, int layer, double size, double height, double light_plane);
+
 class LayeredPipeline {
  public:
   // Validates the set (sf::validate) and the options per layer, and builds one Pipeline of the
   // set's map size per layer with layer_filter_options(). InputError when either is invalid or
   // the buffers do not fit the device.
   LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterOptions& options, CascadeSet set);
+  // The soft methods: one SoftFilter per layer with `options` under layer_soft_light(set, k,
+  // options.light.size, options.light.height, light_plane) (the other fields of options.light
+  // are not read). InputError as above, and for the set's warped layers.
+  LayeredPipeline(std::shared_ptr<Runtime> runtime, const SoftOptions& options, CascadeSet set, double light_plane);
 
   // Filters layer k's depth map depth[k] (width x height floats, linear [0, 1]) for every k;
   // one event when all are done. InputError when depth does not hold one buffer per layer.
@@ -73,9 +93,13 @@ class LayeredPipeline {
   const Projection& projection() const { return proj_; }
 
   const CascadeSet& cascades() const { return set_; }
-  int layer_count() const { return static_cast<int>(pipes_.size()); }
-  Pipeline& layer(int k) { return *pipes_.at(k); }
-  const Pipeline& layer(int k) const { return *pipes_.at(k); }
+  int layer_count() const { return static_cast<int>(pipes_.size() + soft_.size()); }
+  bool soft() const { return !soft_.empty(); }
+  // Layer k's filter: layer() of a pipeline of FilterOptions, soft_layer() of one of SoftOptions;
+  // InputError for the other kind or a k out of range.
+  Pipeline& layer(int k);
+  const Pipeline& layer(int k) const;
+  SoftFilter& soft_layer(int k);
   // The layers' pipelines plus the per-receiver arrays allocated so far.
   size_t device_bytes() const;
   // Bytes reconstruct() allocates per receiver for K layers: u, v, d, f and a visibility per
@@ -91,7 +115,8 @@ class LayeredPipeline {
   std::shared_ptr<Runtime> rt_;
   CascadeSet set_;
   cl::Buffer params_;  // sf_cascade_params of set_ (shared_types.clh), read by sf_cascade_project
-  std::vector<std::unique_ptr<Pipeline>> pipes_;
+  std::vector<std::unique_ptr<Pipeline>> pipes_;   // empty for the soft methods
+  std::vector<std::unique_ptr<SoftFilter>> soft_;  // empty otherwise
   Projection proj_;
   std::vector<DeviceReceivers> layer_rx_;  // sub-buffers of proj_ per layer
   std::vector<cl::Buffer> layer_vis_;
@@ -109,5 +134,8 @@ struct LayeredResult : VisibilityResult {
 };
 LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
                              const std::vector<HostImage>& maps, const ViewReceivers& view);
+// The same with a soft method per layer (the LayeredPipeline of SoftOptions and light_plane).
+LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const SoftOptions& options, const CascadeSet& set,
+                             double light_plane, const std::vector<HostImage>& maps, const ViewReceivers& view);
 
 }  // namespace sf

@@ -31,8 +31,23 @@ struct SoftLight {
   double fov_degrees = 0.0;  // perspective: full field of view of the (square) map
   double weight = 1.0;       // several lights: visibilities are combined by weight
   double height = -1.0;      // side along the map's v axis (the light's down); < 0: size (a square)
+  // Orthographic: the distance along the light's axis from the area light to the map's plane
+  // d = 0, in the units of near and far. 0: the light lies in that plane (where `scene` puts it);
+  // a cascade layer's map starts wherever its slice does, so its light lies before it
+  // (layer_soft_light, layered.hpp). Receivers and blockers at or before the light's plane are
+  // outside the model: the kernels clamp the distance at 1e-20 (no footprint, and half the light
+  // below a receiver's horizon). Perspective lights ignore it.
+  double light_distance = 0.0;
 };
 double light_height(const SoftLight& light);  // the v side in effect: height >= 0 ? height : size
+// The distance from the light along its axis of a map depth d, D = a + b d, in the units the
+// footprints use (only their ratios matter): perspective a = near, b = far - near; orthographic
+// a = light_distance / (far - near), b = 1. The kernels (sf_soft_light), the footprints below and
+// the double reference all read it from here.
+struct SoftDistance {
+  double a = 0.0, b = 1.0;
+};
+SoftDistance soft_distance(const SoftLight& light);
 // The footprint's scale k per unit of light side (soft_common.clh): ortho 1 / extent, perspective
 // 1 / (2 tan(fov/2)); a side L covers k L g(d, z) in uv, with g as soft_width gives it.
 double soft_side_scale(const SoftLight& light);

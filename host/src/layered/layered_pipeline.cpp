@@ -53,6 +53,32 @@ FilterOptions layer_filter_options(const FilterOptions& options, const CascadeSe
   return o;
 }
 
+SoftLight layer_soft_light(const CascadeSet& set, int layer, double size, double height, double light_plane) {
+  const std::string name = "cascade layer " + std::to_string(layer);
+  const auto& m = set.layers.at(layer).transform.m;
+  if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0)
+    throw InputError(name + " is warped (a projective row 3): the soft methods need orthographic layers");
+  const auto row = [&](int r) { return Point3{m[4 * r], m[4 * r + 1], m[4 * r + 2]}; };
+  const Point3 gu = row(0), gv = row(1), gd = row(2);
+  const double su = length(gu), sv = length(gv), sd = length(gd);
+  if (!(su > 0.0 && sv > 0.0 && sd > 0.0) || !std::isfinite(su * sv * sd))
+    throw InputError(name + ": its u, v and d rows must be finite and non-zero");
+  // A map whose u or v leans along the light's axis has no rectangle of constant size for the
+  // light's footprint (1e-6: rounding of matrices written to text).
+  if (std::abs(dot(gu, gd)) > 1e-6 * su * sd || std::abs(dot(gv, gd)) > 1e-6 * sv * sd)
+    throw InputError(name + ": its u and v rows must be perpendicular to its d row (the light's axis)");
+  if (!std::isfinite(light_plane)) throw InputError("the light's plane must be a finite depth");
+  SoftLight L;
+  L.perspective = false;
+  L.size = size;
+  L.height = height < 0.0 ? size * sv / su : height * sv / su;
+  L.extent = 1.0 / su;
+  L.near_plane = -m[11] / sd;
+  L.far_plane = L.near_plane + 1.0 / sd;
+  L.light_distance = L.near_plane - light_plane;
+  return L;
+}
+
 DeviceReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& view, EventList* events) {
   const size_t count = view.count();
   const std::vector<float>* host[] = {&view.x,   &view.y,   &view.z,   &view.depth, &view.dxx,
@@ -118,6 +144,39 @@ LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterO
   detail::throw_device_error("LayeredPipeline::LayeredPipeline", e);
 }
 
+LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const SoftOptions& options, CascadeSet set,
+                                 double light_plane) try
+    : rt_(std::move(runtime)), set_(std::move(set)) {
+  validate(set_);
+  sf_cascade_params params = cascade_params(set_);
+  params_ = cl::Buffer(rt_->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof params, &params);
+  for (int k = 0; k < static_cast<int>(set_.layers.size()); ++k) {
+    SoftOptions o = options;
+    o.light = layer_soft_light(set_, k, options.light.size, options.light.height, light_plane);
+    o.light.weight = options.light.weight;
+    soft_.push_back(std::make_unique<SoftFilter>(rt_, o, set_.width, set_.height));
+  }
+  size_t total = 0;
+  for (const auto& f : soft_) total += f->device_bytes();
+  check_fits_device(*rt_, soft_.front()->device_bytes(), total, "the layered soft filters' buffers");
+} catch (const cl::Error& e) {
+  detail::throw_device_error("LayeredPipeline::LayeredPipeline", e);
+}
+
+Pipeline& LayeredPipeline::layer(int k) {
+  if (soft() || k < 0 || k >= layer_count())
+    throw InputError("LayeredPipeline::layer(" + std::to_string(k) + "): no such layer of FilterOptions");
+  return *pipes_[k];
+}
+
+const Pipeline& LayeredPipeline::layer(int k) const { return const_cast<LayeredPipeline*>(this)->layer(k); }
+
+SoftFilter& LayeredPipeline::soft_layer(int k) {
+  if (!soft() || k < 0 || k >= layer_count())
+    throw InputError("LayeredPipeline::soft_layer(" + std::to_string(k) + "): no such layer of SoftOptions");
+  return *soft_[k];
+}
+
 size_t LayeredPipeline::bytes_per_receiver(int layers) {
   return size_t(layers) * 5 * sizeof(float) + sizeof(cl_char2) + sizeof(float);
 }
@@ -125,6 +184,7 @@ size_t LayeredPipeline::bytes_per_receiver(int layers) {
 size_t LayeredPipeline::device_bytes() const {
   size_t total = 0;
   for (const auto& p : pipes_) total += p->device_bytes();
+  for (const auto& f : soft_) total += f->device_bytes();
   if (proj_.count) total += size_t(layer_count()) * proj_.stride * 5 * sizeof(float) + proj_.count * 6;
   return total;
 }
@@ -136,7 +196,7 @@ void LayeredPipeline::allocate(size_t count) {
   const size_t align = std::max<size_t>(rt_->device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4) / 4;
   const size_t stride = (count + align - 1) / align * align;
   const size_t plane_bytes = stride * sizeof(float), all_bytes = K * plane_bytes;
-  check_fits_device(*rt_, std::max(all_bytes, pipes_.front()->buffer_plan().largest()),
+  check_fits_device(*rt_, std::max(all_bytes, soft() ? size_t(0) : pipes_.front()->buffer_plan().largest()),
                     device_bytes() + 5 * all_bytes + count * 6, "the layered receivers");
   proj_ = Projection{};
   layer_rx_.clear();
@@ -162,11 +222,12 @@ void LayeredPipeline::allocate(size_t count) {
 }
 
 cl::Event LayeredPipeline::prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait) try {
-  if (depth.size() != pipes_.size())
+  if (depth.size() != size_t(layer_count()))
     throw InputError("LayeredPipeline::prefilter: " + std::to_string(depth.size()) + " depth buffers for " +
-                     std::to_string(pipes_.size()) + " layers");
+                     std::to_string(layer_count()) + " layers");
   EventList done;
   for (size_t k = 0; k < pipes_.size(); ++k) done.push_back(pipes_[k]->prefilter(depth[k], wait));
+  for (size_t k = 0; k < soft_.size(); ++k) done.push_back(soft_[k]->prefilter(depth[k], wait));
   cl::Event all;
   rt_->queue().enqueueMarkerWithWaitList(&done, &all);
   return all;
@@ -175,9 +236,9 @@ cl::Event LayeredPipeline::prefilter(const std::vector<cl::Buffer>& depth, const
 }
 
 void LayeredPipeline::set_depth_ranges(const std::vector<MapRange>& ranges) {
-  if (ranges.size() != pipes_.size())
+  if (ranges.size() != size_t(layer_count()))
     throw InputError("LayeredPipeline::set_depth_ranges: " + std::to_string(ranges.size()) + " ranges for " +
-                     std::to_string(pipes_.size()) + " layers");
+                     std::to_string(layer_count()) + " layers");
   for (size_t k = 0; k < pipes_.size(); ++k) pipes_[k]->set_depth_range(ranges[k]);
 }
 
@@ -218,6 +279,11 @@ cl::Event LayeredPipeline::reconstruct(const DeviceReceivers& rx, const cl::Buff
     if (pipes_[k]->options().lookup.kind == Lookup::Bilinear) layer_rx.f = cl::Buffer();
     layers_done.push_back(pipes_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
   }
+  for (size_t k = 0; k < soft_.size(); ++k) {  // the soft methods read every footprint
+    DeviceReceivers layer_rx = layer_rx_[k];
+    layer_rx.row = rx.row;
+    layers_done.push_back(soft_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
+  }
 
   cl::Kernel blend = cascade_kernel(*rt_, "sf_cascade_blend", layer_count());
   detail::KernelArgs(blend)
@@ -237,6 +303,7 @@ cl::Event LayeredPipeline::reconstruct(const DeviceReceivers& rx, const cl::Buff
 StageTimes LayeredPipeline::times() const try {
   StageTimes t;
   for (const auto& p : pipes_) t += p->times();
+  for (const auto& f : soft_) t += f->times();
   if (project_done_()) t.project = event_seconds(project_done_);
   if (blend_done_()) t.blend = event_seconds(blend_done_);
   return t;
@@ -244,8 +311,11 @@ StageTimes LayeredPipeline::times() const try {
   detail::throw_device_error("LayeredPipeline::times", e);
 }
 
-LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
-                             const std::vector<HostImage>& maps, const ViewReceivers& view) try {
+namespace {
+
+// The maps and receivers filter_layered takes: one map per layer of the set's size, ndl as long
+// as the view.
+void check_layered_inputs(const CascadeSet& set, const std::vector<HostImage>& maps, const ViewReceivers& view) {
   validate(set);
   if (maps.size() != set.layers.size())
     throw InputError("filter_layered: " + std::to_string(maps.size()) + " depth maps for " +
@@ -256,20 +326,15 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
       throw InputError("filter_layered: depth map " + std::to_string(k) + " is not one channel of " +
                        std::to_string(set.width) + "x" + std::to_string(set.height));
   }
-  const size_t count = view.count();
-  if (!view.ndl.empty() && view.ndl.size() != count)
+  if (!view.ndl.empty() && view.ndl.size() != view.count())
     throw InputError("filter_layered: the view receivers' ndl does not match their size");
+}
 
-  Runtime& rt = *runtime;
-  LayeredPipeline pipe(runtime, options, set);
-  // The maps' ranges from their host copies where the lookup's limit depends on them: a map the
-  // lookup cannot hold is refused before anything is enqueued.
-  if (options.depth_range || (options.lookup.kind == Lookup::Sat && pipe.layer(0).method().sat_limit)) {
-    std::vector<MapRange> ranges;
-    for (const HostImage& m : maps) ranges.push_back(options.depth_range ? *options.depth_range : depth_range(m));
-    pipe.set_depth_ranges(ranges);
-  }
-
+// Uploads, runs `pipe` (ready: its depth ranges set), downloads and counts.
+LayeredResult run_layered(Runtime& rt, LayeredPipeline& pipe, bool facing_away_shadowed,
+                          const std::vector<HostImage>& maps, const ViewReceivers& view) {
+  const CascadeSet& set = pipe.cascades();
+  const size_t count = view.count();
   LayeredResult result;
   result.visibility = HostImage(view.width, view.height, 1);
   const size_t input_bytes = (maps.size() * set.width * size_t(set.height) + 10 * count + count) * sizeof(float);
@@ -312,7 +377,7 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
       ++result.per_layer[l.s[0]];
       if (l.s[1] >= 0) ++result.per_layer[l.s[1]], ++result.blended;
     }
-    if (options.facing_away_shadowed && !view.ndl.empty() && view.ndl[i] <= 0.0f && std::isfinite(view.depth[i])) {
+    if (facing_away_shadowed && !view.ndl.empty() && view.ndl[i] <= 0.0f && std::isfinite(view.depth[i])) {
       result.visibility.data[i] = 0.0f;
       ++result.facing_away;
     }
@@ -322,6 +387,31 @@ LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptio
   if (download()) result.times.download = event_seconds(download);
   result.device_bytes = pipe.device_bytes() + input_bytes;
   return result;
+}
+
+}  // namespace
+
+LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const FilterOptions& options, const CascadeSet& set,
+                             const std::vector<HostImage>& maps, const ViewReceivers& view) try {
+  check_layered_inputs(set, maps, view);
+  LayeredPipeline pipe(runtime, options, set);
+  // The maps' ranges from their host copies where the lookup's limit depends on them: a map the
+  // lookup cannot hold is refused before anything is enqueued.
+  if (options.depth_range || (options.lookup.kind == Lookup::Sat && pipe.layer(0).method().sat_limit)) {
+    std::vector<MapRange> ranges;
+    for (const HostImage& m : maps) ranges.push_back(options.depth_range ? *options.depth_range : depth_range(m));
+    pipe.set_depth_ranges(ranges);
+  }
+  return run_layered(*runtime, pipe, options.facing_away_shadowed, maps, view);
+} catch (const cl::Error& e) {
+  detail::throw_device_error("filter_layered", e);
+}
+
+LayeredResult filter_layered(std::shared_ptr<Runtime> runtime, const SoftOptions& options, const CascadeSet& set,
+                             double light_plane, const std::vector<HostImage>& maps, const ViewReceivers& view) try {
+  check_layered_inputs(set, maps, view);
+  LayeredPipeline pipe(runtime, options, set, light_plane);
+  return run_layered(*runtime, pipe, options.facing_away_shadowed, maps, view);
 } catch (const cl::Error& e) {
   detail::throw_device_error("filter_layered", e);
 }

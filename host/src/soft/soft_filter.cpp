@@ -26,15 +26,10 @@ ClSoftLight cl_light(const SoftOptions& o) {
   const double unit = soft_side_scale(L);
   c.ku = float(L.size * unit);
   c.kv = float(light_height(L) * unit);
-  if (L.perspective) {
-    c.a = float(L.near_plane);
-    c.b = float(L.far_plane - L.near_plane);
-    c.persp = 1;
-  } else {
-    c.a = 0.0f;
-    c.b = 1.0f;
-    c.persp = 0;
-  }
+  const SoftDistance D = soft_distance(L);
+  c.a = float(D.a);
+  c.b = float(D.b);
+  c.persp = L.perspective ? 1 : 0;
   c.bias = o.bias;
   c.max_width = o.max_width;
   return c;
@@ -90,13 +85,10 @@ namespace {
 // The footprint of a light side of length `side` (soft_width, soft_height).
 double footprint(const SoftLight& L, double side, double d, double z) {
   const double k = side * soft_side_scale(L);
-  if (L.perspective) {
-    const double DR = std::max(L.near_plane + (L.far_plane - L.near_plane) * d, 1e-20);
-    const double DB = std::max(L.near_plane + (L.far_plane - L.near_plane) * z, 1e-20);
-    return k * std::max(DR - DB, 0.0) / (DR * DB);
-  }
-  const double DR = std::max(d, 1e-20), DB = std::max(z, 1e-20);
-  return k * std::max(DR - DB, 0.0) / DR;
+  const SoftDistance D = soft_distance(L);
+  const double DR = std::max(D.a + D.b * d, 1e-20), DB = std::max(D.a + D.b * z, 1e-20);
+  const double w = k * std::max(DR - DB, 0.0) / DR;
+  return L.perspective ? w / DB : w;
 }
 
 // The light's sides (soft_light, validate): size >= 0, height finite (< 0: a square).
@@ -106,6 +98,11 @@ void check_sides(double size, double height) {
     throw InputError("SoftOptions::light.height must be a finite number (< 0: size, a square light)");
 }
 }  // namespace
+
+SoftDistance soft_distance(const SoftLight& L) {
+  if (L.perspective) return {L.near_plane, L.far_plane - L.near_plane};
+  return {L.light_distance / (L.far_plane - L.near_plane), 1.0};
+}
 
 double soft_width(const SoftLight& L, double d, double z) { return footprint(L, L.size, d, z); }
 double soft_height(const SoftLight& L, double d, double z) { return footprint(L, light_height(L), d, z); }
@@ -199,6 +196,10 @@ void validate(const SoftOptions& o) {
       throw InputError("a perspective light needs SoftOptions::light.fov_degrees between 0 and 180 degrees");
   } else if (!(L.extent > 0.0) || !std::isfinite(L.extent)) {
     throw InputError("an orthographic light needs SoftOptions::light.extent > 0 (the map's width in light units)");
+  } else if (!std::isfinite(L.light_distance) ||
+             (L.light_distance != 0.0 && !std::isfinite(L.light_distance / (L.far_plane - L.near_plane)))) {
+    throw InputError(
+        "SoftOptions::light.light_distance must be a finite number, and with it near and far finite planes");
   }
   if (!(L.weight >= 0.0) || !std::isfinite(L.weight)) throw InputError("light weights must be >= 0");
   if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("SoftOptions::bias must be in [0, 1)");

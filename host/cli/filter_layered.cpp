@@ -7,11 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "cascade_io.hpp"
 #include "commands.hpp"
 #include "filter_options.hpp"
 #include "image_io.hpp"
-#include "output_file.hpp"
+#include "layered_inputs.hpp"
 #include "preview_images.hpp"
 #include "print.hpp"
 #include "verbose.hpp"
@@ -29,9 +28,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 // one map), --flags-out (a mask per layer has no one output), and depth encodings (layer files
 // hold linear depth, cascade_io.hpp).
 void refuse_single_map_options(const FilterArgs& a) {
-  const auto refuse = [](bool given, const char* option) {
-    if (given) throw InputError(std::string("--cascades cannot be combined with ") + option);
-  };
+  const auto refuse = refuse_with_cascades;
   if (a.cascades.empty()) throw InputError("--view and --cascade-blend need --cascades DIR|LIST");
   refuse(!a.shadow_maps.empty(), "--shadow-map");
   refuse(!a.receivers.empty(), "--receivers");
@@ -47,8 +44,6 @@ void refuse_single_map_options(const FilterArgs& a) {
   refuse(!a.inputs.light.empty() || !a.inputs.camera.empty(), "--light or --camera (the layers hold their matrices)");
   if (a.view.empty()) throw InputError("--cascades needs --view VIEW (the camera view's receivers)");
   if (a.output.empty()) throw InputError("give -o/--output");
-  if (!std::isnan(a.cascade_blend) && !(a.cascade_blend >= 0.0 && a.cascade_blend < 1.0))
-    throw InputError("--cascade-blend must lie in [0, 1), got " + std::to_string(a.cascade_blend));
 }
 
 }  // namespace
@@ -56,18 +51,12 @@ void refuse_single_map_options(const FilterArgs& a) {
 int run_filter_layered(const FilterArgs& a) {
   const auto t0 = Clock::now();
   refuse_single_map_options(a);
-  const std::vector<std::string> files = io::cascade_files(a.cascades);
-  std::vector<std::string> inputs = files;
-  inputs.push_back(a.view);
   const PreviewKind preview = parse_preview(a.preview);
   std::vector<std::string> outputs = preview_paths(a.output, preview);
   outputs.insert(outputs.begin(), a.output);
-  io::check_outputs(outputs, inputs);
-
-  io::LayeredMaps layered = io::load_cascade_set(files);
-  if (!std::isnan(a.cascade_blend)) layered.set.blend = a.cascade_blend;
-  validate(layered.set);
-  const ViewReceivers view = io::load_view_receivers(a.view);
+  const LayeredInputs in = load_layered_inputs(a.cascades, a.view, a.cascade_blend, outputs);
+  const io::LayeredMaps& layered = in.layered;
+  const ViewReceivers& view = in.view;
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);

@@ -84,6 +84,23 @@ double header_extent(const OIIO::ImageSpec& spec, double given, const std::strin
   return e[1] - e[0];
 }
 
+// The area light's sides: --light-size when given, else the header's light_size, and its
+// light_height where the light is not square (NaN size when the header has none).
+void read_light_sides(const OIIO::ImageSpec& spec, const SoftArgs& a, const std::string& path, SoftLight& L) {
+  if (!a.light_size.empty()) {
+    L.size = a.light_size[0];
+    if (a.light_size.size() == 2) L.height = a.light_size[1];
+    return;
+  }
+  L.size = light_value(NAN, header_number(spec, "light_size"), "light_size", "--light-size", path);
+  const HeaderNumber height = header_number(spec, "light_height");
+  if (height.present) L.height = light_value(NAN, height, "light_height", "--light-size", path);
+  // SoftLight reads a negative height as "square": a header's must be a side.
+  if (height.present && !(L.height >= 0.0))
+    throw InputError("shadow map '" + path + "': header light_height='" + io::detail::one_line(height.text) +
+                     "' is not a side >= 0; give --light-size");
+}
+
 }  // namespace
 
 // The light of a light file: orthographic (the map's width in light units from the projection's
@@ -108,19 +125,7 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   L.near_plane = light_value(a.light_near, header_number(spec, "near"), "near", "--light-near", path);
   L.far_plane = light_value(a.light_far, header_number(spec, "far"), "far", "--light-far", path);
   L.fov_degrees = light_value(a.light_fov, header_number(spec, "fov_degrees"), "fov_degrees", "--light-fov", path);
-  if (a.light_size.empty()) {
-    // The header's sides: light_size, and light_height where the light is not square.
-    L.size = light_value(NAN, header_number(spec, "light_size"), "light_size", "--light-size", path);
-    const HeaderNumber height = header_number(spec, "light_height");
-    if (height.present) L.height = light_value(NAN, height, "light_height", "--light-size", path);
-    // SoftLight reads a negative height as "square": a header's must be a side.
-    if (height.present && !(L.height >= 0.0))
-      throw InputError("shadow map '" + path + "': header light_height='" + io::detail::one_line(height.text) +
-                       "' is not a side >= 0; give --light-size");
-  } else {
-    L.size = a.light_size[0];
-    if (a.light_size.size() == 2) L.height = a.light_size[1];
-  }
+  read_light_sides(spec, a, path, L);
   L.extent = header_extent(spec, a.light_extent, path);
   in->close();
   if (!a.light_type.empty()) type = a.light_type;
@@ -144,9 +149,28 @@ SoftLight light_from_header(const std::string& path, const SoftArgs& a) {
   return L;
 }
 
+LayeredLight layered_light_from_header(const std::string& path, const SoftArgs& a) {
+  const auto in = io::detail::open_checked_image(path, "cascade layer");
+  const OIIO::ImageSpec& spec = in->spec();
+  SoftLight L;
+  read_light_sides(spec, a, path, L);
+  const HeaderNumber plane = header_number(spec, "light_plane");
+  LayeredLight out;
+  out.plane = light_value(a.light_plane, plane, "light_plane", "--light-plane", path);
+  in->close();
+  if (!std::isfinite(L.size)) throw InputError("'" + path + "' has no light_size attribute: give --light-size");
+  if (!std::isfinite(out.plane))
+    throw InputError("'" + path +
+                     "' has no light_plane attribute: give --light-plane D (the world depth of the light's plane "
+                     "along its axis)");
+  out.size = L.size;
+  out.height = L.height;
+  return out;
+}
+
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   CLI::App* c = app.add_subcommand(
-      "soft", "Soft shadows from square area lights: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)");
+      "soft", "Soft shadows from square or rectangular area lights: pcss, cssm, ssmm, ssmm-improved (docs/soft.md)");
   c->add_option("--method", a.method, "pcss | cssm | ssmm | ssmm-improved")->capture_default_str();
   c->add_option("--shadow-map", a.shadow_map,
                 "Depth map of one light (decoded as --encoding says; the light from its header or --light)");
@@ -168,6 +192,16 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
                 "Batch: run part K of N (frames K, K + N, K + 2N, ... of the list; 1 <= K <= N): N processes with "
                 "K = 1..N write what one run writes")
       ->type_name("K/N");
+  c->add_option("--cascades", a.cascades,
+                "Layered maps instead of --shadow-map: a directory of cascade_K.exr or a comma-separated list "
+                "(docs/cascades.md); the soft method runs per layer under one area light");
+  c->add_option("--view", a.view, "With --cascades: the camera view's receivers (view.exr of `scene --layout`)");
+  c->add_option("--cascade-blend", a.cascade_blend,
+                "With --cascades: the blend band between layers, a fraction of each layer's depth range in "
+                "[0, 1) (default: the headers')");
+  c->add_option("--light-plane", a.light_plane,
+                "With --cascades: the world depth of the area light's plane along the light's axis (default: "
+                "layer 0's header light_plane)");
   add_light_size_option(c, a.light_size,
                         "Area light: L (a square) or W,H (W along the map's u axis, H along v), light-space units "
                         "(default: header light_size, light_height)");
@@ -220,6 +254,7 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
             "data/spheres/receivers.exr -o soft.exr\n"
             "  shadowfilter soft --method cssm --shadow-map spot_depth.exr --light spot.json --light-size 0.3 "
             "--camera camera.json --camera-depth camera_depth.exr -o soft.exr\n"
+            "  shadowfilter soft --method ssmm --cascades city/ --view city/view.exr -o soft.exr\n"
             "  shadowfilter soft --auto --reference data/spheres/reference_soft.exr --shadow-map "
             "data/spheres/shadowmap.exr --receivers data/spheres/receivers.exr -o soft.exr\n"
             "docs/soft.md (methods), docs/inputs.md (your own depth buffers)");
@@ -264,6 +299,8 @@ SoftOptions soft_options(const SoftArgs& a) {
 }
 
 int run_soft(const SoftArgs& a) {
+  if (!a.cascades.empty() || !a.view.empty() || !std::isnan(a.cascade_blend) || !std::isnan(a.light_plane))
+    return run_soft_layered(a);
   if (a.auto_args.enabled && !a.frames.empty())
     throw InputError("--auto measures one input; run it on one frame and give the batch the options it chose");
   if (!a.frames.empty()) return run_soft_batch(a);

@@ -32,6 +32,11 @@ struct SoftArgs {
   // default), runs and rounds; the target is --reference, the grid --auto-grid.
   AutoArgs auto_args{false, 0.05, "rmse", "soft"};
   std::string reference, auto_grid = "default";
+  // Layered maps (soft_layered.cpp): --cascades DIR|LIST, --view FILE, --cascade-blend B and the
+  // world depth of the light's plane along its axis, --light-plane D (NaN: layer 0's header).
+  std::string cascades, view;
+  double cascade_blend = std::numeric_limits<double>::quiet_NaN();
+  double light_plane = std::numeric_limits<double>::quiet_NaN();
 };
 CLI::App* add_soft_command(CLI::App& app, SoftArgs& args);
 int run_soft(const SoftArgs& args);
@@ -64,5 +69,18 @@ int run_soft_batch(const SoftArgs& args);
 // light_size and, for a rectangular light, light_height; written by `shadowfilter scene`),
 // overridden by the command line (--light-size sets both sides).
 SoftLight light_from_header(const std::string& shadow_map, const SoftArgs& overrides);
+
+// The area light of a cascade set's layers: its sides as light_from_header reads them
+// (--light-size, else layer 0's header light_size and light_height, world units) and the world
+// depth of its plane along the light's axis (--light-plane, else the header's light_plane, which
+// `scene` writes). InputError naming the file when either is missing or not a finite number.
+struct LayeredLight {
+  double size = 0.0, height = -1.0;  // height < 0: a square
+  double plane = 0.0;
+};
+LayeredLight layered_light_from_header(const std::string& layer0, const SoftArgs& args);
+// `soft --cascades DIR|LIST --view VIEW -o OUT`: a soft method per layer of a cascade set under one
+// area light, reconstructed at the camera view's receivers (filter_layered of SoftOptions).
+int run_soft_layered(const SoftArgs& args);
 
 }  // namespace sf::cli

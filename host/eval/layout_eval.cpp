@@ -56,7 +56,25 @@ struct Accumulator {
   double flicker_sum = 0;
   int flicker_pairs = 0;
   std::vector<double> times, prefilter, reconstruct;
+  // Under a moving light: last frame's error v - reference per pixel (NaN outside its mask).
+  std::vector<float> last_error;
 };
+
+// Mean |e_t - e_{t-1}| over the pixels both frames count (e: NaN where a frame does not count
+// the pixel); 0 when there are none.
+double mean_error_change(const std::vector<float>& now, const std::vector<float>& before) {
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < now.size() && i < before.size(); ++i)
+    if (std::isfinite(now[i]) && std::isfinite(before[i])) sum += std::abs(double(now[i]) - before[i]), ++n;
+  return n ? sum / n : 0.0;
+}
+
+// The light's direction turned `degrees` about the world's up axis (y).
+scene::Vec3 turned_about_up(const scene::Vec3& d, double degrees) {
+  const double a = degrees * 3.14159265358979323846 / 180.0, c = std::cos(a), s = std::sin(a);
+  return {d.x * c + d.z * s, d.y, -d.x * s + d.z * c};
+}
 
 // One layout and method on one frame: the visibility, and (runs > 0) the median wall time of
 // prefilter + reconstruct with every input resident on the device, after one untimed run (program
@@ -246,16 +264,24 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       near_depth = depths.near_depth;
       far_depth = depths.far_depth;
     }
-    const std::vector<scene::PerspectiveCamera> cameras = scene::camera_path(setup.camera, path, far_depth);
+    const bool light_moves = r.light_step_degrees != 0.0;
+    if (light_moves) path.frames = 1;  // the camera stands still
+    std::vector<scene::PerspectiveCamera> cameras = scene::camera_path(setup.camera, path, far_depth);
+    cameras.resize(r.frames, cameras.front());
     const std::vector<WorldBox> boxes = scene::geometry_boxes(setup.geometry);
-    const Point3 light_dir = scene::to_point(setup.light.forward);
-    const scene::SceneRenderer renderer(setup);
+    auto renderer = std::make_unique<scene::SceneRenderer>(setup);
 
     std::map<std::string, Accumulator> acc;  // key: config label + method
     std::vector<Previous> previous(configs.size());
     for (int frame = 0; frame < r.frames; ++frame) {
       const auto t_view = Clock::now();
-      const scene::CameraImages camera = renderer.camera_view(cameras[frame], r.soft_samples > 0);
+      if (light_moves && frame > 0) {
+        setup.light = scene::LightView::fit_ortho(
+            setup.geometry, turned_about_up(defaults.light_direction, frame * r.light_step_degrees), 0.01);
+        renderer = std::make_unique<scene::SceneRenderer>(setup);
+      }
+      const Point3 light_dir = scene::to_point(setup.light.forward);
+      const scene::CameraImages camera = renderer->camera_view(cameras[frame], r.soft_samples > 0);
       const ViewReceivers view = scene::view_receivers(camera.view);
       say(scene_name + " frame " + std::to_string(frame) + ": camera view and references in " +
           detail::fmt(ms_since(t_view) / 1000.0, 3) + " s");
@@ -275,7 +301,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       // view depths in the previous frame's camera (only the depth buffer differs).
       const DeviceReceivers rx = upload_view_receivers(*rt, view);
       DeviceReceivers previous_rx = rx;
-      if (frame > 0) {
+      if (frame > 0 && !light_moves) {
         const CameraFrustum before = scene::camera_frustum(cameras[frame - 1], near_depth, far_depth);
         std::vector<float> depth(n);
         for (size_t i = 0; i < n; ++i)
@@ -297,7 +323,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
         lo.stabilize = config.stabilize;
         lo.blend = r.blend;
         const CascadeSet set = fit_layout(lo, frustum, light_dir, boxes);
-        const std::vector<HostImage> maps = scene::render_layers(renderer.tracer(), set, r.threads, false);
+        const std::vector<HostImage> maps = scene::render_layers(renderer->tracer(), set, r.threads, false);
 
         // Texels per pixel in the layer that serves each receiver (every 4th pixel: a quantile
         // needs no more).
@@ -361,7 +387,19 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           row.texels_p50 += texels_p50;
           row.texels_p90 += texels_p90;
           row.texels_near_p50 += texels_near_p50;
-          if (previous[c].valid) {
+          if (light_moves) {
+            // One world point a pixel: the change of the error there between frames (the
+            // reference moves with the light; what moves otherwise is the method's).
+            const std::vector<float>& ref = o.soft && !soft.empty() ? soft : hard;
+            std::vector<float> error(n, NAN);
+            for (size_t i = 0; i < n; ++i)
+              if (mask[i]) error[i] = timed.visibility[i] - ref[i];
+            if (!a.last_error.empty()) {
+              a.flicker_sum += mean_error_change(error, a.last_error);
+              ++a.flicker_pairs;
+            }
+            a.last_error = std::move(error);
+          } else if (previous[c].valid) {
             // The same world points (this frame's receivers) through last frame's layers, each
             // picking its layer by its view depth in last frame's camera: what the previous frame
             // showed there. On a static scene the reference does not change at a world point, so
@@ -459,7 +497,7 @@ void write_layout_plot(const std::string& path, const std::vector<LayoutRow>& ro
   };
   const Panel panels[2] = {{"mismatched pixels against reference_hard, nearest 10% of the view (%)",
                             [](const LayoutRow& w) { return 100.0 * w.mismatch_near; }},
-                           {"flicker: mean |v(t) - v(t-1)| at the same world points (x 1e-3)",
+                           {"flicker: mean |e(t) - e(t-1)|, e = v - reference, at the same world points (x 1e-3)",
                             [](const LayoutRow& w) { return w.flicker < 0 ? 0.0 : 1000.0 * w.flicker; }}};
   for (int p = 0; p < 2; ++p) {
     const int x0 = L + p * (panel_w + gap), x1 = x0 + panel_w, y0 = T, y1 = H - B;

@@ -47,6 +47,11 @@ struct LayoutEvalRequest {
   // frames per second: half a texel of a 2048 cascade over city's first 100 m, so a texel grid
   // that follows the camera crawls every frame, and few receivers change layers.
   double walk_step = 0.05, orbit_step_degrees = 0.05;
+  // A moving light: its direction turns this many degrees per frame about the world's up axis (y),
+  // keeping its elevation, as a sun over a day; the camera then stands still at frame 0's place
+  // (walk_step and orbit_step_degrees are not used), so a pixel is one world point in every frame.
+  // 0: the light stays.
+  double light_step_degrees = 0.0;
   int receivers_width = 1920, receivers_height = 1080;
   int soft_samples = 16;  // 0: no soft reference (its RMSE column is empty)
   double split_lambda = LayoutOptions{}.split_lambda;
@@ -72,8 +77,11 @@ struct LayoutRow {
   // the frame's receivers and over the nearest 10%: quantiles; < 1 is a texel larger than a pixel
   // (perspective aliasing).
   double texels_p10 = 0, texels_p50 = 0, texels_p90 = 0, texels_near_p50 = 0;
-  double flicker = -1;  // mean |v_t - v_{t-1}| at frame t's receivers (-1: one frame)
-  double time_ms = 0;   // per frame: layers' transform, blur, pyramids, reconstruction, blend
+  // Flicker: mean |e_t - e_{t-1}| over frame pairs at the same world points, e = v - reference (the
+  // soft reference for the soft methods when there is one, else the hard one); -1: one frame.
+  // Under a still light the reference at a world point does not change, so it is |v_t - v_{t-1}|.
+  double flicker = -1;
+  double time_ms = 0;  // per frame: layers' transform, blur, pyramids, reconstruction, blend
   double prefilter_ms = 0, reconstruct_ms = 0;
 };
 

@@ -209,6 +209,9 @@ std::map<std::string, std::string> layer_attributes(const SceneSetup& setup, con
   a["light_right"] = json_vector(light.right);
   a["light_down"] = json_vector(light.down);
   add_light_sides(a, setup);
+  // The area light's plane as a world depth along the light's axis (the single map's near plane,
+  // where the scene's ray-traced soft reference puts the light): soft --cascades reads it.
+  a["light_plane"] = format_number(light.near_plane);
   a["depth"] = "linear: d = M2 . (x, y, z, 1) of shadowfilter:world_to_map";
   // Row r of the matrix is (axis / length, -lo / length) for the range [lo, lo + length] along
   // the axis (cascade_layout.cpp); d's row gives near/far for every layout, u's and v's the

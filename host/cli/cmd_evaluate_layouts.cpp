@@ -67,12 +67,11 @@ CLI::App* add_evaluate_layouts_command(CLI::App& app, EvaluateLayoutsArgs& a) {
   c->add_option("--orbit-step", a.request.orbit_step_degrees, "Orbit: degrees per frame")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 360.0));
-  auto* light_step =
-      c->add_option("--light-step", a.request.light_step_degrees,
-                    "A moving light: degrees its direction turns per frame about the up axis (a sun over a day); "
-                    "the camera then stands still")
-          ->check(CLI::Range(-360.0, 360.0));
-  light_step->excludes("--step")->excludes("--orbit-step")->excludes("--camera-path");
+  c->add_option("--light-step", a.request.light_step_degrees,
+                "A moving light: degrees its direction turns per frame about the up axis (a sun over a day); "
+                "with --step 0 the camera stands still")
+      ->capture_default_str()
+      ->check(CLI::Range(-360.0, 360.0));
   c->add_option("--receivers", a.receivers, "Camera view WIDTHxHEIGHT")->capture_default_str();
   c->add_option("--samples", a.request.soft_samples, "Area-light samples of the soft reference (a square; 0 = none)")
       ->capture_default_str();

@@ -56,17 +56,16 @@ struct Accumulator {
   double flicker_sum = 0;
   int flicker_pairs = 0;
   std::vector<double> times, prefilter, reconstruct;
-  // Under a moving light: last frame's error v - reference per pixel (NaN outside its mask).
-  std::vector<float> last_error;
 };
 
-// Mean |e_t - e_{t-1}| over the pixels both frames count (e: NaN where a frame does not count
-// the pixel); 0 when there are none.
-double mean_error_change(const std::vector<float>& now, const std::vector<float>& before) {
+// Mean |(v - ref) - (v_last - ref_last)| over mask: the change of the error at each point
+// (0 when the mask is empty).
+double mean_error_change(const std::vector<float>& v, const std::vector<float>& ref, const std::vector<float>& v_last,
+                         const std::vector<float>& ref_last, const std::vector<uint8_t>& mask) {
   double sum = 0;
   size_t n = 0;
-  for (size_t i = 0; i < now.size() && i < before.size(); ++i)
-    if (std::isfinite(now[i]) && std::isfinite(before[i])) sum += std::abs(double(now[i]) - before[i]), ++n;
+  for (size_t i = 0; i < v.size(); ++i)
+    if (mask[i]) sum += std::abs((double(v[i]) - ref[i]) - (double(v_last[i]) - ref_last[i])), ++n;
   return n ? sum / n : 0.0;
 }
 
@@ -154,6 +153,7 @@ struct Previous {
   bool valid = false;
   CascadeSet set;
   std::vector<HostImage> maps;
+  double light_plane = 0.0;  // the soft methods' light (LayeredMethod::light_plane)
 };
 
 }  // namespace
@@ -265,24 +265,40 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       far_depth = depths.far_depth;
     }
     const bool light_moves = r.light_step_degrees != 0.0;
-    if (light_moves) path.frames = 1;  // the camera stands still
-    std::vector<scene::PerspectiveCamera> cameras = scene::camera_path(setup.camera, path, far_depth);
-    cameras.resize(r.frames, cameras.front());
+    const bool camera_moves = (path.kind == scene::CameraPathKind::Orbit ? r.orbit_step_degrees : r.walk_step) != 0.0;
+    const std::vector<scene::PerspectiveCamera> cameras = scene::camera_path(setup.camera, path, far_depth);
     const std::vector<WorldBox> boxes = scene::geometry_boxes(setup.geometry);
-    auto renderer = std::make_unique<scene::SceneRenderer>(setup);
+    // Under a moving light, this frame's light and the last one's (a renderer keeps a reference
+    // to its setup, so each has its own).
+    auto frame_setup = std::make_unique<scene::SceneSetup>(setup);
+    auto renderer = std::make_unique<scene::SceneRenderer>(*frame_setup);
+    std::unique_ptr<scene::SceneSetup> last_setup;
+    std::unique_ptr<scene::SceneRenderer> last_renderer;
+    scene::CameraImages last_camera;
 
     std::map<std::string, Accumulator> acc;  // key: config label + method
     std::vector<Previous> previous(configs.size());
     for (int frame = 0; frame < r.frames; ++frame) {
       const auto t_view = Clock::now();
       if (light_moves && frame > 0) {
-        setup.light = scene::LightView::fit_ortho(
+        last_setup = std::move(frame_setup);
+        last_renderer = std::move(renderer);
+        frame_setup = std::make_unique<scene::SceneSetup>(setup);
+        frame_setup->light = scene::LightView::fit_ortho(
             setup.geometry, turned_about_up(defaults.light_direction, frame * r.light_step_degrees), 0.01);
-        renderer = std::make_unique<scene::SceneRenderer>(setup);
+        renderer = std::make_unique<scene::SceneRenderer>(*frame_setup);
       }
-      const Point3 light_dir = scene::to_point(setup.light.forward);
-      const scene::CameraImages camera = renderer->camera_view(cameras[frame], r.soft_samples > 0);
+      const scene::SceneSetup& lit = *frame_setup;  // this frame's light
+      const Point3 light_dir = scene::to_point(lit.light.forward);
+      scene::CameraImages camera = renderer->camera_view(cameras[frame], r.soft_samples > 0);
       const ViewReceivers view = scene::view_receivers(camera.view);
+      // The references at this frame's world points under the last frame's light (the flicker's
+      // last error): the same images when the light stays; the last frame's own when only the
+      // light moves (a pixel is one world point); traced again when both move.
+      scene::CameraImages last_light;
+      if (frame > 0 && light_moves)
+        last_light = camera_moves ? last_renderer->references_at(view, cameras[frame].position, r.soft_samples > 0)
+                                  : std::move(last_camera);
       say(scene_name + " frame " + std::to_string(frame) + ": camera view and references in " +
           detail::fmt(ms_since(t_view) / 1000.0, 3) + " s");
       const size_t n = view.count();
@@ -301,7 +317,7 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       // view depths in the previous frame's camera (only the depth buffer differs).
       const DeviceReceivers rx = upload_view_receivers(*rt, view);
       DeviceReceivers previous_rx = rx;
-      if (frame > 0 && !light_moves) {
+      if (frame > 0) {
         const CameraFrustum before = scene::camera_frustum(cameras[frame - 1], near_depth, far_depth);
         std::vector<float> depth(n);
         for (size_t i = 0; i < n; ++i)
@@ -347,10 +363,10 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           if (is_soft(method)) {
             SoftOptions so;
             so.method = find_soft_method(method);
-            so.light.size = setup.light_size;
-            so.light.height = setup.light_height;
+            so.light.size = lit.light_size;
+            so.light.height = lit.light_height;
             o.soft = so;
-            o.light_plane = setup.light.near_plane;  // where `scene` puts the area light
+            o.light_plane = lit.light.near_plane;  // where `scene` puts the area light
             if (!unwarped(set)) {
               say(scene_name + " frame " + std::to_string(frame) + ": " + config.label() + " " + method +
                   " skipped: the soft methods need orthographic layers");
@@ -387,31 +403,30 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
           row.texels_p50 += texels_p50;
           row.texels_p90 += texels_p90;
           row.texels_near_p50 += texels_near_p50;
-          if (light_moves) {
-            // One world point a pixel: the change of the error there between frames (the
-            // reference moves with the light; what moves otherwise is the method's).
-            const std::vector<float>& ref = o.soft && !soft.empty() ? soft : hard;
-            std::vector<float> error(n, NAN);
-            for (size_t i = 0; i < n; ++i)
-              if (mask[i]) error[i] = timed.visibility[i] - ref[i];
-            if (!a.last_error.empty()) {
-              a.flicker_sum += mean_error_change(error, a.last_error);
-              ++a.flicker_pairs;
+          if (previous[c].valid) {
+            // The same world points (this frame's receivers) through last frame's layers and
+            // light, each picking its layer by its view depth in last frame's camera: what the
+            // previous frame showed there. On a static scene under a still light the reference
+            // does not change at a world point, so every difference is the layout's (texels
+            // moving, receivers changing layers); under a moving light the error's change is.
+            LayeredMethod last = o;
+            last.light_plane = previous[c].light_plane;
+            const LayeredTiming before = time_layered(rt, last, previous[c].set, previous[c].maps, previous_rx, 0);
+            if (!light_moves) {
+              a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
+            } else {
+              const bool against_soft = o.soft && !soft.empty();
+              a.flicker_sum += mean_error_change(
+                  timed.visibility, against_soft ? soft : hard, before.visibility,
+                  against_soft ? last_light.reference_soft.data : last_light.reference_hard.data, mask);
             }
-            a.last_error = std::move(error);
-          } else if (previous[c].valid) {
-            // The same world points (this frame's receivers) through last frame's layers, each
-            // picking its layer by its view depth in last frame's camera: what the previous frame
-            // showed there. On a static scene the reference does not change at a world point, so
-            // every difference is the layout's (texels moving, receivers changing layers).
-            const LayeredTiming before = time_layered(rt, o, previous[c].set, previous[c].maps, previous_rx, 0);
-            a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
             ++a.flicker_pairs;
           }
         }
-        previous[c] = {true, set, maps};
+        previous[c] = {true, set, maps, lit.light.near_plane};
         say(scene_name + " frame " + std::to_string(frame) + ": " + config.label() + " done");
       }
+      if (light_moves && !camera_moves) last_camera = std::move(camera);
     }
     for (const LayoutConfig& config : configs) {
       for (const std::string& method : r.methods) {

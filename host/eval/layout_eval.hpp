@@ -48,9 +48,8 @@ struct LayoutEvalRequest {
   // that follows the camera crawls every frame, and few receivers change layers.
   double walk_step = 0.05, orbit_step_degrees = 0.05;
   // A moving light: its direction turns this many degrees per frame about the world's up axis (y),
-  // keeping its elevation, as a sun over a day; the camera then stands still at frame 0's place
-  // (walk_step and orbit_step_degrees are not used), so a pixel is one world point in every frame.
-  // 0: the light stays.
+  // keeping its elevation, as a sun over a day; the camera follows its path as without it (a step
+  // of 0 keeps it still). 0: the light stays.
   double light_step_degrees = 0.0;
   int receivers_width = 1920, receivers_height = 1080;
   int soft_samples = 16;  // 0: no soft reference (its RMSE column is empty)

@@ -32,6 +32,13 @@ uint64_t splitmix64(uint64_t& state) {
 // Uniform in [0, 1) from the top 53 bits.
 double uniform(uint64_t& state) { return double(splitmix64(state) >> 11) * 0x1.0p-53; }
 
+// The soft reference's sample stream of pixel (x, y): the same in camera_view and references_at,
+// so both trace one pixel with the same light samples.
+uint64_t pixel_stream(unsigned seed, int x, int y) {
+  uint64_t mix = (uint64_t(seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);
+  return splitmix64(mix);
+}
+
 }  // namespace
 
 SceneRenderer::SceneRenderer(const SceneSetup& setup) : setup_(setup), tracer_(setup.geometry) {
@@ -216,9 +223,35 @@ CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool wi
       for (int c = 0; c < 11; ++c) out.view.at(x, y, c) = float(view_values[c]);
       out.reference_hard.at(x, y) = lit_hard(point, hit->normal) ? 1.0f : 0.0f;
       if (with_soft) {
-        const uint64_t stream = (uint64_t(setup_.seed) << 40) ^ (uint64_t(y) << 20) ^ uint64_t(x);
-        uint64_t mix = stream;
-        out.reference_soft.at(x, y) = float(visible_fraction(point, hit->normal, splitmix64(mix)));
+        out.reference_soft.at(x, y) = float(visible_fraction(point, hit->normal, pixel_stream(setup_.seed, x, y)));
+      }
+    }
+  });
+  return out;
+}
+
+CameraImages SceneRenderer::references_at(const ViewReceivers& view, Vec3 camera_position, bool with_soft) const {
+  const int w = view.width, h = view.height;
+  CameraImages out;
+  out.reference_hard = HostImage(w, h, 1, 1.0f);
+  out.reference_hard.channel_names = {"Y"};
+  if (with_soft) {
+    out.reference_soft = HostImage(w, h, 1, 1.0f);
+    out.reference_soft.channel_names = {"Y"};
+  }
+  for_each_row("references at points", h, w, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!std::isfinite(view.x[i]) || !std::isfinite(view.depth[i])) continue;
+      const Vec3 point{view.x[i], view.y[i], view.z[i]};
+      Vec3 normal = cross(Vec3{view.dxx[i], view.dxy[i], view.dxz[i]}, Vec3{view.dyx[i], view.dyy[i], view.dyz[i]});
+      const double n = length(normal);
+      if (!(n > 0.0)) continue;
+      normal = (1.0 / n) * normal;
+      if (dot(normal, camera_position - point) < 0.0) normal = -1.0 * normal;
+      out.reference_hard.at(x, y) = lit_hard(point, normal) ? 1.0f : 0.0f;
+      if (with_soft) {
+        out.reference_soft.at(x, y) = float(visible_fraction(point, normal, pixel_stream(setup_.seed, x, y)));
       }
     }
   });

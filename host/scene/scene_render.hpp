@@ -52,6 +52,13 @@ class SceneRenderer {
   // The same for another camera (a frame of a camera path): the scene, light and map stay.
   CameraImages camera_view(const PerspectiveCamera& camera, bool with_soft) const;
 
+  // The hard and (when with_soft) soft references at the world points of a camera view
+  // (ViewReceivers: P, the normal across its pixel offsets dPdx x dPdy, turned to face
+  // `camera_position`), traced under this renderer's light with pixel (x, y)'s sample stream:
+  // what camera_view gives at those points under this light, up to P's float rounding. Images
+  // of the view's size (1 on background), as camera_view's.
+  CameraImages references_at(const ViewReceivers& view, Vec3 camera_position, bool with_soft) const;
+
   // Single-point queries (for tests): lit by the point light / fraction of the area light seen.
   bool lit_hard(Vec3 point, Vec3 normal) const;
   // Cosine between the (camera-facing) normal and the direction to the light; <= 0 faces away.

@@ -131,6 +131,46 @@ TEST(SceneLayers, ViewMatchesReceiversAndLayersLoadBack) {
   EXPECT_NE(slurp(out + "/scene.json").find("\"world_to_map\""), std::string::npos);
 }
 
+// references_at, given a camera view's own points, traces what camera_view traced there: the
+// hard reference the same but where P's float rounding crosses an edge, the soft one with the
+// same light samples; under another light, other shadows.
+TEST(SceneLayers, ReferencesAtTheViewsPointsAreTheViews) {
+  SceneRequest request = tiny_request("city");
+  request.samples = 16;
+  SceneDefaults defaults;
+  SceneSetup setup = make_setup(request, &defaults);
+  setup.progress = false;
+  const SceneRenderer renderer(setup);
+  const CameraImages camera = renderer.camera_view(true);
+  const ViewReceivers view = view_receivers(camera.view);
+  const CameraImages again = renderer.references_at(view, setup.camera.position, true);
+  size_t hits = 0, hard_differ = 0, shadowed = 0;
+  double soft_diff = 0;
+  for (size_t i = 0; i < view.count(); ++i) {
+    if (!std::isfinite(view.depth[i])) {
+      EXPECT_EQ(again.reference_hard.data[i], 1.0f);
+      continue;
+    }
+    ++hits;
+    shadowed += camera.reference_hard.data[i] == 0.0f;
+    hard_differ += again.reference_hard.data[i] != camera.reference_hard.data[i];
+    soft_diff += std::abs(again.reference_soft.data[i] - camera.reference_soft.data[i]);
+  }
+  std::printf("  %zu hits, %zu shadowed: %zu hard references differ, soft mean |diff| %.5f\n", hits, shadowed,
+              hard_differ, soft_diff / hits);
+  EXPECT_GT(hits, 1000u);
+  EXPECT_GT(shadowed, hits / 50);
+  EXPECT_LE(hard_differ, hits / 200);
+  EXPECT_LT(soft_diff / hits, 0.005);
+  SceneSetup turned = setup;
+  turned.light = LightView::fit_ortho(setup.geometry, Vec3{0.8, -0.5, -0.3}, 0.01);
+  const CameraImages other = SceneRenderer(turned).references_at(view, setup.camera.position, false);
+  size_t moved = 0;
+  for (size_t i = 0; i < view.count(); ++i)
+    moved += std::isfinite(view.depth[i]) && other.reference_hard.data[i] != camera.reference_hard.data[i];
+  EXPECT_GT(moved, hits / 20) << "another light casts other shadows";
+}
+
 // A `single` layer fitted without stabilisation is an orthographic map: the scene renderer's own
 // shadow map, given the layer's light box (from its matrix rows), ray-traces the same depths at
 // the same texels. Any thread count gives the same layer.

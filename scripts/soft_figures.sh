@@ -62,7 +62,8 @@ export SHADOWFILTER_CACHE_DIR=$B/test_cache
 SF_SOFT_SCENES="$rects" "$B/tests/sf_measure" --gtest_filter='SoftFigures.RectangularLights' | grep '^|'
 SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" \
   --gtest_filter='SoftFigures.QualityAndTime' | grep '^|'
-SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" --gtest_filter='SoftFigures.SsmmSweep:SoftFigures.CssmStorage' | grep '^|'
+SF_SOFT_SCENES="$dirs" "$B/tests/sf_measure" \
+  --gtest_filter='SoftFigures.SsmmSweep:SoftFigures.CssmStorage:SoftFigures.CssmStorageMix' | grep '^|'
 SF_SOFT_SCENES="$OUT/spheres-L0.2" "$B/tests/sf_measure" \
   --gtest_filter='SoftFigures.CostAgainstLightSize:SoftFigures.LightCount' | grep '^|'
 here=$(cd "$(dirname "$0")/.." && pwd)

@@ -3,6 +3,7 @@
 #include "receiver_plane.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 
 namespace sf::ref {
@@ -198,6 +199,19 @@ LookupRef::LookupRef(const Planes& filtered, Lookup kind, Storage storage) : kin
     for (size_t k = 1; k < chain_.size(); ++k) quantise(chain_[k], storage);
   } else {
     chain_.push_back(filtered);
+  }
+}
+
+LookupRef::LookupRef(const Planes& filtered, Lookup kind, const std::vector<Storage>& plane_storage)
+    : LookupRef(filtered, kind, Storage::F32) {
+  if (plane_storage.size() != size_t(filtered.channels))
+    throw std::invalid_argument("LookupRef: one storage per plane");
+  for (size_t k = 1; k < chain_.size(); ++k) {
+    Planes& level = chain_[k];
+    const size_t plane = size_t(level.width) * level.height;
+    for (int c = 0; c < level.channels; ++c)
+      for (size_t i = 0; i < plane; ++i)
+        level.data[c * plane + i] = quantise(level.data[c * plane + i], plane_storage[c]);
   }
 }
 

@@ -33,6 +33,9 @@ double box_mean(const Planes& img, int c, double u, double v, double fx, double 
 class LookupRef {
  public:
   LookupRef(const Planes& filtered, Lookup kind, Storage storage = Storage::F32);
+  // The same with a storage per plane (plane_storage[c] for plane c, one per channel): each mip
+  // level's plane c is rounded as a pyramid stored in plane_storage[c] holds it.
+  LookupRef(const Planes& filtered, Lookup kind, const std::vector<Storage>& plane_storage);
   double value(int c, double u, double v, double f) const;
   // Area-weighted mean over fx x fy texels of level 0 (box_mean; a rectangle through a SAT).
   double box(int c, double u, double v, double fx, double fy) const;

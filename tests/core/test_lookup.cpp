@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <stdexcept>
 
 #include "image_io.hpp"
 #include "lookups.hpp"
@@ -106,6 +108,33 @@ INSTANTIATE_TEST_SUITE_P(
                       std::make_tuple(Lookup::Mips, 300, 131, 1), std::make_tuple(Lookup::Sat, 1, 1, 1),
                       std::make_tuple(Lookup::Sat, 37, 21, 3), std::make_tuple(Lookup::Sat, 300, 131, 1),
                       std::make_tuple(Lookup::Bilinear, 37, 21, 2)));
+
+// A storage per plane (the reference of a basis whose planes are stored in different widths):
+// one storage for every plane is the one-storage lookup exactly; unorm8 on plane 0 alone rounds
+// plane 0's mip levels to 1/255 steps (within half a step of float32's, and not all equal to
+// them) and leaves plane 1 as float32's.
+TEST(Lookups, AStoragePerPlaneRoundsEachPlaneAsStored) {
+  ref::Planes img(64, 48, 2);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> dist(0.0, 1.0);
+  for (auto& v : img.data) v = dist(rng);
+  const Rx rx = random_rx(300, 11);
+  const ref::LookupRef one(img, Lookup::Mips, Storage::Unorm16);
+  const ref::LookupRef each(img, Lookup::Mips, std::vector<Storage>{Storage::Unorm16, Storage::Unorm16});
+  const ref::LookupRef f32(img, Lookup::Mips, Storage::F32);
+  const ref::LookupRef mixed(img, Lookup::Mips, std::vector<Storage>{Storage::Unorm8, Storage::F32});
+  size_t moved = 0;
+  for (size_t i = 0; i < rx.u.size(); ++i) {
+    const double u = rx.u[i], v = rx.v[i], f = rx.f[i] + 2.0;  // f >= 2: reads level 1 and up
+    for (int c = 0; c < 2; ++c) EXPECT_EQ(each.value(c, u, v, f), one.value(c, u, v, f));
+    EXPECT_EQ(mixed.value(1, u, v, f), f32.value(1, u, v, f));
+    const double diff = std::abs(mixed.value(0, u, v, f) - f32.value(0, u, v, f));
+    EXPECT_LE(diff, 0.5 / 255.0 + 1e-7);
+    moved += diff > 1e-6;
+  }
+  EXPECT_GT(moved, rx.u.size() / 2);
+  EXPECT_THROW(ref::LookupRef(img, Lookup::Mips, std::vector<Storage>{Storage::F32}), std::invalid_argument);
+}
 
 class StepBasis : public ::testing::TestWithParam<std::tuple<Lookup, int>> {};
 

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "image_io.hpp"
+#include "lookups.hpp"
 #include "scene_light.hpp"
+#include "soft_reference.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/soft.hpp"
@@ -343,6 +345,65 @@ TEST(SoftFigures, CssmStorage) {
       }
       std::printf("| %d | %s | %.4f | %.3f | %.4f | %.3f | %.1f | %.1f |\n", M, storage_name(st), mr, mp,
                   std::sqrt(sd / nd), maxd, bytes / 1048576.0, ms);
+      std::fflush(stdout);
+    }
+  }
+}
+
+// The seed's mix (Annen 2008 sec. 8.4: the 2M CSM planes in 8 bits, the CSM-Z planes and the
+// constant in 16), measured through the double reference (soft_cssm over a LookupRef whose mip
+// levels round each plane as its storage holds it) beside every plane in unorm16 and in unorm8,
+// each against the reference's float32 visibility (RMSE, largest |difference|) and against the
+// ray-traced reference (mean RMSE over the scenes); mips, M = 4 and 16 (SF_CSSM_ORDERS).
+TEST(SoftFigures, CssmStorageMix) {
+  const auto [scenes, dev] = load_scenes();
+  ASSERT_FALSE(scenes.empty());
+  const std::vector<int> orders = int_list("SF_CSSM_ORDERS", "4 16");
+  std::printf(
+      "| M | storage (double reference) | mean RMSE | RMSE against f32 | max abs diff against f32 |\n"
+      "|---|---|---|---|---|\n");
+  for (const int M : orders) {
+    std::vector<std::vector<double>> f32(scenes.size());
+    for (const char* variant : {"f32", "unorm16", "unorm8", "unorm8 CSM + unorm16 CSM-Z"}) {
+      const std::string name = variant;
+      double mean_rmse = 0, sd = 0, maxd = 0;
+      size_t nd = 0;
+      for (size_t k = 0; k < scenes.size(); ++k) {
+        const Scene& sc = scenes[k];
+        SoftOptions o;
+        o.method = SoftMethod::Cssm;
+        o.cssm.order = M;
+        o.cssm.lookup = Lookup::Mips;
+        o.cssm.storage = name == "f32" ? Storage::F32 : Storage::Unorm16;  // unorm: every plane decoded 2 x - 1
+        o.light = sc.light;
+        std::vector<Storage> per_plane(4 * M + 1, Storage::Unorm16);
+        ref::Planes basis = ref::cssm_basis(sc.depth, M, o.cssm.storage);
+        if (name == "unorm8" || name.rfind("unorm8 CSM", 0) == 0) {
+          const ref::Planes eight = ref::cssm_basis(sc.depth, M, Storage::Unorm8);
+          const int narrow = name == "unorm8" ? 4 * M + 1 : 2 * M;  // planes stored in 8 bits
+          const size_t plane = size_t(basis.width) * basis.height;
+          std::copy(eight.data.begin(), eight.data.begin() + narrow * plane, basis.data.begin());
+          std::fill(per_plane.begin(), per_plane.begin() + narrow, Storage::Unorm8);
+        }
+        if (name == "f32") std::fill(per_plane.begin(), per_plane.end(), Storage::F32);
+        const ref::LookupRef lookup(basis, Lookup::Mips, per_plane);
+        std::vector<float> vis(sc.rx.count(), 1.0f);
+        for (size_t i = 0; i < vis.size(); ++i) {
+          if (!std::isfinite(sc.rx.d[i])) continue;
+          vis[i] = float(ref::soft_cssm(lookup, sc.depth.width, sc.depth.height, o, sc.rx.u[i], sc.rx.v[i], sc.rx.d[i],
+                                        sc.rx.has_footprint ? sc.rx.f[i] : 1.0));
+        }
+        if (name == "f32") f32[k].assign(vis.begin(), vis.end());
+        mean_rmse += errors(sc, vis).rmse / scenes.size();
+        for (size_t i = 0; i < vis.size(); ++i) {
+          if (!std::isfinite(sc.rx.d[i])) continue;
+          const double y = vis[i] - f32[k][i];
+          sd += y * y;
+          maxd = std::max(maxd, std::abs(y));
+          ++nd;
+        }
+      }
+      std::printf("| %d | %s | %.4f | %.4f | %.3f |\n", M, variant, mean_rmse, std::sqrt(sd / nd), maxd);
       std::fflush(stdout);
     }
   }

@@ -3,6 +3,7 @@
 // receivers. The light keeps its world size and plane in every layer; its sides and plane come
 // from the command line or layer 0's header (layered_light_from_header).
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -50,6 +51,28 @@ void refuse_single_map_options(const SoftArgs& a) {
   if (a.output.empty()) throw InputError("give -o/--output");
 }
 
+// The soft model has no receiver before the light (SoftLight::light_distance: such receivers read
+// as outside it, a clamp): a --light-plane beyond some of the view's points is refused. Layers
+// may start before the light (a stabilised layer's box reaches past the scene), receivers may not.
+void refuse_receivers_before_the_light(const LayeredInputs& in, double plane) {
+  const auto& m = in.layered.set.layers.front().transform.m;
+  const double sd = std::sqrt(m[8] * m[8] + m[9] * m[9] + m[10] * m[10]);
+  const ViewReceivers& v = in.view;
+  size_t before = 0;
+  double nearest = INFINITY;
+  for (size_t i = 0; i < v.count(); ++i) {
+    if (!std::isfinite(v.x[i]) || !std::isfinite(v.depth[i])) continue;
+    const double depth = (m[8] * v.x[i] + m[9] * v.y[i] + m[10] * v.z[i]) / sd;  // along the light's axis
+    nearest = std::min(nearest, depth);
+    before += depth < plane;
+  }
+  if (before)
+    throw InputError(
+        formatted("%zu of the view's receivers lie before the light's plane at depth %.9g (the nearest at "
+                  "%.9g along the light's axis): give a --light-plane before them",
+                  before, plane, nearest));
+}
+
 }  // namespace
 
 int run_soft_layered(const SoftArgs& a) {
@@ -60,6 +83,7 @@ int run_soft_layered(const SoftArgs& a) {
   const LayeredLight light = layered_light_from_header(in.files.front(), a);
   options.light.size = light.size;
   options.light.height = light.height;
+  refuse_receivers_before_the_light(in, light.plane);
   const double load_ms = ms_since(t0);
 
   auto runtime = Runtime::create(a.device);

@@ -128,6 +128,7 @@ TEST_F(SoftCascadesCli, WhatALayeredRunCannotTakeIsRefused) {
   expect_refusal(pcss + " --auto --reference " + path("city/reference_soft.exr"), "--auto");
   expect_refusal(pcss + " --cascade-blend 1", "--cascade-blend must lie in [0, 1)");
   expect_refusal(pcss + " --light-size 0,0,1", "--light-size");
+  expect_refusal(pcss + " --light-plane 1e6", "of the view's receivers lie before the light's plane");
   expect_refusal("--method pcss --cascades " + path("city"), "--cascades needs --view");
   expect_refusal("--method pcss --view " + path("city/view.exr"), "need --cascades");
   expect_refusal("--method pcss --light-plane 3 --shadow-map " + path("city/shadowmap.exr"), "need --cascades");
@@ -149,7 +150,8 @@ TEST_F(SoftCascadesCli, WhatALayeredRunCannotTakeIsRefused) {
   const std::string bare = "--method pcss --cascades " + path("bare") + " --view " + path("city/view.exr");
   expect_refusal(bare, "has no light_size attribute: give --light-size");
   expect_refusal(bare + " --light-size 4", "has no light_plane attribute: give --light-plane");
-  ASSERT_EQ(run_cli("soft -q " + bare + " --light-size 4 --light-plane 0 -o " + path("bare.exr"), dir_).exit_code, 0);
+  ASSERT_EQ(run_cli("soft -q " + bare + " --light-size 4 --light-plane -2000 -o " + path("bare.exr"), dir_).exit_code,
+            0);
   // The output is never an input: the view file stays as it was.
   const std::string before = slurp(path("city/view.exr"));
   const RunResult same = run_cli("soft --method pcss" + in() + " -o " + path("city/view.exr"), dir_);

@@ -49,6 +49,9 @@ CLI::App* add_evaluate_command(CLI::App& app, EvaluateArgs& a) {
       ->capture_default_str()
       ->check(CLI::IsMember({"bilinear", "mips", "sat"}));
   c->add_option("--device", a.device, "OpenCL device (as for filter)");
+  c->add_flag("--frames", a.frames,
+              "The scene directories are consecutive frames seen from one still camera (a moving light): "
+              "flicker per configuration in results_frames.csv, results_frames.md and flicker.png");
   c->add_flag("--no-images", a.no_images, "Write no PNGs");
   c->add_flag("-q,--quiet", a.quiet, "No progress bar and no summary table");
   add_verbose_flag(*c, a.verbose);
@@ -107,6 +110,7 @@ int run_evaluate(const EvaluateArgs& a) {
   q.timing = eval::TimingSettings{a.warmup, a.runs};
   q.sref_bias = a.auto_args.sref_bias;
   q.images = !a.no_images;
+  q.frames = a.frames;
   q.progress = !a.quiet;
   q.describe_refusal = cli_message;
   if (a.auto_args.enabled) {
@@ -128,6 +132,7 @@ int run_evaluate(const EvaluateArgs& a) {
   apply_verbose(*runtime, a.verbose);
   const eval::EvaluationResult r = eval::run_evaluation(q, runtime, std::cerr);
   if (!a.quiet) std::cout << eval::summary_table(r);
+  if (!a.quiet && !r.flicker.empty()) std::cout << eval::flicker_markdown(r.flicker, r.flicker_reference);
   for (const auto& l : r.auto_lines) std::cout << l;
   if (!a.quiet)
     std::cout << "shadowfilter evaluate: " << r.rows.size() << " configurations on " << r.scenes << " scenes, device "

@@ -121,6 +121,7 @@ struct EvaluateArgs {
   std::string target_lookup = "mips";  // bilinear | mips | sat
   int runs = 5, warmup = 1;
   bool quiet = false, no_images = false, verbose = false;
+  bool frames = false;  // --frames: the dirs are consecutive frames (eval::EvaluationRequest::frames)
   AutoArgs auto_args;
   int auto_radius = 3;               // --auto target: Gaussian radius
   std::string auto_lookup = "auto";  // --auto target lookup: auto | bilinear | mips | sat

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 
 #include "output_file.hpp"
@@ -44,6 +45,13 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
   if (!fs::is_directory(q.out_dir)) throw InputError("cannot create output directory '" + q.out_dir + "'");
   std::vector<Scene> scenes;
   for (const auto& d : q.dirs) scenes.push_back(load_scene(d));
+  std::optional<FlickerTracker> flicker;
+  if (q.frames) {
+    if (scenes.size() < 2) throw InputError("--frames needs at least two scene directories, one per frame, in order");
+    FlickerTracker check;  // every frame against the first before anything runs
+    for (const auto& scene : scenes) check.add_frame(scene, {});
+    flicker.emplace();
+  }
 
   EvaluationResult result;
   result.scenes = scenes.size();
@@ -90,6 +98,7 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
       const auto r = choose_auto(runtime, scene, req);
       result.auto_lines.push_back("== " + scene.name + "\n" + describe(r, req.metric));
     }
+    if (flicker) flicker->add_frame(scene, rows);
     for (auto& r : rows) {
       r.visibility.clear();
       r.visibility.shrink_to_fit();
@@ -99,6 +108,16 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
   write_csv((fs::path(q.out_dir) / "results.csv").string(), result.rows, q.target);
   write_json((fs::path(q.out_dir) / "results.json").string(), result.rows, result.skipped, result.device_name,
              q.target);
+  if (flicker) {
+    result.flicker = flicker->rows();
+    result.flicker_reference = flicker->reference();
+    const fs::path out(q.out_dir);
+    write_flicker_csv((out / "results_frames.csv").string(), result.flicker, result.flicker_reference);
+    io::write_text((out / "results_frames.md").string(), "results file",
+                   flicker_markdown(result.flicker, result.flicker_reference));
+    if (q.images)
+      write_flicker_png((out / "flicker.png").string(), result.flicker, result.flicker_reference, int(scenes.size()));
+  }
   if (q.auto_request) {
     std::string text;
     for (const auto& l : result.auto_lines) text += l;

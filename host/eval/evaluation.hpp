@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "evaluate.hpp"
+#include "flicker.hpp"
 
 namespace sf::eval {
 
@@ -31,6 +32,11 @@ struct EvaluationRequest {
   // With a value: per scene the fastest configuration under its bound (choose_auto), written to
   // auto.txt, and make_grid only what each scene needs. Its methods and timing are the request's.
   std::optional<AutoRequest> auto_request;
+  // The directories are consecutive frames from one still camera (flicker.hpp): per
+  // configuration its flicker over the sequence, in results_frames.csv, results_frames.md and
+  // (with images) flicker.png. InputError for fewer than two, or frames that are not one
+  // sequence (FlickerTracker::add_frame), before any configuration runs.
+  bool frames = false;
   // How a refused configuration's reason reads (the CLI names its own flags: cli_message).
   std::function<std::string(const std::string&)> describe_refusal = [](const std::string& m) { return m; };
 };
@@ -41,6 +47,8 @@ struct EvaluationResult {
   std::vector<std::string> auto_lines;  // per scene "== NAME\n" and describe()
   size_t scenes = 0;
   std::string device_name;
+  std::vector<FlickerRow> flicker;  // with frames: per configuration over the sequence
+  std::string flicker_reference;    // "soft" or "hard"
 };
 
 // Runs the request on `runtime` and writes its files; one line per scene whose plot falls back to

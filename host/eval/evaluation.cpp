@@ -48,9 +48,8 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
   std::optional<FlickerTracker> flicker;
   if (q.frames) {
     if (scenes.size() < 2) throw InputError("--frames needs at least two scene directories, one per frame, in order");
-    FlickerTracker check;  // every frame against the first before anything runs
-    for (const auto& scene : scenes) check.add_frame(scene, {});
     flicker.emplace();
+    for (const auto& scene : scenes) flicker->check_frame(scene);  // every frame before anything runs
   }
 
   EvaluationResult result;

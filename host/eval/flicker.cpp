@@ -56,9 +56,9 @@ std::vector<size_t> front_of(const std::vector<FlickerRow>& rows, const std::vec
 
 }  // namespace
 
-void FlickerTracker::add_frame(const Scene& scene, const std::vector<Row>& rows) {
+void FlickerTracker::check_frame(const Scene& scene) {
   const std::string where = "--frames: frame '" + scene.dir + "'";
-  if (frames_ == 0) {
+  if (checked_ == 0) {
     width_ = scene.receivers.width;
     height_ = scene.receivers.height;
     soft_ = !scene.ref_soft.data.empty();
@@ -84,6 +84,11 @@ void FlickerTracker::add_frame(const Scene& scene, const std::vector<Row>& rows)
                          "is measured from one still camera");
     }
   }
+  ++checked_;
+}
+
+void FlickerTracker::add_frame(const Scene& scene, const std::vector<Row>& rows) {
+  if (checked_ == frames_) check_frame(scene);
   const std::vector<float>& ref = soft_ ? scene.ref_soft.data : scene.ref_hard.data;
   const size_t n = scene.receivers.count();
   for (const Row& r : rows) {

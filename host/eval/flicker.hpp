@@ -23,9 +23,13 @@ struct FlickerRow {
 
 class FlickerTracker {
  public:
-  // Adds the next frame's scene and its rows (with their visibility images). InputError when the
-  // frame's receivers differ in size from the first frame's, when both have a view.exr whose
-  // world positions differ (the camera moved), or when it lacks the reference the first chose.
+  // Checks the next frame against the first (the first picks the reference): InputError when its
+  // receivers differ in size from the first frame's, when both have a view.exr whose world
+  // positions differ (the camera moved), or when it lacks the reference the first chose. Every
+  // frame may be checked up front, before any row exists.
+  void check_frame(const Scene& scene);
+  // Adds the next frame's scene and its rows (with their visibility images), checking the frame
+  // first unless check_frame already did.
   void add_frame(const Scene& scene, const std::vector<Row>& rows);
   std::vector<FlickerRow> rows() const;  // in the first frame's order of configurations
   const char* reference() const { return soft_ ? "soft" : "hard"; }
@@ -39,7 +43,8 @@ class FlickerTracker {
     int pairs = 0;
     std::vector<double> times;
   };
-  int frames_ = 0;
+  int frames_ = 0;   // frames added
+  int checked_ = 0;  // frames checked
   bool soft_ = false;
   std::string first_dir_;
   int width_ = 0, height_ = 0;

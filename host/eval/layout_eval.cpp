@@ -293,8 +293,9 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
       scene::CameraImages camera = renderer->camera_view(cameras[frame], r.soft_samples > 0);
       const ViewReceivers view = scene::view_receivers(camera.view);
       // The references at this frame's world points under the last frame's light (the flicker's
-      // last error): the same images when the light stays; the last frame's own when only the
-      // light moves (a pixel is one world point); traced again when both move.
+      // last error), when the light moves: the last frame's own when only the light moves (a
+      // pixel is one world point), traced again when the camera moves too. A still light's are
+      // this frame's (the scene is static).
       scene::CameraImages last_light;
       if (frame > 0 && light_moves)
         last_light = camera_moves ? last_renderer->references_at(view, cameras[frame].position, r.soft_samples > 0)
@@ -412,14 +413,12 @@ std::vector<LayoutRow> evaluate_layouts(const std::shared_ptr<Runtime>& rt, cons
             LayeredMethod last = o;
             last.light_plane = previous[c].light_plane;
             const LayeredTiming before = time_layered(rt, last, previous[c].set, previous[c].maps, previous_rx, 0);
-            if (!light_moves) {
-              a.flicker_sum += mean_abs_difference(timed.visibility, before.visibility, mask);
-            } else {
-              const bool against_soft = o.soft && !soft.empty();
-              a.flicker_sum += mean_error_change(
-                  timed.visibility, against_soft ? soft : hard, before.visibility,
-                  against_soft ? last_light.reference_soft.data : last_light.reference_hard.data, mask);
-            }
+            const bool against_soft = o.soft && !soft.empty();
+            const std::vector<float>& ref = against_soft ? soft : hard;
+            const std::vector<float>& ref_last = !light_moves   ? ref
+                                                 : against_soft ? last_light.reference_soft.data
+                                                                : last_light.reference_hard.data;
+            a.flicker_sum += mean_error_change(timed.visibility, ref, before.visibility, ref_last, mask);
             ++a.flicker_pairs;
           }
         }

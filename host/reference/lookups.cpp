@@ -3,8 +3,8 @@
 #include "receiver_plane.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 #include <cmath>
+#include <stdexcept>
 
 namespace sf::ref {
 namespace {

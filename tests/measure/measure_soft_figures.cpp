@@ -152,6 +152,23 @@ Errors errors(const Scene& s, const std::vector<float>& vis) {
   return r;
 }
 
+// A visibility against a baseline one (float32's) over the scene's non-background receivers,
+// summed over scenes: the RMS and the largest |difference|.
+struct Difference {
+  double sum_sq = 0, max = 0;
+  size_t n = 0;
+  void add(const Scene& s, const std::vector<float>& vis, const std::vector<float>& base) {
+    for (size_t i = 0; i < vis.size(); ++i) {
+      if (!std::isfinite(s.rx.d[i])) continue;
+      const double y = double(vis[i]) - base[i];
+      sum_sq += y * y;
+      max = std::max(max, std::abs(y));
+      ++n;
+    }
+  }
+  double rms() const { return std::sqrt(sum_sq / n); }
+};
+
 TEST(SoftFigures, QualityAndTime) {
   std::printf("| scene | light | L | method | RMSE | p99 abs err | mean err | ms (prepare + run) | ns / receiver |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
@@ -305,8 +322,9 @@ TEST(SoftFigures, CssmStorage) {
   for (const int M : orders) {
     std::vector<std::vector<float>> f32(scenes.size());
     for (const Storage st : {Storage::F32, Storage::F16, Storage::Unorm16, Storage::Unorm8}) {
-      double mr = 0, mp = 0, ms = 0, sd = 0, maxd = 0;
-      size_t nd = 0, bytes = 0;
+      double mr = 0, mp = 0, ms = 0;
+      size_t bytes = 0;
+      Difference against_f32;
       std::string refused;
       for (size_t k = 0; k < scenes.size(); ++k) {
         const Scene& s = scenes[k];
@@ -329,13 +347,7 @@ TEST(SoftFigures, CssmStorage) {
         if (st == Storage::F32) f32[k] = vis;
         const Errors E = errors(s, vis);
         ASSERT_EQ(E.nonfinite, 0u);
-        for (size_t i = 0; i < vis.size(); ++i) {
-          if (!std::isfinite(s.rx.d[i])) continue;
-          const double y = double(vis[i]) - f32[k][i];
-          sd += y * y;
-          maxd = std::max(maxd, std::abs(y));
-          ++nd;
-        }
+        against_f32.add(s, vis, f32[k]);
         mr += E.rmse / scenes.size();
         mp += E.p99 / scenes.size();
       }
@@ -344,7 +356,7 @@ TEST(SoftFigures, CssmStorage) {
         continue;
       }
       std::printf("| %d | %s | %.4f | %.3f | %.4f | %.3f | %.1f | %.1f |\n", M, storage_name(st), mr, mp,
-                  std::sqrt(sd / nd), maxd, bytes / 1048576.0, ms);
+                  against_f32.rms(), against_f32.max, bytes / 1048576.0, ms);
       std::fflush(stdout);
     }
   }
@@ -363,11 +375,11 @@ TEST(SoftFigures, CssmStorageMix) {
       "| M | storage (double reference) | mean RMSE | RMSE against f32 | max abs diff against f32 |\n"
       "|---|---|---|---|---|\n");
   for (const int M : orders) {
-    std::vector<std::vector<double>> f32(scenes.size());
+    std::vector<std::vector<float>> f32(scenes.size());
     for (const char* variant : {"f32", "unorm16", "unorm8", "unorm8 CSM + unorm16 CSM-Z"}) {
       const std::string name = variant;
-      double mean_rmse = 0, sd = 0, maxd = 0;
-      size_t nd = 0;
+      double mean_rmse = 0;
+      Difference against_f32;
       for (size_t k = 0; k < scenes.size(); ++k) {
         const Scene& sc = scenes[k];
         SoftOptions o;
@@ -393,17 +405,11 @@ TEST(SoftFigures, CssmStorageMix) {
           vis[i] = float(ref::soft_cssm(lookup, sc.depth.width, sc.depth.height, o, sc.rx.u[i], sc.rx.v[i], sc.rx.d[i],
                                         sc.rx.has_footprint ? sc.rx.f[i] : 1.0));
         }
-        if (name == "f32") f32[k].assign(vis.begin(), vis.end());
+        if (name == "f32") f32[k] = vis;
         mean_rmse += errors(sc, vis).rmse / scenes.size();
-        for (size_t i = 0; i < vis.size(); ++i) {
-          if (!std::isfinite(sc.rx.d[i])) continue;
-          const double y = vis[i] - f32[k][i];
-          sd += y * y;
-          maxd = std::max(maxd, std::abs(y));
-          ++nd;
-        }
+        against_f32.add(sc, vis, f32[k]);
       }
-      std::printf("| %d | %s | %.4f | %.4f | %.3f |\n", M, variant, mean_rmse, std::sqrt(sd / nd), maxd);
+      std::printf("| %d | %s | %.4f | %.4f | %.3f |\n", M, variant, mean_rmse, against_f32.rms(), against_f32.max);
       std::fflush(stdout);
     }
   }

@@ -9,7 +9,7 @@ B=${1:-build}
 OUT=$B/acne_scenes
 mkdir -p "$OUT"
 dirs=""
-for s in spheres fence backyard contact thin terrain; do
+for s in ${SF_SCENES:-spheres fence backyard contact thin terrain}; do
   d=$OUT/$s
   # Regenerated when missing or older than the binary (receivers from before ndl lack it).
   if [ ! -f "$d/reference_soft.exr" ] || [ "$B/shadowfilter" -nt "$d/reference_soft.exr" ]; then

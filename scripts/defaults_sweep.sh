@@ -8,6 +8,7 @@
 #   SWEEP_SIZES="512 2048"  map sizes (receivers 320x240 at 512, 640x480 above)
 #   SWEEP_MESH=bunny00      the scanned mesh (make meshes extracts it into BUILD_DIR/meshes)
 #   SWEEP_METHODS="..."     only these methods (default: all)
+#   SWEEP_NORMAL_OFFSETS="0 0.5 1"  every candidate at each normal offset (texels; default "0 0.5")
 # Writes BUILD_DIR/defaults_sweep.csv (every row) and BUILD_DIR/defaults_sweep.md (the tables,
 # also printed). Scenes go to BUILD_DIR/sweep_scenes/SIZE/NAME and are regenerated when missing,
 # older than the binary or made with other arguments. The tables alone, from existing rows:
@@ -47,7 +48,8 @@ done
 t1=$(date +%s)
 
 export SHADOWFILTER_CACHE_DIR=$B/test_cache
-export SF_SWEEP_SCENES="$dirs" SF_SWEEP_OUT="$CSV" SF_SWEEP_RADIUS=2 SF_SWEEP_METHODS="${SWEEP_METHODS:-}"
+export SF_SWEEP_SCENES="$dirs" SF_SWEEP_OUT="$CSV" SF_SWEEP_RADIUS=2 SF_SWEEP_METHODS="${SWEEP_METHODS:-}" \
+  SF_SWEEP_NORMAL_OFFSETS="${SWEEP_NORMAL_OFFSETS:-}"
 # The candidates that share a prefiltered basis against filter() on the first scene, then the
 # rows of every scene; the tables in a second run (gtest's order across files is the link order).
 "$B/tests/sf_measure" --gtest_filter='DefaultsSweep.SharedBasisIsExact:DefaultsSweep.Run' >"$MD.log" ||

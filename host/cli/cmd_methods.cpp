@@ -72,6 +72,7 @@ int run_methods(const MethodsArgs& a) {
     std::cout << m.name << ": " << m.summary << "\n    parameters: " << parameters_line(m);
     std::cout << "\n    defaults:";
     for (const MethodParameter& p : m.parameter_values(o)) std::cout << " " << p.key << "=" << parameter_text(p.value);
+    std::cout << " normal_offset=" << parameter_text(normal_offset(o));  // texels, with receivers' nx ny nz
     if (m.raw_depth) {
       std::cout << "\n    memory: no basis images (tests the float32 depth map, 4 bytes per texel)\n";
       continue;

@@ -59,7 +59,8 @@ CLI::App* add_receivers_command(CLI::App& app, ReceiversArgs& a) {
   c->footer(
       std::string("Writes per camera pixel: u, v (the surface point in the light's map, [0, 1], texel i's centre at "
                   "(i + 0.5) / W), d = (z - near) / (far - near) along the light's axis, f = the pixel's footprint in "
-                  "the map's level-0 texels, ndl = n.l towards the light; NaN on background pixels; u = v = -1 "
+                  "the map's level-0 texels, ndl = n.l towards the light, nx ny nz = the normal in light space scaled "
+                  "to one texel (what --normal-offset moves along); NaN on background pixels; u = v = -1 "
                   "outside the light's frustum. Its header names the map size and the light's planes.\n\n") +
       "Examples:\n"
       "  shadowfilter receivers --camera camera.json --camera-depth camera_depth.exr --light sun.json "
@@ -77,7 +78,7 @@ int run_receivers(const ReceiversArgs& a) {
   const std::string ext = extension_of(a.output);
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
     throw InputError("output image '" + a.output +
-                     "': receivers are written as float .exr or .tif (5 channels), not '" + ext + "'");
+                     "': receivers are written as float .exr or .tif (8 channels), not '" + ext + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0, got " + std::to_string(a.threads));
   io::check_outputs({a.output},
                     {a.inputs.camera, a.inputs.camera_depth, a.inputs.light, a.inputs.normals, a.shadow_map});
@@ -117,11 +118,12 @@ int run_receivers(const ReceiversArgs& a) {
   const double run_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_run).count();
 
   const ProjectionDepth light_depth = light_projection_depth(light.view_projection);
-  HostImage image(rx.width, rx.height, 5);
-  image.channel_names = {"u", "v", "d", "f", "ndl"};
+  HostImage image(rx.width, rx.height, 8);
+  image.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
   for (size_t i = 0; i < rx.count(); ++i) {
-    float* p = &image.data[i * 5];
+    float* p = &image.data[i * 8];
     p[0] = rx.u[i], p[1] = rx.v[i], p[2] = rx.d[i], p[3] = rx.f[i], p[4] = rx.ndl[i];
+    p[5] = rx.nx[i], p[6] = rx.ny[i], p[7] = rx.nz[i];
   }
   image.attributes = io::receiver_header_attributes(map_w, map_h, light_depth.near_plane, light_depth.far_plane);
   const auto t_write = Clock::now();

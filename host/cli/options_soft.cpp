@@ -214,6 +214,9 @@ CLI::App* add_soft_command(CLI::App& app, SoftArgs& a) {
   c->add_option("--soft-bias", a.options.bias, "Blocker test z < d_t - bias (d_t: the receiver's plane)")
       ->capture_default_str();
   add_receiver_plane_options(*c, a.options.receiver_plane, "pcss, ssmm");
+  c->add_option("--normal-offset", a.options.normal_offset,
+                "Texels each lookup moves along the receiver's normal (receivers with nx ny nz; 0: off) "
+                "(default the method's: pcss, ssmm, ssmm-improved 0.5, cssm 0)");
   c->add_option("--soft-max-width", a.options.max_width, "Cap of kernel widths, texels")->capture_default_str();
   c->add_option("--cssm-order", a.options.cssm.order, "cssm: Fourier order M")->capture_default_str();
   c->add_option("--lookup", a.lookup, "cssm: mips | sat")->capture_default_str();

@@ -90,7 +90,7 @@ std::vector<int> find_channels(const RawImage& img, const std::vector<std::strin
 // Channel indices of u, v, d[, f[, ndl]]: by name when the file's channels are exactly
 // u v d [f [ndl]] (in any order), else positional R G B [A [5th]].
 std::vector<int> receiver_channel_order(const RawImage& img) {
-  std::vector<std::string> names{"u", "v", "d", "f", "ndl"};
+  std::vector<std::string> names{"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
   names.resize(size_t(img.channels));
   std::vector<int> by_name = find_channels(img, names);
   if (!by_name.empty()) return by_name;
@@ -256,10 +256,10 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
   const RawImage raw = read_raw(path, kReceiverImageRole);
   const ReceiverHeader facts = read_receiver_header(raw);
   if (header) *header = facts;
-  if (raw.channels < 3 || raw.channels > 5)
+  if (raw.channels < 3 || (raw.channels > 5 && raw.channels != 8))
     fail(kReceiverImageRole, path,
-         "expected 3, 4 or 5 channels (u v d [f [ndl]], or R G B [A [5th]]), found " + std::to_string(raw.channels) +
-             " channel" + (raw.channels == 1 ? "" : "s"));
+         "expected 3, 4, 5 or 8 channels (u v d [f [ndl [nx ny nz]]], or R G B [A [5th [6th-8th]]]), found " +
+             std::to_string(raw.channels) + " channel" + (raw.channels == 1 ? "" : "s"));
   require_float_receivers(raw, path);
 
   const std::vector<int> order = receiver_channel_order(raw);
@@ -268,13 +268,19 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
   rec.height = raw.height;
   rec.grid = false;
   rec.has_footprint = raw.channels >= 4;
-  rec.has_ndl = raw.channels == 5;
+  rec.has_ndl = raw.channels >= 5;
+  rec.has_normal = raw.channels == 8;
   const size_t n = raw.texels();
   rec.u.resize(n);
   rec.v.resize(n);
   rec.d.resize(n);
   rec.f.assign(n, 1.0f);
   if (rec.has_ndl) rec.ndl.resize(n);
+  if (rec.has_normal) {
+    rec.nx.resize(n);
+    rec.ny.resize(n);
+    rec.nz.resize(n);
+  }
   std::vector<float> stored_d(n);
   for (size_t t = 0; t < n; ++t) stored_d[t] = raw.at(t, order[2]);
   // d as the user states it, else as the file's header says (d itself), else as the map's.
@@ -283,10 +289,26 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
     d_decoding = DepthLoadOptions{};
     d_decoding.flag = "d in [0, 1] (its header says shadowfilter:d normalized)";
   }
+  // nz is a step of the normalized depth the filter compares: a d stored in another encoding
+  // (world units, window depth) would need it converted at every receiver, which the file cannot say.
+  if (rec.has_normal && !(d_decoding.encoding == DepthEncoding::Linear && !std::isfinite(d_decoding.near_plane) &&
+                          !std::isfinite(d_decoding.far_plane)))
+    fail(kReceiverImageRole, path,
+         std::string("nx ny nz need d stored as normalized linear depth in [0, 1] (nz is a step of it), but d "
+                     "is decoded as ") +
+             depth_encoding_name(d_decoding.encoding) +
+             (std::isfinite(d_decoding.near_plane) ? " with near and far planes" : "") + " (" + d_decoding.flag +
+             "); drop the normal channels or store d normalized");
   detail::decode_depths(stored_d, d_decoding, kReceiverImageRole, path, kNaN, true);
   for (size_t t = 0; t < n; ++t) {
     // ndl is carried as stored: a non-finite one means "unknown" and leaves the receiver defined.
     if (rec.has_ndl) rec.ndl[t] = raw.at(t, order[4]);
+    // So is the normal: a non-finite component means "unknown", no offset (normal_offset.hpp).
+    if (rec.has_normal) {
+      rec.nx[t] = raw.at(t, order[5]);
+      rec.ny[t] = raw.at(t, order[6]);
+      rec.nz[t] = raw.at(t, order[7]);
+    }
     rec.u[t] = raw.at(t, order[0]);
     rec.v[t] = raw.at(t, order[1]);
     if (rec.has_footprint) rec.f[t] = raw.at(t, order[3]);

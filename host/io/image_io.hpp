@@ -57,9 +57,11 @@ struct ReceiverHeader {
 std::map<std::string, std::string> receiver_header_attributes(int map_width, int map_height, double light_near,
                                                               double light_far);
 
-// Reads a receiver image: float EXR/TIFF/PFM with 3, 4 or 5 channels. Channels named
-// u v d [f [ndl]] are used by name (in any order), else positional: R G B [A [5th]]. Missing
-// footprint = 1; ndl (n.l towards the light, <= 0 facing away) only with 5 channels.
+// Reads a receiver image: float EXR/TIFF/PFM with 3, 4, 5 or 8 channels. Channels named
+// u v d [f [ndl [nx ny nz]]] are used by name (in any order), else positional: R G B [A [5th
+// [6th-8th]]]. Missing footprint = 1; ndl (n.l towards the light, <= 0 facing away) with 5 or 8
+// channels; the texel-scaled normal nx ny nz (normal_offset.hpp) with 8, whose d must then be
+// normalized linear depth.
 // d is decoded with `stated` when given (--receiver-encoding), else as the header says
 // (normalized), else with the map's `decoding`; a decoded d outside [0, 1] beyond rounding is an
 // InputError, non-finite u, v, f or d make the receiver background.

@@ -1,6 +1,7 @@
 #include "reference.hpp"
 
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/normal_offset.hpp"
 
 #include "lookups.hpp"
 #include "receiver_plane.hpp"
@@ -110,6 +111,13 @@ void shadow_facing_away(const FilterOptions& opt, const Receivers& rx, std::vect
 }  // namespace
 
 std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, const Receivers& rx) {
+  // sf::filter's first step: the lookups moved along the receivers' normals (the same float
+  // transform, normal_offset.hpp), then everything below on the moved receivers.
+  if (const float t = normal_offset(opt); t != 0.0f && rx.has_normal) {
+    FilterOptions moved = opt;
+    moved.normal_offset = 0.0f;
+    return filter(moved, depth, offset_along_normals(rx, depth.width, depth.height, t));
+  }
   std::vector<double> out(rx.count(), 1.0);
   const MethodDesc& method = *opt.method;
   if (method.raw_depth) {

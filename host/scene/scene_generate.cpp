@@ -79,7 +79,9 @@ std::vector<OutputFile> frame_files(const std::string& dir, size_t layers) {
                    "camera-view receivers: u v d (float32) f (half, footprint in level-0 texels "
                    "from the shadow-map coordinates of the pixel's neighbourhood on the hit "
                    "tangent plane) ndl (half, cosine between the camera-facing normal and the "
-                   "direction to the light, <= 0 facing away); NaN = background"});
+                   "direction to the light, <= 0 facing away) nx ny nz (float32, the camera-facing "
+                   "normal in light space scaled to one texel: the change of u W, v H, d along it, "
+                   "normal_offset.hpp); NaN = background"});
   files.push_back({prefix + "reference_hard.exr",
                    "camera view: ray-traced point-light visibility Y (half; 1 lit, 0 occluded or "
                    "facing away, 1 background)"});

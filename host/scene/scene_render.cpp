@@ -9,6 +9,7 @@
 
 #include "row_workers.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/normal_offset.hpp"
 
 namespace sf::scene {
 namespace {
@@ -180,14 +181,31 @@ void SceneRenderer::pixel_offsets(const PerspectiveCamera& camera, int x, int y,
   dy = offset(x + 0.5, y, x + 0.5, y + 1.0);
 }
 
+// The hit's normal in light space scaled to one texel (sf::texel_scaled_normal): the Jacobian
+// of (u W, v H, d) by central differences over a step far below a texel (exact for an
+// orthographic light, whose projection is linear).
+std::array<float, 3> SceneRenderer::texel_scaled_normal(Vec3 point, Vec3 normal) const {
+  const double h = 1e-4 * std::max(setup_.light.depth_range(), 1e-12);
+  double jacobian[3][3];
+  for (int axis = 0; axis < 3; ++axis) {
+    Vec3 step{0.0, 0.0, 0.0};
+    step[axis] = h;
+    const LightCoords a = setup_.light.project(point - step), b = setup_.light.project(point + step);
+    jacobian[0][axis] = (b.u - a.u) * setup_.map_width / (2.0 * h);
+    jacobian[1][axis] = (b.v - a.v) * setup_.map_height / (2.0 * h);
+    jacobian[2][axis] = (b.d - a.d) / (2.0 * h);
+  }
+  return sf::texel_scaled_normal(jacobian, normal);
+}
+
 CameraImages SceneRenderer::camera_view(bool with_soft) const { return camera_view(setup_.camera, with_soft); }
 
 CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool with_soft) const {
   const int w = camera.width, h = camera.height;
   CameraImages out;
-  out.receivers = HostImage(w, h, 5, kNaN);
-  out.receivers.channel_names = {"u", "v", "d", "f", "ndl"};
-  out.receivers.channel_formats = {"float", "float", "float", "half", "half"};
+  out.receivers = HostImage(w, h, 8, kNaN);
+  out.receivers.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
+  out.receivers.channel_formats = {"float", "float", "float", "half", "half", "float", "float", "float"};
   out.reference_hard = HostImage(w, h, 1, 1.0f);
   out.reference_hard.channel_names = {"Y"};
   out.reference_hard.channel_formats = {"half"};
@@ -215,6 +233,8 @@ CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool wi
       out.receivers.at(x, y, 3) = float(footprint_texels(camera, x, y, point, hit->normal));
       const double ndl = n_dot_l(point, hit->normal);
       out.receivers.at(x, y, 4) = float(ndl);
+      const std::array<float, 3> n = texel_scaled_normal(point, hit->normal);
+      for (int c = 0; c < 3; ++c) out.receivers.at(x, y, 5 + c) = n[size_t(c)];
       Vec3 dx, dy;
       pixel_offsets(camera, x, y, point, hit->normal, hit->t, dx, dy);
       const double view_values[11] = {point.x, point.y, point.z, dot(point - camera.position, camera_axis),

@@ -2,6 +2,7 @@
 // Renders the images of a generated scene by ray casting with Embree (rows spread over
 // threads; every pixel is computed independently and sampled from its own seeded stream, so
 // the result does not depend on the thread count).
+#include <array>
 #include <memory>
 
 #include "shadowfilter/host_image.hpp"
@@ -63,6 +64,8 @@ class SceneRenderer {
   bool lit_hard(Vec3 point, Vec3 normal) const;
   // Cosine between the (camera-facing) normal and the direction to the light; <= 0 faces away.
   double n_dot_l(Vec3 point, Vec3 normal) const;
+  // The receivers' nx ny nz at a hit (normal_offset.hpp).
+  std::array<float, 3> texel_scaled_normal(Vec3 point, Vec3 normal) const;
   double visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const;
   const RayTracer& tracer() const { return tracer_; }
 

@@ -21,19 +21,26 @@ sf::HostImage host_image(const Image2D& a) {
 
 sf::Receivers receivers_of(const Image3D& a) {
   const size_t h = a.shape(0), w = a.shape(1), c = a.shape(2);
-  if (c < 3 || c > 5)
-    throw sf::InputError("receivers must have 3 to 5 channels (u, v, d[, f[, ndl]]), got " + std::to_string(c));
+  if (c < 3 || (c > 5 && c != 8))
+    throw sf::InputError("receivers must have 3, 4, 5 or 8 channels (u, v, d[, f[, ndl[, nx, ny, nz]]]), got " +
+                         std::to_string(c));
   sf::Receivers r;
   r.width = static_cast<int>(w);
   r.height = static_cast<int>(h);
   r.has_footprint = c >= 4;
   r.has_ndl = c >= 5;
+  r.has_normal = c == 8;
   const size_t n = w * h;
   r.u.resize(n);
   r.v.resize(n);
   r.d.resize(n);
   r.f.assign(n, 1.0f);
   if (r.has_ndl) r.ndl.resize(n);
+  if (r.has_normal) {
+    r.nx.resize(n);
+    r.ny.resize(n);
+    r.nz.resize(n);
+  }
   const float* p = a.data();
   for (size_t i = 0; i < n; ++i, p += c) {
     r.u[i] = p[0];
@@ -41,6 +48,7 @@ sf::Receivers receivers_of(const Image3D& a) {
     r.d[i] = p[2];
     if (c >= 4) r.f[i] = p[3];
     if (c >= 5) r.ndl[i] = p[4];
+    if (c == 8) r.nx[i] = p[5], r.ny[i] = p[6], r.nz[i] = p[7];
   }
   return r;
 }

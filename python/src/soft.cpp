@@ -31,6 +31,7 @@ const std::vector<SoftKeyword>& soft_keywords() {
   static const std::vector<SoftKeyword> table = {
       {"--soft-bias", SoftKeyword::Real, [](O& o, double v) { o.bias = float(v); }},
       {"--soft-max-width", SoftKeyword::Real, [](O& o, double v) { o.max_width = float(v); }},
+      {"--normal-offset", SoftKeyword::Real, [](O& o, double v) { o.normal_offset = float(v); }},
       {"--cssm-order", SoftKeyword::Integer, [](O& o, double v) { o.cssm.order = int(v); }},
       {"--cssm-offset", SoftKeyword::Real, [](O& o, double v) { o.cssm.offset = float(v); }},
       {"--cssm-scale", SoftKeyword::Real, [](O& o, double v) { o.cssm.scale = float(v); }},

@@ -63,12 +63,17 @@ def test_the_package_equals_the_cli_and_the_analytic_depth(tmp_path):
     depth = ground_window_depth()
     counts = {}
     rx = sf.receivers(CAMERA, depth, LIGHT, map_size=(256, 256), counts=counts)
-    assert rx.shape == (H, W, 5) and rx.dtype == np.float32
+    assert rx.shape == (H, W, 8) and rx.dtype == np.float32
     ground = np.isfinite(rx[..., 2])
     assert ground.sum() > W * H // 2 and counts["background"] == W * H - ground.sum()
     # The light looks straight down from y = 10 with planes 1 and 20: the plane is at d = 9 / 19.
     np.testing.assert_allclose(rx[..., 2][ground], 9 / 19, atol=1e-5)
     np.testing.assert_allclose(rx[..., 4][ground], 1.0, atol=1e-3)  # n.l: the plane faces the light
+    # The normal scaled to one texel (12 / 256 world units): straight up, towards the light, so
+    # no step across the map and d falls by a texel's width over the depth range of 19.
+    np.testing.assert_allclose(rx[..., 5][ground], 0.0, atol=2e-3)
+    np.testing.assert_allclose(rx[..., 6][ground], 0.0, atol=2e-3)
+    np.testing.assert_allclose(rx[..., 7][ground], -(12 / 256) / 19, rtol=2e-3)
     if not CLI:
         pytest.skip("SF_CLI names the shadowfilter command (ctest sets it)")
     for name, view in (("camera", CAMERA), ("light", LIGHT)):
@@ -78,8 +83,33 @@ def test_the_package_equals_the_cli_and_the_analytic_depth(tmp_path):
                     str(tmp_path / "depth.exr"), "--light", str(tmp_path / "light.json"), "--map-size", "256x256",
                     "-o", str(tmp_path / "rx.exr"), "-q"], check=True)
     cli = channels(str(tmp_path / "rx.exr"))
-    for i, k in enumerate("u v d f ndl".split()):
+    for i, k in enumerate("u v d f ndl nx ny nz".split()):
         np.testing.assert_array_equal(rx[..., i], cli[k], err_msg=k)
+
+
+def test_normal_offset_moves_each_lookup_along_the_normal():
+    depth = ground_window_depth()
+    rx = sf.receivers(CAMERA, depth, LIGHT, map_size=(256, 256))
+    ground = np.isfinite(rx[..., 2]) & (rx[..., 0] >= 0) & (rx[..., 0] <= 1) & (rx[..., 1] >= 0) & (rx[..., 1] <= 1)
+    # The plane's map, its right half raised towards the light by 0.003: the flat test (no plane,
+    # no bias) shadows the receivers there. Two texels along the normal (straight up) lift them
+    # 2 (12 / 256) / 19 = 0.0049 towards the light, above the raised half: lit.
+    m = np.full((256, 256), 9 / 19, np.float32)
+    m[:, 128:] -= 0.003
+    flat = {"method": "sm", "receiver_plane": "off", "bias": 0}
+    right = ground & (rx[..., 0] > 130 / 256)
+    plain = sf.filter(m, rx, normal_offset=0, **flat)
+    assert right.sum() > 100 and (plain[right] == 0).all()
+    t = 2.0
+    offset = sf.filter(m, rx, normal_offset=t, **flat)
+    assert (offset[ground] == 1).all()
+    moved = rx.copy()
+    moved[..., 0] += t * rx[..., 5] / 256
+    moved[..., 1] += t * rx[..., 6] / 256
+    moved[..., 2] += t * rx[..., 7]
+    np.testing.assert_array_equal(offset, sf.filter(m, moved, normal_offset=0, **flat))
+    with pytest.raises(sf.InputError, match="normal_offset"):
+        sf.filter(m, rx, method="sm", normal_offset=9)
 
 
 def test_bad_views_are_refused_with_the_cli_words():

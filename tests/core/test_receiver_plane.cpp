@@ -4,14 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "lookups.hpp"
 #include "receiver_plane.hpp"
 #include "reference.hpp"
 #include "sf_test_env.hpp"
+#include "shadowfilter/errors.hpp"
 #include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/soft.hpp"
 
@@ -165,4 +168,101 @@ TEST(ReceiverPlane, EveryMethodKeepsTiltedPlanesLit) {
             << soft_method_name(sm) << " " << what;
       }
     }
+}
+
+// ---- normal offset (normal_offset.hpp) ----------------------------------------------------------
+
+namespace {
+
+// The plane's texel-scaled normals: the map spans one world unit across W texels and
+// depth_per_side world units of depth, so a texel is w = 1 / W wide and d moves by 1 per
+// depth_per_side. The unit normal towards the light (right, down, forward) is
+// (gx', gy', -1) / |.|, with gx', gy' the world slopes; one texel along it is (n.x, n.y, n.z w / R).
+void add_normals(const TiltedPlane& plane, double depth_per_side, Receivers& rx) {
+  const double world_gx = plane.gx * plane.W * depth_per_side, world_gy = plane.gy * plane.W * depth_per_side;
+  const double len = std::sqrt(world_gx * world_gx + world_gy * world_gy + 1.0);
+  rx.has_normal = true;
+  rx.nx.assign(rx.count(), float(world_gx / len));
+  rx.ny.assign(rx.count(), float(world_gy / len));
+  rx.nz.assign(rx.count(), float(-1.0 / len / (plane.W * depth_per_side)));
+}
+
+}  // namespace
+
+// texel_scaled_normal from an orthographic light's Jacobian equals the plane's normal scaled by
+// hand; offset_along_normals moves u, v, d by t (nx / W, ny / H, nz), leaves unknown normals
+// alone, and refuses offsets outside [0, kMaxNormalOffset].
+TEST(NormalOffset, ScalesAndMovesExactly) {
+  const int W = 64;
+  const double R = 8.0;  // depth_per_side: the depth range in map widths
+  const double jacobian[3][3] = {{double(W), 0, 0}, {0, double(W), 0}, {0, 0, 1.0 / R}};
+  const Vec3 n = normalize(Vec3{0.3, -0.4, -1.0});
+  const std::array<float, 3> s = texel_scaled_normal(jacobian, n);
+  EXPECT_NEAR(s[0], n.x, 1e-7);
+  EXPECT_NEAR(s[1], n.y, 1e-7);
+  EXPECT_NEAR(s[2], n.z / (W * R), 1e-9);
+
+  Receivers rx;
+  rx.width = 2;
+  rx.height = 1;
+  rx.u = {0.5f, 0.25f};
+  rx.v = {0.5f, 0.75f};
+  rx.d = {0.5f, 0.4f};
+  rx.has_normal = true;
+  rx.nx = {s[0], NAN};
+  rx.ny = {s[1], 0.0f};
+  rx.nz = {s[2], 0.0f};
+  const Receivers moved = offset_along_normals(rx, W, 2 * W, 1.5f);
+  EXPECT_FLOAT_EQ(moved.u[0], 0.5f + 1.5f * s[0] / W);
+  EXPECT_FLOAT_EQ(moved.v[0], 0.5f + 1.5f * s[1] / (2 * W));
+  EXPECT_FLOAT_EQ(moved.d[0], 0.5f + 1.5f * s[2]);
+  EXPECT_EQ(moved.u[1], rx.u[1]);  // unknown normal: not moved
+  EXPECT_EQ(moved.d[1], rx.d[1]);
+  for (const float bad : {-0.5f, kMaxNormalOffset + 1.0f, float(NAN)})
+    EXPECT_THROW(offset_along_normals(rx, W, W, bad), InputError) << bad;
+  rx.nz.pop_back();
+  EXPECT_THROW(offset_along_normals(rx, W, W, 1.0f), InputError);
+}
+
+// A plane tilted 80 degrees, tested flat (no receiver plane, no bias): the plain test shadows a
+// good part of it (acne), and one and a half texels along the normal light every receiver. The
+// moved receiver is k w / cos(theta) nearer the light along its axis, k / sin(theta) >= k times
+// the plane's depth change per texel, and the 2x2 test reads texels less than one texel away per
+// axis (|gx| + |gy| <= sqrt(2) g). filter(), soft_filter() and ref::filter with the offset equal
+// the same calls on receivers moved by hand.
+TEST(NormalOffset, LightsGrazingPlaneTestedFlat) {
+  const double R = 8.0;
+  const TiltedPlane plane(64, 80.0, 0.7, R);
+  const HostImage map = plane.map();
+  Receivers rx = plane.receivers(24, 20, 0.73, 0.4);
+  add_normals(plane, R, rx);
+  FilterOptions o;
+  o.method = "sm";
+  o.receiver_plane.enabled = false;
+  o.depth_test.bias = 0.0f;
+  o.normal_offset = 0.0f;  // sm's default is half a texel
+  auto shadowed = [&](const std::vector<float>& v) {
+    return size_t(std::count_if(v.begin(), v.end(), [](float x) { return !(x >= 1.0f - 1.0f / 255.0f); }));
+  };
+  const size_t plain = shadowed(filter(runtime_ptr(), o, map, rx).visibility.data);
+  EXPECT_GT(plain, rx.count() / 4) << "the flat test must self-shadow without the offset";
+  o.normal_offset = 1.5f;
+  const std::vector<float> offset = filter(runtime_ptr(), o, map, rx).visibility.data;
+  EXPECT_EQ(shadowed(offset), 0u);
+
+  const Receivers moved = offset_along_normals(rx, map.width, map.height, 1.5f);
+  FilterOptions by_hand = o;
+  by_hand.normal_offset = 0.0f;
+  EXPECT_EQ(filter(runtime_ptr(), by_hand, map, moved).visibility.data, offset);
+  const std::vector<double> twin = ref::filter(o, map, rx), twin_by_hand = ref::filter(by_hand, map, moved);
+  EXPECT_EQ(twin, twin_by_hand);
+
+  SoftOptions s;
+  s.method = SoftMethod::Pcss;
+  s.light.size = 0.1;
+  s.light.extent = 1.0;
+  s.normal_offset = 1.5f;
+  const std::vector<float> soft = soft_filter(runtime_ptr(), s, map, rx).visibility.data;
+  s.normal_offset = 0.0f;
+  EXPECT_EQ(soft_filter(runtime_ptr(), s, map, moved).visibility.data, soft);
 }

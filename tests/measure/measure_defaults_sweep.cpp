@@ -4,7 +4,9 @@
 // against the ray-traced references, over the receivers facing the light (eval::Scene::traced).
 // Not part of the test suite (sf_measure).
 //   SF_SWEEP_SCENES="dir ..." SF_SWEEP_OUT=rows.csv [SF_SWEEP_RADIUS=2] [SF_SWEEP_METHODS="esm pcss"]
-//     sf_measure --gtest_filter='DefaultsSweep.Run'
+//   [SF_SWEEP_NORMAL_OFFSETS="0 0.5 1"] sf_measure --gtest_filter='DefaultsSweep.Run'
+// Every candidate runs at every normal offset of SF_SWEEP_NORMAL_OFFSETS (texels, default "0
+// 0.5"), labelled "noff=T ..."; the receivers need nx ny nz.
 // Scene dirs are the scene tool's (shadowmap.exr with the light in its header, receivers.exr with
 // ndl, both references). Basis methods run with --blur-radius SF_SWEEP_RADIUS where the method
 // follows the prefilter, soft methods with the scene's light. The selection rule and the tables:
@@ -16,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +29,7 @@
 #include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/method_kernels.hpp"
 #include "shadowfilter/lookup.hpp"
@@ -189,7 +193,7 @@ std::string fingerprint(const FilterOptions& o) {
   s << "bias=" << depth_bias(o) << " plane=" << o.receiver_plane.enabled << ',' << o.receiver_plane.max_slope << ','
     << o.receiver_plane.slope_bias << " classify=" << int(classify_mode(o)) << ',' << o.esm_classify.zmax_offset << ','
     << o.esm_classify.threshold_eps << " storage=" << int(o.storage) << " blur=" << o.blur.radius << ',' << o.blur.sigma
-    << " lookup=" << int(o.lookup.kind);
+    << " lookup=" << int(o.lookup.kind) << " noff=" << normal_offset(o);
   return s.str();
 }
 
@@ -201,7 +205,7 @@ std::string fingerprint(const SoftOptions& o) {
     << o.receiver_plane.max_slope << ',' << o.receiver_plane.slope_bias << " max_width=" << o.max_width
     << " ssmm_n=" << o.ssmm.n << " cssm=" << o.cssm.order << ',' << int(o.cssm.lookup) << ',' << c.offset << ','
     << c.z_offset << ',' << c.scale << ',' << c.width_scale << ',' << c.sharpen_a << ',' << c.sharpen_b << ','
-    << o.cssm.normalise << ',' << o.cssm.min_den << ',' << o.cssm.contact;
+    << o.cssm.normalise << ',' << o.cssm.min_den << ',' << o.cssm.contact << " noff=" << soft_normal_offset(o);
   return s.str();
 }
 
@@ -223,6 +227,25 @@ int blur_radius() {
   return r ? std::atoi(r) : 2;
 }
 
+// The normal offsets of SF_SWEEP_NORMAL_OFFSETS, else 0 and 0.5 (every method's default is one
+// of them): the receivers are uploaded moved once per offset, so every candidate states its own.
+std::vector<double> normal_offsets() {
+  std::vector<double> v;
+  const char* e = std::getenv("SF_SWEEP_NORMAL_OFFSETS");
+  std::istringstream in(e ? e : "");
+  for (double t; in >> t;) v.push_back(t);
+  if (v.empty()) v = {0.0, 0.5};
+  return v;
+}
+
+// A candidate at normal offset `t` (labelled when the sweep lists offsets).
+template <class Options>
+void at_normal_offset(std::string& label, Options& o, std::optional<double> t) {
+  if (!t) return;
+  o.normal_offset = float(*t);
+  label = "noff=" + value_label(*t) + (label == "defaults" ? "" : " " + label);
+}
+
 // Names from SF_SWEEP_METHODS (empty: every method).
 bool wanted(const std::string& name) {
   const char* e = std::getenv("SF_SWEEP_METHODS");
@@ -235,11 +258,12 @@ bool wanted(const std::string& name) {
 
 // The candidates of a registry method; when no setting of the table equals the defaults, the
 // defaults are added as a candidate of their own, so that every table has the default's row.
-std::vector<FilterCandidate> filter_candidates(const MethodDesc& m, int radius) {
+std::vector<FilterCandidate> filter_candidates(const MethodDesc& m, int radius, std::optional<double> offset) {
   FilterOptions base;
   base.method = m.name;
   if (m.filtered) base.blur.radius = radius;
   const std::string def = fingerprint(base);
+  if (offset) base.normal_offset = float(*offset);
   const FilterSweep sw = filter_sweep(m.name);
   std::vector<FilterCandidate> out;
   bool have_default = false;
@@ -252,25 +276,28 @@ std::vector<FilterCandidate> filter_candidates(const MethodDesc& m, int radius) 
       const std::string& p = sw.pipeline[g].label;
       c.label = p.empty() ? r.label : r.label.empty() ? p : p + " " + r.label;
       if (c.label.empty()) c.label = "defaults";
+      at_normal_offset(c.label, c.options, offset);
       c.group = g;
       c.is_default = fingerprint(c.options) == def;
       have_default = have_default || c.is_default;
       out.push_back(c);
     }
-  if (!have_default) out.push_back({"defaults", base, sw.pipeline.size(), true});
+  if (!have_default && fingerprint(base) == def) out.push_back({"defaults", base, sw.pipeline.size(), true});
   return out;
 }
 
-std::vector<SoftCandidate> soft_candidates(SoftMethod m) {
+std::vector<SoftCandidate> soft_candidates(SoftMethod m, std::optional<double> offset) {
   SoftOptions base;
   base.method = m;
   const std::string def = fingerprint(base);
+  if (offset) base.normal_offset = float(*offset);
   std::vector<SoftCandidate> out;
   bool have_default = false;
   std::string refused;
   for (const SoftSetting& s : soft_sweep(m)) {
     SoftCandidate c{s.label, base, false};
     s.set(c.options);
+    at_normal_offset(c.label, c.options, offset);
     try {
       validate(c.options);  // with the default light: these checks do not depend on the scene's
     } catch (const InputError&) {
@@ -281,7 +308,7 @@ std::vector<SoftCandidate> soft_candidates(SoftMethod m) {
     have_default = have_default || c.is_default;
     out.push_back(c);
   }
-  if (!have_default) out.push_back({"defaults", base, true});
+  if (!have_default && fingerprint(base) == def) out.push_back({"defaults", base, true});
   if (!refused.empty()) std::fprintf(stderr, "sweep: %s refuses%s\n", soft_method_name(m), refused.c_str());
   return out;
 }
@@ -307,8 +334,13 @@ struct DeviceScene {
   DeviceReceivers rx;
   cl::Buffer visibility;
 
-  explicit DeviceScene(const std::string& dir) : scene(eval::load_scene(dir)) {
-    const Receivers& r = scene.receivers;
+  // The receivers uploaded are moved `offset` texels along their normals (none when unset).
+  DeviceScene(const std::string& dir, std::optional<double> offset) : scene(eval::load_scene(dir)) {
+    if (offset && !scene.receivers.has_normal)
+      throw std::runtime_error(dir + ": receivers without nx ny nz (regenerate the scene)");
+    const Receivers r =
+        offset ? offset_along_normals(scene.receivers, scene.depth.width, scene.depth.height, float(*offset))
+               : scene.receivers;
     if (!r.has_ndl) throw std::runtime_error(dir + ": receivers without ndl (regenerate the scene)");
     if (r.grid || scene.ref_hard.texels() != r.count() || scene.ref_soft.texels() != r.count())
       throw std::runtime_error(dir + ": camera receivers and both references needed");
@@ -412,19 +444,19 @@ struct Plan {
   std::vector<Soft> softs;
 };
 
-Plan make_plan(int radius) {
+Plan make_plan(int radius, std::optional<double> offset) {
   Plan p;
   for (const MethodDesc& m : methods()) {
     if (!wanted(m.name)) continue;
     Plan::Filter f{&m, {}};
-    for (const FilterCandidate& c : filter_candidates(m, radius)) {
+    for (const FilterCandidate& c : filter_candidates(m, radius, offset)) {
       if (c.group >= f.groups.size()) f.groups.resize(c.group + 1);
       f.groups[c.group].push_back(c);
     }
     p.filters.push_back(f);
   }
   for (SoftMethod sm : kSoftMethods)
-    if (wanted(soft_method_name(sm))) p.softs.push_back({sm, soft_candidates(sm)});
+    if (wanted(soft_method_name(sm))) p.softs.push_back({sm, soft_candidates(sm, offset)});
   return p;
 }
 
@@ -471,16 +503,20 @@ TEST(DefaultsSweep, Run) {
   ASSERT_FALSE(dirs.empty()) << "set SF_SWEEP_SCENES";
   const char* out = std::getenv("SF_SWEEP_OUT");
   const std::string path = out && *out ? out : "defaults_sweep.csv";
-  const Plan plan = make_plan(blur_radius());
+  std::vector<std::optional<double>> offsets;
+  for (double t : normal_offsets()) offsets.push_back(t);
+  std::vector<Plan> plans;
+  for (const auto& t : offsets) plans.push_back(make_plan(blur_radius(), t));
   std::vector<sweep::Row> rows;
-  for (const std::string& dir : dirs) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const size_t before = rows.size();
-    const DeviceScene ds(dir);
-    const std::string times = sweep_scene(ds, plan, rows);
-    std::fprintf(stderr, "sweep: %s: %zu rows in %.1f s (%s)\n", ds.label.c_str(), rows.size() - before,
-                 seconds_since(t0), times.c_str());
-  }
+  for (const std::string& dir : dirs)
+    for (size_t k = 0; k < offsets.size(); ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const size_t before = rows.size();
+      const DeviceScene ds(dir, offsets[k]);
+      const std::string times = sweep_scene(ds, plans[k], rows);
+      std::fprintf(stderr, "sweep: %s: %zu rows in %.1f s (%s)\n", ds.label.c_str(), rows.size() - before,
+                   seconds_since(t0), times.c_str());
+    }
   sweep::write_csv(path, rows);
   std::fprintf(stderr, "sweep: %zu rows -> %s\n", rows.size(), path.c_str());
 }
@@ -490,9 +526,10 @@ TEST(DefaultsSweep, Run) {
 TEST(DefaultsSweep, SharedBasisIsExact) {
   const std::vector<std::string> dirs = scene_dirs();
   ASSERT_FALSE(dirs.empty()) << "set SF_SWEEP_SCENES";
-  const DeviceScene ds(dirs.front());
+  const std::optional<double> offset = normal_offsets().back();
+  const DeviceScene ds(dirs.front(), offset);
   size_t checked = 0;
-  for (const Plan::Filter& f : make_plan(blur_radius()).filters)
+  for (const Plan::Filter& f : make_plan(blur_radius(), offset).filters)
     for (const auto& g : f.groups) {
       if (g.empty()) continue;
       run_group(ds, *f.method, g, [&](const FilterCandidate& c, const std::vector<float>& shared) {

@@ -96,9 +96,12 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
   // ndl (5th channel): the camera-facing normal against the light direction (straight down, so
   // ndl = n.y): 1 on the floor, (p - centre).y / r on the sphere, whose lower part the camera
   // sees facing away (ndl <= 0), and the hard reference is 0 wherever ndl <= 0.
-  ASSERT_EQ(view.receivers.channels, 5);
-  size_t facing_away = 0, ndl_wrong = 0, lit_facing_away = 0;
-  double worst_ndl_error = 0.0;
+  // nx ny nz (6th-8th): that normal n scaled to one texel in light space. Square texels of width
+  // `texel` under this light: (n.right, n.down, n.forward texel / depth range) = (n.x, n.z,
+  // -n.y texel / depth range); 0, 0, -texel / depth range on the floor.
+  ASSERT_EQ(view.receivers.channels, 8);
+  size_t facing_away = 0, ndl_wrong = 0, lit_facing_away = 0, normal_wrong = 0;
+  double worst_ndl_error = 0.0, worst_normal_error = 0.0;
   for (int y = 0; y < setup.camera.height; ++y)
     for (int x = 0; x < setup.camera.width; ++x) {
       const float d = view.receivers.at(x, y, 2);
@@ -112,14 +115,23 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
       const double on_sphere = std::abs(length(p - centre) - r);
       const double expected = p.y < 1e-4 ? 1.0 : (p.y - centre.y) / r;
       if (p.y >= 1e-4 && on_sphere > 1e-3) continue;  // neither floor nor sphere (cannot happen)
+      const Vec3 n = p.y < 1e-4 ? Vec3{0.0, 1.0, 0.0} : (1.0 / r) * (p - centre);
+      const double step = texel / setup.light.depth_range();
+      const double normal_error =
+          std::max({std::abs(view.receivers.at(x, y, 5) - n.x), std::abs(view.receivers.at(x, y, 6) - n.z),
+                    std::abs(view.receivers.at(x, y, 7) + n.y * step) / step});
+      worst_normal_error = std::max(worst_normal_error, normal_error);
+      normal_wrong += !(normal_error <= 2e-3);
       const double err = std::abs(ndl - expected);
       worst_ndl_error = std::max(worst_ndl_error, err);
       ndl_wrong += err > 2e-3;  // half precision and the sphere point from float u, v, d
       facing_away += ndl <= 0.0f;
       lit_facing_away += ndl <= 0.0f && view.reference_hard.at(x, y) != 0.0f;
     }
-  std::printf("  ndl: %zu facing-away pixels, worst |ndl - n.l| %.5f\n", facing_away, worst_ndl_error);
+  std::printf("  ndl: %zu facing-away pixels, worst |ndl - n.l| %.5f, worst texel-scaled normal error %.5f\n",
+              facing_away, worst_ndl_error, worst_normal_error);
   EXPECT_EQ(ndl_wrong, 0u);
+  EXPECT_EQ(normal_wrong, 0u);
   EXPECT_GT(facing_away, 100u);
   EXPECT_EQ(lit_facing_away, 0u);
 }

@@ -17,10 +17,14 @@
 //     points are projected into the map, f = the larger of the two distances (capped at the
 //     map's larger side);
 //   - ndl: the unit normal (turned towards the camera: surfaces are two-sided) dotted with the
-//     unit direction from P to the light.
+//     unit direction from P to the light;
+//   - nx, ny, nz: that normal in light space scaled to one texel, the change of (u W, v H, d) when
+//     P moves one texel's world width along it (normal_offset.hpp; the normal offset's input);
+//     NaN without a normal or outside the map.
 // Normals come from the depth buffer (per axis the central difference where both neighbours lie
 // on P's surface, else the one-sided difference towards the neighbour that continues it best) or
-// from a normal image. Background pixels (see CameraDepth) have u = v = d = f = ndl = NaN.
+// from a normal image. Background pixels (see CameraDepth) have u = v = d = f = ndl = nx = ny =
+// nz = NaN.
 // A point the light's map cannot hold (behind a perspective light, in front of its near plane or
 // beyond its far plane) is outside: u = v = -1, d = 0 (the filter lights it, as any receiver
 // outside the map).

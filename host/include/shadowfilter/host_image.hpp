@@ -32,8 +32,11 @@ struct HostImage {
 // u, v: shadow-map texture coordinates; d: light-space depth (linear, [0,1]; NaN = background);
 // f: footprint in level-0 texels (1 when the input has none); ndl: cosine between the surface
 // normal (oriented towards the viewer) and the direction to the light, <= 0 facing away from the
-// light (empty when the input has none). No kernel reads ndl yet: it is carried for slope-scaled
-// biases, and evaluate leaves facing-away receivers out of its ray-traced error figures.
+// light (empty when the input has none). No kernel reads ndl: sf::filter shadows facing-away
+// receivers with it, and evaluate leaves them out of its ray-traced error figures.
+// nx, ny, nz: the normal in light space scaled to one texel (normal_offset.hpp): the change of
+// (u W, v H, d) when the receiver moves one texel's world width along its normal; the normal
+// offset moves each lookup along it (FilterOptions::normal_offset). NaN = unknown (no offset).
 struct Receivers {
   int width = 0;  // output image size (receiver image size, or shadow-map size)
   int height = 0;
@@ -42,6 +45,8 @@ struct Receivers {
   bool has_ndl = false;
   std::vector<float> u, v, d, f;  // u, v, f empty in grid mode
   std::vector<float> ndl;         // empty unless has_ndl; NaN = unknown
+  bool has_normal = false;
+  std::vector<float> nx, ny, nz;  // empty unless has_normal; NaN = unknown
   size_t count() const { return static_cast<size_t>(width) * height; }
 };
 

@@ -206,6 +206,11 @@ struct FilterOptions {
   // sf::filter: receivers whose ndl (the receiver image's fifth channel) is <= 0 face away from
   // the light and get visibility 0, as the ray-traced references have them (sf::shadow_facing_away).
   bool facing_away_shadowed = true;
+  // sf::filter: texels each lookup moves along the receiver's normal before any method reads
+  // the map, where the receivers carry one (Receivers::nx ny nz; normal_offset.hpp), in
+  // [0, kMaxNormalOffset]; 0 = off; < 0 = the method's measured default
+  // (MethodDesc::default_normal_offset, sf::normal_offset; docs/results.md "Normal offset").
+  float normal_offset = -1.0f;
   // The depth range of the maps this pipeline filters, where a lookup's limit depends on it (esm
   // and evsm with sat: MethodDesc::sat_limit). Set, the Pipeline checks it when it is built
   // (a range narrower than a map's voids the error bound for that map); unset, prefilter()

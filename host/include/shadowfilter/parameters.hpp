@@ -81,6 +81,14 @@ struct Parameter {
     p.set = [outer, inner](FilterOptions& o, double v) { o.*outer.*inner = static_cast<T>(v); };
     return p;
   }
+  // Read and written as FilterOptions' own member `field` (o.normal_offset).
+  template <class T>
+  Parameter on(T FilterOptions::*field) const {
+    Parameter p = *this;
+    p.get = [field](const FilterOptions& o) { return double(o.*field); };
+    p.set = [field](FilterOptions& o, double v) { o.*field = static_cast<T>(v); };
+    return p;
+  }
   // Kept in FilterOptions::parameters under `key` (a method registered without a field of its
   // own): the field is "FilterOptions::parameters.KEY", absent reads as the default value.
   Parameter stored(const std::string& key) const;
@@ -95,7 +103,7 @@ struct Parameter {
 std::string parameter_text(double v);
 
 // The FilterOptions-wide knobs, in the order the CLI lists them: storage, depth_test.bias,
-// receiver_plane.*, blur.*, lookup.kind, esm_classify.*.
+// receiver_plane.*, normal_offset, blur.*, lookup.kind, esm_classify.*.
 const std::vector<Parameter>& filter_parameters();
 
 // Every declared parameter once: the knobs, then each registered method's in registration order

@@ -100,16 +100,23 @@ struct SoftOptions {
   SoftLight light;
   // pcss and ssmm test each texel against the receiver's plane d_t (docs/receiver_plane.md), with
   // the plane's slope-scaled bias on top of `bias`; cssm reconstructs from a basis and has none.
-  // Both measured (docs/results.md "Defaults sweep"): 0.005 and a quarter texel of the plane's
-  // slope, the lowest worst RMSE against the ray-traced soft shadows with acne below 0.5%.
+  // Both measured (docs/results.md "Defaults sweep", "Normal offset"): 0.005 and no slope term,
+  // with their normal offset of half a texel; the slope term (a quarter texel before
+  // the offset) let grazing receivers through behind terrain's crests (leak 6.7% -> 1.8%).
   float bias = 5e-3f;  // a texel z blocks a receiver d when z < d_t - bias
-  ReceiverPlaneOptions receiver_plane{true, 0.1f, 0.25f};
+  ReceiverPlaneOptions receiver_plane{true, 0.1f, 0.0f};
   bool facing_away_shadowed = true;  // receivers with ndl <= 0: 0 (sf::shadow_facing_away)
-  float max_width = 256.0f;          // cap of every kernel width, level-0 texels
+  // Texels each lookup moves along the receiver's normal (FilterOptions::normal_offset); < 0:
+  // the method's measured default (soft_normal_offset).
+  float normal_offset = -1.0f;
+  float max_width = 256.0f;  // cap of every kernel width, level-0 texels
   CssmOptions cssm;
   SsmmOptions ssmm;
 };
 void validate(const SoftOptions& opt);  // throws InputError
+// The normal offset in effect: SoftOptions::normal_offset, else the method's measured default
+// (pcss, ssmm, ssmm-improved: half a texel; cssm: none; docs/results.md "Normal offset").
+float soft_normal_offset(const SoftOptions& opt);
 // The SoftOptions fields validate() names in its messages, each with the command-line flag that
 // sets it ("SoftOptions::cssm.order" -> "--cssm-order"): the CLI names its flags in messages and
 // the Python binding its keywords (the flag's name with '_' for '-'), from this one table.

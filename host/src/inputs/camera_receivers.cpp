@@ -14,6 +14,7 @@
 
 #include "matrix4.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/normal_offset.hpp"
 
 namespace sf {
 namespace {
@@ -280,6 +281,10 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
   rx.d.assign(n, kNaNf);
   rx.f.assign(n, kNaNf);
   rx.ndl.assign(n, kNaNf);
+  rx.has_normal = true;
+  rx.nx.assign(n, kNaNf);
+  rx.ny.assign(n, kNaNf);
+  rx.nz.assign(n, kNaNf);
   const double map_w = opt.map_width, map_h = opt.map_height;
   const double f_cap = std::max(map_w, map_h);
   const double d_tolerance = 1e-6;
@@ -403,7 +408,8 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
         light.uv(p, &u, &v);
         double d = light.d(p);
         const bool in_depth = d >= -d_tolerance && d <= 1.0 + d_tolerance;
-        if (!std::isfinite(u) || !std::isfinite(v) || !in_depth) {
+        const bool projected = std::isfinite(u) && std::isfinite(v) && in_depth;
+        if (!projected) {
           u = v = -1.0;
           d = 0.0;
         }
@@ -413,6 +419,27 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
         rx.d[i] = float(std::clamp(d, 0.0, 1.0));
         rx.f[i] = float(f);
         rx.ndl[i] = has_normal ? float(dot(normal, light.direction_to_light(p))) : kNaNf;
+        if (has_normal && projected) {
+          // The texel-scaled normal (normal_offset.hpp): the Jacobian of (u W, v H, d) by central
+          // differences over a step far below the point's texel (exact where the projection is
+          // affine, an orthographic light).
+          const double h = 1e-4 * std::max(cap, 1e-12);
+          double jacobian[3][3];
+          for (int axis = 0; axis < 3; ++axis) {
+            Vec3 step{0.0, 0.0, 0.0};
+            step[axis] = h;
+            double ua, va, ub, vb;
+            light.uv(p - step, &ua, &va);
+            light.uv(p + step, &ub, &vb);
+            jacobian[0][axis] = (ub - ua) * map_w / (2.0 * h);
+            jacobian[1][axis] = (vb - va) * map_h / (2.0 * h);
+            jacobian[2][axis] = (light.d(p + step) - light.d(p - step)) / (2.0 * h);
+          }
+          const std::array<float, 3> n = texel_scaled_normal(jacobian, normal);
+          rx.nx[i] = n[0];
+          rx.ny[i] = n[1];
+          rx.nz[i] = n[2];
+        }
       }
       std::swap(top_o, bottom_o);
       std::swap(top_d, bottom_d);

@@ -129,6 +129,9 @@ Parameter moment_bias_parameter() {
 MethodDesc msm_method(bool hausdorff) {
   MethodDesc m;
   m.name = hausdorff ? "msm-hausdorff" : "msm";
+  // Half a texel along the normal (docs/results.md "Normal offset"): terrain's umbra leak 11.1% ->
+  // 5.9% at 512, acne and RMSE as before. msm-hausdorff is not measured: none.
+  m.default_normal_offset = hausdorff ? 0.0f : 0.5f;
   m.summary = hausdorff ? "moment shadow maps, 4 moments, Hausdorff (bounded support [0,1])"
                         : "moment shadow maps, 4 moments, Hamburger (Peters & Klein 2015)";
   m.header = "methods/msm.clh";

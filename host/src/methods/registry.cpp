@@ -260,6 +260,10 @@ EsmClassify classify_mode(const FilterOptions& o) {
   return o.method->classifiable ? EsmClassify::ZMax : EsmClassify::None;
 }
 
+float normal_offset(const FilterOptions& o) {
+  return o.normal_offset >= 0.0f ? o.normal_offset : o.method->default_normal_offset;
+}
+
 float depth_bias(const FilterOptions& o) {
   if (o.depth_test.bias) return *o.depth_test.bias;
   return o.method->default_depth_bias(o);

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "shadowfilter/blur.hpp"
+#include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/parameters.hpp"
 
 namespace sf {
@@ -41,6 +42,14 @@ const std::vector<Parameter>& filter_parameters() {
                                 "Texels of the receiver plane's slope |dd/dx| + |dd/dy| added to the bias")
                     .with_default(d.receiver_plane.slope_bias)
                     .on(&FilterOptions::receiver_plane, &ReceiverPlaneOptions::slope_bias));
+
+    t.push_back(
+        Parameter::real("FilterOptions::normal_offset", "--normal-offset", "T",
+                        "Texels each lookup moves along the receiver's normal (receivers with nx ny nz; 0: off)")
+            .resolved_by_method("the method's, measured (`shadowfilter methods`)")
+            .within({0, double(kMaxNormalOffset)})
+            .unset_when(ParameterUnset::Negative)
+            .on(&FilterOptions::normal_offset));
 
     t.push_back(Parameter::integer("FilterOptions::blur.radius", "--blur-radius", "R",
                                    "Gaussian prefilter radius R (taps -R..R)")

@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "cl_errors.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/methods.hpp"
+#include "shadowfilter/normal_offset.hpp"
 
 namespace sf {
 namespace {
@@ -89,10 +91,16 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   ++allocations_;
 }
 
-FilterResult FrameFilter::run(const HostImage& depth, const Receivers& receivers) try {
+FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) try {
   Runtime& rt = *rt_;
   if (depth.channels != 1) throw InputError("depth map must have one channel");
   if (depth.data.size() != depth.texels()) throw InputError("depth map data does not match its size");
+  // Every lookup moved along its receiver's normal first (normal_offset.hpp): the counts, the
+  // lookups and the uploads all see the moved receivers.
+  std::optional<Receivers> moved;
+  if (const float t = normal_offset(options_); t != 0.0f && given.has_normal)
+    moved = offset_along_normals(given, depth.width, depth.height, t);
+  const Receivers& receivers = moved ? *moved : given;
   const size_t count = receivers.count();
   if (receivers.d.size() != count || (!receivers.grid && (receivers.u.size() != count || receivers.v.size() != count)))
     throw InputError("receivers' data does not match their size");

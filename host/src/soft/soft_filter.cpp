@@ -8,6 +8,7 @@
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/mips.hpp"
+#include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/sat.hpp"
 #include "shadowfilter/soft.hpp"
 
@@ -99,6 +100,11 @@ void check_sides(double size, double height) {
 }
 }  // namespace
 
+float soft_normal_offset(const SoftOptions& o) {
+  if (o.normal_offset >= 0.0f) return o.normal_offset;
+  return o.method == SoftMethod::Cssm ? 0.0f : 0.5f;  // cssm: no depth test to lift (leak 8.0% -> 5.9%, worst RMSE +5%)
+}
+
 SoftDistance soft_distance(const SoftLight& L) {
   if (L.perspective) return {L.near_plane, L.far_plane - L.near_plane};
   return {L.light_distance / (L.far_plane - L.near_plane), 1.0};
@@ -134,6 +140,7 @@ const std::vector<std::pair<std::string, std::string>>& soft_option_flags() {
       {"SoftOptions::light.fov_degrees", "--light-fov"},
       {"SoftOptions::light.extent", "--light-extent"},
       {"SoftOptions::bias", "--soft-bias"},
+      {"SoftOptions::normal_offset", "--normal-offset"},
       {"SoftOptions::max_width", "--soft-max-width"},
       {"SoftOptions::cssm.order", "--cssm-order"},
       {"SoftOptions::cssm.lookup", "--lookup"},
@@ -203,6 +210,9 @@ void validate(const SoftOptions& o) {
   }
   if (!(L.weight >= 0.0) || !std::isfinite(L.weight)) throw InputError("light weights must be >= 0");
   if (!(o.bias >= 0.0f && o.bias < 1.0f)) throw InputError("SoftOptions::bias must be in [0, 1)");
+  if (!(o.normal_offset <= kMaxNormalOffset))  // NaN fails too; < 0: the method's
+    throw InputError("SoftOptions::normal_offset must be in [0, " + std::to_string(int(kMaxNormalOffset)) +
+                     "] texels (< 0: the method's)");
   if (!(o.max_width >= 1.0f && o.max_width <= 4096.0f)) throw InputError("SoftOptions::max_width must be in [1, 4096]");
   if (o.cssm.order < 1 || o.cssm.order > 32) throw InputError("SoftOptions::cssm.order must be 1..32");
   if (o.cssm.lookup != Lookup::Mips && o.cssm.lookup != Lookup::Sat)
@@ -433,7 +443,12 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     o.light = in.light;
     SoftFilter sfl(rt, o, in.depth.width, in.depth.height);
     cl::Buffer depth = upload(*rt, in.depth.data);
-    const HostPoints p = points_of(in.receivers, in.depth.width, in.depth.height);
+    // Every lookup moved along its receiver's normal first (normal_offset.hpp).
+    const float offset = soft_normal_offset(opt);
+    const HostPoints p = in.receivers.has_normal && offset != 0.0f
+                             ? points_of(offset_along_normals(in.receivers, in.depth.width, in.depth.height, offset),
+                                         in.depth.width, in.depth.height)
+                             : points_of(in.receivers, in.depth.width, in.depth.height);
     DeviceReceivers rx;
     rx.count = in.receivers.count();
     rx.row = in.receivers.width;

@@ -1,9 +1,9 @@
 // `shadowfilter soft --lights FILE` (host/cli/options_soft.cpp; docs/soft.md "Several lights"):
 // a good list gives the weighted mean of the single-light runs; a malformed line, an unknown key,
 // a missing file or a missing map is an input error: exit 2, one line naming the problem, no output;
-// rectangular lights (--light-size W,H, size=W,H); --cssm-storage by name; --auto against a
-// soft reference (soft_auto.cpp): its output meets the bound, on the test map and on a bundled
-// scene's ray-traced reference, and what it cannot measure is refused.
+// rectangular lights (--light-size W,H, size=W,H); --cssm-storage by name; --normal-offset in soft
+// and filter; --auto against a soft reference (soft_auto.cpp): its output meets the bound, on the
+// test map and on a bundled scene's ray-traced reference, and what it cannot measure is refused.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -293,6 +293,44 @@ TEST_F(SoftCli, AutoRefusals) {
   const RunResult same = run_cli(in + " --auto" + ref + " -o " + path("ref.exr"), dir_);
   EXPECT_EQ(same.exit_code, 2) << same.err;
   EXPECT_TRUE(fs::exists(path("ref.exr")));
+}
+
+// --normal-offset (normal_offset.hpp) in `soft` and `filter`: receivers carrying nx ny nz are
+// looked up T texels along them, exactly as the same receivers moved by hand; an offset out of
+// range, or normals beside a d the file does not store as normalized depth, is a one-line refusal.
+TEST_F(SoftCli, NormalOffsetMovesTheLookupsOfBothCommands) {
+  // 8 x 8 receivers on the floor whose normals step one texel along +u and -0.001 in d per
+  // texel: moved by 2 texels each receiver's u grows by 2/32, and the column at u = 5/16 (texel
+  // 9.5, left of the occluder's edge at texel 10) crosses into its shadow.
+  const int n = 8;
+  HostImage rx(n, n, 8), moved(n, n, 8);
+  rx.channel_names = moved.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const float u = (x + 0.5f) / n, v = (y + 0.5f) / n;
+      const float values[8] = {u, v, 0.8f, 1.0f, 0.5f, 1.0f, 0.0f, -0.001f};
+      for (int c = 0; c < 8; ++c) rx.at(x, y, c) = moved.at(x, y, c) = values[c];
+      moved.at(x, y, 0) = u + 2.0f * 1.0f / 32.0f;
+      moved.at(x, y, 2) = 0.8f + 2.0f * -0.001f;
+    }
+  io::write_image(path("rx8.exr"), rx);
+  io::write_image(path("moved.exr"), moved);
+  for (const std::string command : {std::string(kPcss), std::string("filter --method sm ")}) {
+    SCOPED_TRACE(command);
+    const std::string map = " --shadow-map " + path("a.exr") + " -q";
+    auto visibility = [&](const std::string& rx_file, const std::string& offset, const std::string& out) {
+      const RunResult r = run_cli(
+          command + map + " --receivers " + path(rx_file) + " --normal-offset " + offset + " -o " + path(out), dir_);
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return io::load_depth_map(path(out), {}).data;
+    };
+    const std::vector<float> offset = visibility("rx8.exr", "2", "offset.exr");
+    EXPECT_EQ(offset, visibility("moved.exr", "0", "by_hand.exr"));
+    EXPECT_NE(offset, visibility("rx8.exr", "0", "plain.exr")) << "the move must cross the occluder's edge";
+    expect_refusal(command + map + " --receivers " + path("rx8.exr") + " --normal-offset 9", "--normal-offset");
+    expect_refusal(command + map + " --receivers " + path("rx8.exr") + " --receiver-encoding reversed-linear",
+                   "nx ny nz need d stored as normalized linear depth");
+  }
 }
 
 }  // namespace

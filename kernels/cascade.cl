@@ -41,6 +41,28 @@ inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map
   return isfinite(f) ? f : 1.0f;
 }
 
+// The normal offset (normal_offset.hpp) in layer k: p moved C->normal_offset of the layer's texels
+// along n, a texel being 1 / sqrt(|grad uW| |grad vH|) wide at p (q = p in the layer). n is the
+// camera-facing unit normal, -(dx x dy) / |dx x dy|: a pixel's offsets run along the image's x and
+// y (row 0 at the top), so their cross product points away from the camera on either side of a
+// surface. p itself where the offset is 0, the offsets span no plane or the move is not finite.
+inline float3 sf_cascade_moved(__constant sf_cascade_params* C, int k, sf_map_point q, float3 p, float3 n) {
+  if (C->normal_offset == 0.0f) return p;
+  __constant const float* m = C->m + 16 * k;
+  const float3 r3 = (float3)(m[12], m[13], m[14]);
+  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
+  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
+  const float3 moved = p + (C->normal_offset * rsqrt(length(du) * length(dv))) * n;
+  return all(isfinite(moved)) ? moved : p;
+}
+
+// The camera-facing unit normal of the pixel's offsets (sf_cascade_moved), 0 where they span no plane.
+inline float3 sf_cascade_normal(float3 dx, float3 dy) {
+  const float3 c = cross(dx, dy);
+  const float l = length(c);
+  return l > 0.0f && isfinite(l) ? -c / l : (float3)(0.0f);
+}
+
 // Receiver i of the view: x, y, z its world position, depth its view depth,
 // d?x / d?y the world offsets across its pixel. Writes
 //   layers[i] = (first layer, second layer or -1), -1 -1 where no layer serves it (background,
@@ -87,10 +109,11 @@ inline void sf_cascade_project_one(__global const float* restrict x, __global co
   layers[i] = (char2)((char)l0, (char)l1);
   weight[i] = w1;
   const float3 dx = (float3)(dxx[i], dxy[i], dxz[i]), dy = (float3)(dyx[i], dyy[i], dyz[i]);
+  const float3 n = sf_cascade_normal(dx, dy);
   for (int k = 0; k < SF_CASCADES; ++k) {
     const size_t j = (size_t)k * stride + i;
     const bool served = k == l0 || k == l1;
-    const sf_map_point q = sf_cascade_apply(C, k, p);
+    const sf_map_point q = sf_cascade_apply(C, k, sf_cascade_moved(C, k, sf_cascade_apply(C, k, p), p, n));
     out_u[j] = served ? q.u : 0.0f;
     out_v[j] = served ? q.v : 0.0f;
     out_d[j] = served ? q.d : NAN;
@@ -183,10 +206,27 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
   vstore16(w1, 0, weight + i0);
   const sf_cfv dx0 = vload16(0, dxx + i0), dx1 = vload16(0, dxy + i0), dx2 = vload16(0, dxz + i0);
   const sf_cfv dy0 = vload16(0, dyx + i0), dy1 = vload16(0, dyy + i0), dy2 = vload16(0, dyz + i0);
+  // The camera-facing normal (sf_cascade_normal), lane by lane as vectors.
+  const sf_cfv x0 = dx1 * dy2 - dx2 * dy1, x1 = dx2 * dy0 - dx0 * dy2, x2 = dx0 * dy1 - dx1 * dy0;
+  const sf_cfv len = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const sf_civ spans = (len > 0.0f) & isfinite(len);
+  const sf_cfv n0 = select((sf_cfv)(0.0f), -x0 / len, spans), n1 = select((sf_cfv)(0.0f), -x1 / len, spans),
+               n2 = select((sf_cfv)(0.0f), -x2 / len, spans);
   for (int k = 0; k < SF_CASCADES; ++k) {
     const size_t j = (size_t)k * stride + i0;
     const sf_civ served = (l0 == k) | (l1 == k);
-    const sf_map_points q = sf_cascade_apply_v(C, k, px, py, pz);
+    sf_map_points q = sf_cascade_apply_v(C, k, px, py, pz);
+    if (C->normal_offset != 0.0f) {  // sf_cascade_moved, as vectors
+      __constant const float* m = C->m + 16 * k;
+      const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
+      const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
+      const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
+      const sf_cfv step = C->normal_offset * rsqrt(sqrt(du0 * du0 + du1 * du1 + du2 * du2) *
+                                                   sqrt(dv0 * dv0 + dv1 * dv1 + dv2 * dv2));
+      const sf_cfv mx = px + step * n0, my = py + step * n1, mz = pz + step * n2;
+      const sf_civ finite = isfinite(mx) & isfinite(my) & isfinite(mz);
+      q = sf_cascade_apply_v(C, k, select(px, mx, finite), select(py, my, finite), select(pz, mz, finite));
+    }
     vstore16(select((sf_cfv)(0.0f), q.u, served), 0, out_u + j);
     vstore16(select((sf_cfv)(0.0f), q.v, served), 0, out_v + j);
     vstore16(select((sf_cfv)(NAN), q.d, served), 0, out_d + j);

@@ -7,10 +7,28 @@
 #include "reference.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
+#include "shadowfilter/methods.hpp"
 
 namespace sf::ref {
+namespace {
 
-CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& view) {
+// sf_cascade_moved's twin: p moved `texels` of layer k's texels (1 / sqrt(|grad uW| |grad vH|)
+// at p) along the camera-facing unit normal of the pixel's offsets.
+Point3 moved(const CascadeSet& set, int k, const Point3& p, const Point3& dx, const Point3& dy, double texels) {
+  if (texels == 0.0) return p;
+  const Point3 c = cross(dx, dy);
+  const double l = length(c);
+  if (!(l > 0.0 && std::isfinite(l))) return p;
+  Point3 du, dv;
+  set.layers[size_t(k)].transform.jacobian_uv(p, du, dv);
+  const double width = 1.0 / std::sqrt(set.width * length(du) * set.height * length(dv));
+  const Point3 m = p + (-texels * width / l) * c;
+  return std::isfinite(m.x) && std::isfinite(m.y) && std::isfinite(m.z) ? m : p;
+}
+
+}  // namespace
+
+CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& view, double normal_offset) {
   const size_t count = view.count();
   const size_t K = set.layers.size();
   CascadeProjection out;
@@ -33,12 +51,12 @@ CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& v
     for (int j = 0; j < 2; ++j) {
       const int k = c.layer[j];
       if (k < 0) continue;
-      const LayerTransform::MapPoint q = set.layers[k].transform.apply(p);
+      const LayerTransform::MapPoint q = set.layers[k].transform.apply(moved(set, k, p, dx, dy, normal_offset));
       Receivers& rx = out.layers[k];
       rx.u[i] = float(q.u);
       rx.v[i] = float(q.v);
       rx.d[i] = float(q.d);
-      rx.f[i] = float(layer_footprint(set, k, p, dx, dy));
+      rx.f[i] = float(layer_footprint(set, k, moved(set, k, p, dx, dy, normal_offset), dx, dy));
     }
   }
   return out;
@@ -63,7 +81,7 @@ std::vector<double> filter_cascades(const FilterOptions& options, const CascadeS
 
 std::vector<double> filter_cascades(const FilterOptions& options, const CascadeSet& set,
                                     const std::vector<HostImage>& maps, const ViewReceivers& view) {
-  std::vector<double> out = filter_cascades(options, set, maps, project_cascades(set, view));
+  std::vector<double> out = filter_cascades(options, set, maps, project_cascades(set, view, normal_offset(options)));
   if (options.facing_away_shadowed && !view.ndl.empty())
     for (size_t i = 0; i < out.size(); ++i)
       if (view.ndl[i] <= 0.0f && std::isfinite(view.depth[i])) out[i] = 0.0;

@@ -14,12 +14,14 @@ namespace sf::ref {
 // What sf_cascade_project computes: the choice per receiver and per layer the receivers as that
 // layer's reconstruction reads them (u, v, d and f = layer_footprint, rounded to float once; d
 // NaN where the layer does not serve the receiver). Receivers::width is the view's width, so the
-// receiver plane finds its neighbours in the view.
+// receiver plane finds its neighbours in the view. With a normal offset, each layer reads the
+// receiver moved that many of its texels along the camera-facing normal -(dx x dy) / |dx x dy|
+// (sf_cascade_moved; the layer choice stays the unmoved point's).
 struct CascadeProjection {
   std::vector<CascadeChoice> choice;
   std::vector<Receivers> layers;
 };
-CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& view);
+CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& view, double normal_offset = 0.0);
 
 // Blended visibility per receiver (1 where no layer serves it; 0 for ndl <= 0 under
 // FilterOptions::facing_away_shadowed when the view has ndl).

@@ -417,6 +417,42 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
   }
 }
 
+// The normal offset in the projection (sf_cascade_moved): each served layer reads the receiver
+// moved 1.5 of its texels along the camera-facing normal of the pixel's offsets, as the double
+// twin moves it; on the scene's view, receivers facing the light (ndl > 0.1) move towards it
+// (d falls) in every layer that serves them, so the normal's orientation is the camera's side.
+TEST(Layered, ProjectionMovesReceiversAlongTheirNormals) {
+  const CascadeSet set = layout(LayoutKind::PssmTsm, 96, 0.2);
+  const ViewReceivers view = render_view(128, 72);
+  FilterOptions opt;
+  opt.method = "sm";
+  opt.normal_offset = 1.5f;
+  LayeredPipeline pipe(runtime_ptr(), opt, set);
+  run(pipe, render_maps(set), view);
+  const ref::CascadeProjection got = read_projection(pipe, view);
+  const ref::CascadeProjection want = ref::project_cascades(set, view, 1.5);
+  const ref::CascadeProjection still = ref::project_cascades(set, view);
+  size_t compared = 0, towards_light = 0, facing = 0;
+  for (size_t i = 0; i < view.count(); ++i) {
+    if (got.choice[i].layer[0] != want.choice[i].layer[0] || got.choice[i].layer[1] != want.choice[i].layer[1])
+      continue;  // a float / double decision at a boundary (ProjectionKernelChoosesAsSelectCascade)
+    for (int k = 0; k < int(set.layers.size()); ++k) {
+      if (!std::isfinite(want.layers[k].d[i])) continue;
+      ASSERT_NEAR(got.layers[k].u[i], want.layers[k].u[i], 2e-5) << k << " " << i;
+      ASSERT_NEAR(got.layers[k].v[i], want.layers[k].v[i], 2e-5) << k << " " << i;
+      ASSERT_NEAR(got.layers[k].d[i], want.layers[k].d[i], 2e-5) << k << " " << i;
+      ++compared;
+      if (view.ndl[i] > 0.1f) {
+        ++facing;
+        towards_light += want.layers[k].d[i] < still.layers[k].d[i];
+      }
+    }
+  }
+  EXPECT_GT(compared, view.count() / 2);
+  EXPECT_GT(facing, 1000u);
+  EXPECT_EQ(towards_light, facing);
+}
+
 // One receivers type and one stage-times type: the layered pipeline reads the view part of
 // DeviceReceivers (a map part alone is refused, naming the field), and its times are its layers'
 // summed stage by stage plus the projection and the blend.

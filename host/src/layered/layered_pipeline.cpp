@@ -11,6 +11,8 @@
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/layered.hpp"
+#include "shadowfilter/methods.hpp"
+#include "shadowfilter/soft.hpp"
 
 namespace sf {
 
@@ -107,9 +109,11 @@ DeviceReceivers upload_view_receivers(Runtime& runtime, const ViewReceivers& vie
 
 namespace {
 
-// The set as the kernels read it: doubles rounded once to float.
-sf_cascade_params cascade_params(const CascadeSet& set) {
+// The set as the kernels read it: doubles rounded once to float; the receivers' normal offset in
+// each layer's texels (normal_offset.hpp).
+sf_cascade_params cascade_params(const CascadeSet& set, float normal_offset) {
   sf_cascade_params p{};
+  p.normal_offset = normal_offset;
   p.count = static_cast<sf_int>(set.layers.size());
   p.width = set.width;
   p.height = set.height;
@@ -133,7 +137,7 @@ cl::Kernel cascade_kernel(Runtime& rt, const char* name, int layers) {
 LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const FilterOptions& options, CascadeSet set) try
     : rt_(std::move(runtime)), set_(std::move(set)) {
   validate(set_);
-  sf_cascade_params params = cascade_params(set_);
+  sf_cascade_params params = cascade_params(set_, normal_offset(options));
   params_ = cl::Buffer(rt_->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof params, &params);
   for (int k = 0; k < static_cast<int>(set_.layers.size()); ++k)
     pipes_.push_back(std::make_unique<Pipeline>(rt_, layer_filter_options(options, set_, k), set_.width, set_.height));
@@ -148,7 +152,7 @@ LayeredPipeline::LayeredPipeline(std::shared_ptr<Runtime> runtime, const SoftOpt
                                  double light_plane) try
     : rt_(std::move(runtime)), set_(std::move(set)) {
   validate(set_);
-  sf_cascade_params params = cascade_params(set_);
+  sf_cascade_params params = cascade_params(set_, soft_normal_offset(options));
   params_ = cl::Buffer(rt_->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof params, &params);
   for (int k = 0; k < static_cast<int>(set_.layers.size()); ++k) {
     SoftOptions o = options;

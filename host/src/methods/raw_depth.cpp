@@ -12,19 +12,16 @@ namespace {
 // neighbours texels away; 0.003 of the depth range keeps acne below 0.5% on every built-in scene
 // and the scanned bunny at 512 and 2048 maps, with the fewest leaks (the tie bias 2^-15 alone
 // leaves 1-4% acne). Without the plane the test is s_ref of the constant d (bias 0).
-// sm with its normal offset of half a texel (docs/results.md "Normal offset") needs only 0.001:
-// the offset lifts each lookup off its own surface, the smaller bias lets fewer occluders
-// through (terrain's umbra leak 3.9% -> 1.7% at 512, acne and RMSE lower on every scene).
 constexpr float kPlaneBias = 0.003f;
-constexpr float kPlaneBiasWithOffset = 0.001f;
 }  // namespace
 
 MethodDesc raw_depth_method(const std::string& name, const std::string& summary, bool filtered) {
   MethodDesc m;
-  // pcf keeps 0 (its support spans texels the offset does not reach: 0.5 and 1 leak more on the
-  // scanned bunny at 512 with the plane on).
-  const bool offset = !filtered;
-  m.default_normal_offset = offset ? 0.5f : 0.0f;
+  // sm looks up half a texel along the receiver's normal (docs/results.md "Normal offset": terrain's
+  // umbra leak 3.9% -> 2.0% at 512, acne 0.29% -> 0.06%, at the same bias, so receivers without
+  // normals test as before); pcf none (with the plane, 0.5 and 1 leak 0.96% on the scanned bunny
+  // at 512, from 0.48%).
+  m.default_normal_offset = filtered ? 0.0f : 0.5f;
   m.name = name;
   m.summary = summary;
   m.raw_depth = true;
@@ -40,9 +37,7 @@ MethodDesc raw_depth_method(const std::string& name, const std::string& summary,
   };
   m.pack_params = [](const FilterOptions& o) { return bytes_of(depth_bias(o)); };
   // Without the plane the test is s_ref of the constant d (bias 0), with it the plane's tie bias.
-  m.default_depth_bias = [offset](const FilterOptions& o) {
-    return o.receiver_plane.enabled ? (offset ? kPlaneBiasWithOffset : kPlaneBias) : 0.0f;
-  };
+  m.default_depth_bias = [](const FilterOptions& o) { return o.receiver_plane.enabled ? kPlaneBias : 0.0f; };
   m.defines = [](const FilterOptions&) { return std::string(); };
   m.parameter_values = [](const FilterOptions& o) {
     return std::vector<MethodParameter>{{"bias", depth_bias(o)},

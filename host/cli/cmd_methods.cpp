@@ -42,6 +42,7 @@ nlohmann::json methods_json() {
     nlohmann::json j{{"name", m.name}, {"summary", m.summary}, {"parameters", parameters_line(m)}};
     nlohmann::json defaults = nlohmann::json::object();
     for (const MethodParameter& p : m.parameter_values(o)) defaults[p.key] = p.value;
+    defaults["normal_offset"] = normal_offset(o);  // texels, where the receivers carry normals
     j["defaults"] = defaults;
     if (m.raw_depth) {
       j["bytes_per_texel"] = {{"depth", 4}};

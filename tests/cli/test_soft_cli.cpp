@@ -315,7 +315,8 @@ TEST_F(SoftCli, NormalOffsetMovesTheLookupsOfBothCommands) {
     }
   io::write_image(path("rx8.exr"), rx);
   io::write_image(path("moved.exr"), moved);
-  for (const std::string command : {std::string(kPcss), std::string("filter --method sm ")}) {
+  for (const char* command_text : {kPcss, "filter --method sm "}) {
+    const std::string command = command_text;
     SCOPED_TRACE(command);
     const std::string map = " --shadow-map " + path("a.exr") + " -q";
     auto visibility = [&](const std::string& rx_file, const std::string& offset, const std::string& out) {

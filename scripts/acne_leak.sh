@@ -4,6 +4,7 @@
 # light) on every built-in scene at 512x512 maps and 320x240 receivers, acne / leak against
 # reference_hard and RMSE against the ray-traced references, facing-away receivers excluded.
 # Usage: scripts/acne_leak.sh [BUILD_DIR]   (default build; needs shadowfilter and sf_measure)
+#   SF_SCENES="terrain"  only these built-in scenes (default: all six)
 set -eu
 B=${1:-build}
 OUT=$B/acne_scenes

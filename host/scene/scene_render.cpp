@@ -181,21 +181,14 @@ void SceneRenderer::pixel_offsets(const PerspectiveCamera& camera, int x, int y,
   dy = offset(x + 0.5, y, x + 0.5, y + 1.0);
 }
 
-// The hit's normal in light space scaled to one texel (sf::texel_scaled_normal): the Jacobian
-// of (u W, v H, d) by central differences over a step far below a texel (exact for an
-// orthographic light, whose projection is linear).
+// The hit's normal in light space scaled to one texel (sf::texel_scaled_normal), over a step far
+// below a texel.
 std::array<float, 3> SceneRenderer::texel_scaled_normal(Vec3 point, Vec3 normal) const {
-  const double h = 1e-4 * std::max(setup_.light.depth_range(), 1e-12);
-  double jacobian[3][3];
-  for (int axis = 0; axis < 3; ++axis) {
-    Vec3 step{0.0, 0.0, 0.0};
-    step[axis] = h;
-    const LightCoords a = setup_.light.project(point - step), b = setup_.light.project(point + step);
-    jacobian[0][axis] = (b.u - a.u) * setup_.map_width / (2.0 * h);
-    jacobian[1][axis] = (b.v - a.v) * setup_.map_height / (2.0 * h);
-    jacobian[2][axis] = (b.d - a.d) / (2.0 * h);
-  }
-  return sf::texel_scaled_normal(jacobian, normal);
+  const auto map = [this](Vec3 p) {
+    const LightCoords c = setup_.light.project(p);
+    return std::array<double, 3>{c.u * setup_.map_width, c.v * setup_.map_height, c.d};
+  };
+  return sf::texel_scaled_normal(map, point, normal, 1e-4 * std::max(setup_.light.depth_range(), 1e-12));
 }
 
 CameraImages SceneRenderer::camera_view(bool with_soft) const { return camera_view(setup_.camera, with_soft); }

@@ -26,6 +26,21 @@ constexpr float kMaxNormalOffset = 8.0f;
 // texel width (a degenerate projection).
 std::array<float, 3> texel_scaled_normal(const double jacobian[3][3], const Vec3& normal);
 
+// The same at a world point from its map coordinates: `map(p)` gives (u W, v H, d) of a world
+// point p as std::array<double, 3>; the Jacobian at `point` by central differences over `step`
+// world units (far below a texel: exact where the projection is affine, an orthographic light).
+template <class Map>
+std::array<float, 3> texel_scaled_normal(const Map& map, const Vec3& point, const Vec3& normal, double step) {
+  double jacobian[3][3];
+  for (int axis = 0; axis < 3; ++axis) {
+    Vec3 delta{0.0, 0.0, 0.0};
+    delta[axis] = step;
+    const std::array<double, 3> a = map(point - delta), b = map(point + delta);
+    for (int r = 0; r < 3; ++r) jacobian[r][axis] = (b[size_t(r)] - a[size_t(r)]) / (2.0 * step);
+  }
+  return texel_scaled_normal(jacobian, normal);
+}
+
 // The receivers with each lookup moved `texels` along its normal: u += t nx / W, v += t ny / H,
 // d += t nz, for every receiver with finite nx ny nz (others, and receivers without normals,
 // unchanged). InputError for `texels` outside [0, kMaxNormalOffset] or not finite, or normals

@@ -420,22 +420,13 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
         rx.f[i] = float(f);
         rx.ndl[i] = has_normal ? float(dot(normal, light.direction_to_light(p))) : kNaNf;
         if (has_normal && projected) {
-          // The texel-scaled normal (normal_offset.hpp): the Jacobian of (u W, v H, d) by central
-          // differences over a step far below the point's texel (exact where the projection is
-          // affine, an orthographic light).
-          const double h = 1e-4 * std::max(cap, 1e-12);
-          double jacobian[3][3];
-          for (int axis = 0; axis < 3; ++axis) {
-            Vec3 step{0.0, 0.0, 0.0};
-            step[axis] = h;
-            double ua, va, ub, vb;
-            light.uv(p - step, &ua, &va);
-            light.uv(p + step, &ub, &vb);
-            jacobian[0][axis] = (ub - ua) * map_w / (2.0 * h);
-            jacobian[1][axis] = (vb - va) * map_h / (2.0 * h);
-            jacobian[2][axis] = (light.d(p + step) - light.d(p - step)) / (2.0 * h);
-          }
-          const std::array<float, 3> n = texel_scaled_normal(jacobian, normal);
+          // The texel-scaled normal (normal_offset.hpp), over a step far below the point's texel.
+          const auto map = [&](const Vec3& q) {
+            double uq, vq;
+            light.uv(q, &uq, &vq);
+            return std::array<double, 3>{uq * map_w, vq * map_h, light.d(q)};
+          };
+          const std::array<float, 3> n = texel_scaled_normal(map, p, normal, 1e-4 * std::max(cap, 1e-12));
           rx.nx[i] = n[0];
           rx.ny[i] = n[1];
           rx.nz[i] = n[2];

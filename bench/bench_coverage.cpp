@@ -58,7 +58,8 @@ void BM_ReconstructLookup(benchmark::State& state, std::string method) {
   cl::Buffer depth = to_device(random_floats(size_t(n) * n, 25, 0.2f, 0.8f));
   if (m.raw_depth) {
     const double s = time_runs(state, [&] {
-      cl::Event e = enqueue_pcf_points(runtime(), opt, n, n, kRx, 0, depth, rx.u, rx.v, rx.d, cl::Buffer(), rx.vis);
+      cl::Event e =
+          enqueue_pcf_points(runtime(), opt, n, n, kRx, 0, depth, rx.u, rx.v, rx.d, cl::Buffer(), cl::Buffer(), rx.vis);
       e.wait();
       return event_seconds(e);
     });

@@ -66,9 +66,10 @@ void BM_Reconstruct(benchmark::State& state, std::string method) {
     enqueue_transform(runtime(), m, opt, n, n, depth, basis).wait();
   }
   const double s = time_runs(state, [&] {
-    cl::Event e = m.raw_depth
-                      ? enqueue_pcf_points(runtime(), opt, n, n, count, 0, depth, u, v, d, cl::Buffer(), vis)
-                      : enqueue_reconstruct_points(runtime(), m, opt, n, n, count, 0, basis, nullptr, u, v, d, vis);
+    cl::Event e =
+        m.raw_depth
+            ? enqueue_pcf_points(runtime(), opt, n, n, count, 0, depth, u, v, d, cl::Buffer(), cl::Buffer(), vis)
+            : enqueue_reconstruct_points(runtime(), m, opt, n, n, count, 0, basis, nullptr, u, v, d, vis);
     e.wait();
     return event_seconds(e);
   });

@@ -104,16 +104,19 @@ inline float sf_pcf_axis_weight(const sf_pcf_axis* A, int n, int s, int radius, 
   return w;
 }
 
-// Level-0 texels with a non-zero weight: the pre-blur support widened by R, clamped.
+// Level-0 texels with a non-zero weight: the pre-blur support clamped into the map (a box wholly
+// past an edge, which an anisotropic probe can be, weighs the edge texel), widened by R, clamped.
 inline void sf_pcf_span(const sf_pcf_axis* A, int n, int radius, int* lo, int* hi) {
-  *lo = max((int)floor(A->X0) - radius, 0);
-  *hi = min((int)ceil(A->X1) - 1 + radius, n - 1);
+  *lo = max(min((int)floor(A->X0), n - 1) - radius, 0);
+  *hi = min(max((int)ceil(A->X1) - 1, 0) + radius, n - 1);
 }
 
 #define SF_PCF_CHUNK 32
 
+// The filtered test under a footprint lookup at (u, v): mips at footprint f, the box over fx x fy
+// texels (as sf_lookup_rect).
 inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H, float u, float v,
-                              float f, const sf_plane* p, float bias, int radius,
+                              float f, float fx, float fy, const sf_plane* p, float bias, int radius,
                               const sf_pcf_weights* g) {
   sf_pcf_axis ax[2], ay[2];
   float t = 0.0f;
@@ -124,12 +127,13 @@ inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H
   ax[1] = sf_pcf_level_axis(u, W, k0 + (t > 0.0f));
   ay[1] = sf_pcf_level_axis(v, H, k0 + (t > 0.0f));
 #else
-  const float s = 0.5f * (isfinite(f) ? fmax(f, 1.0f) : 1.0f);  // as sf_lookup_box
+  const float sx = 0.5f * (isfinite(fx) ? fmax(fx, 1.0f) : 1.0f);  // as sf_lookup_rect
+  const float sy = 0.5f * (isfinite(fy) ? fmax(fy, 1.0f) : 1.0f);
   ax[0].box = ay[0].box = 1;
-  ax[0].X0 = fma(u, (float)W, -s);
-  ax[0].X1 = fma(u, (float)W, s);
-  ay[0].X0 = fma(v, (float)H, -s);
-  ay[0].X1 = fma(v, (float)H, s);
+  ax[0].X0 = fma(u, (float)W, -sx);
+  ax[0].X1 = fma(u, (float)W, sx);
+  ay[0].X0 = fma(v, (float)H, -sy);
+  ay[0].X1 = fma(v, (float)H, sy);
   ax[1] = ax[0];
   ay[1] = ay[0];
 #endif
@@ -169,7 +173,9 @@ inline float sf_pcf_footprint(__global const float* restrict depth, int W, int H
   return clamp(acc, 0.0f, 1.0f);
 }
 
-// Receivers with footprints f (null = 1 everywhere).
+// Receivers with footprints f (null = 1 everywhere). SF_ANISO: f holds their Jacobians, four
+// planes of count floats (lookup.clh "Anisotropic footprints"), and the test is the mean of the
+// probes' tests, each against the receiver's own plane.
 __kernel void sf_pcf_points_footprint(__global const float* restrict depth, const int width,
                                       const int height, __global const float* restrict u,
                                       __global const float* restrict v,
@@ -182,8 +188,21 @@ __kernel void sf_pcf_points_footprint(__global const float* restrict depth, cons
   if (!sf_receiver_fetch(i, count, u, v, d, out, &ui, &vi, &di)) return;
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, width, height, ui, vi,
                                               clamp(di, 0.0f, 1.0f), P);
-  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, f ? f[i] : 1.0f, &p, sf_plane_bias(&p, bias, P),
-                            radius, &g);
+  const float b = sf_plane_bias(&p, bias, P);
+#if defined(SF_ANISO)
+  const size_t n = (size_t)count;
+  const sf_aniso a = sf_aniso_footprint(f[i], f[n + i], f[2 * n + i], f[3 * n + i], SF_ANISO);
+  float acc = 0.0f;
+  for (int k = 0; k < a.n; ++k) {
+    const float o = sf_aniso_offset(k, a.n);
+    const float uk = ui + (o * a.du) / (float)width, vk = vi + (o * a.dv) / (float)height;
+    acc += sf_pcf_footprint(depth, width, height, uk, vk, a.f, a.fx, a.fy, &p, b, radius, &g);
+  }
+  out[i] = acc / (float)a.n;
+#else
+  const float fi = f ? f[i] : 1.0f;
+  out[i] = sf_pcf_footprint(depth, width, height, ui, vi, fi, fi, fi, &p, b, radius, &g);
+#endif
 }
 #endif
 

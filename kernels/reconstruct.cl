@@ -8,14 +8,19 @@ inline void sf_reconstruct_one(__global const sf_stored* restrict basis, int wid
                                __global const float* restrict d, __global float* restrict out,
                                const sf_method_params P, __global const sf_stored* restrict chain,
                                __global const float* restrict sat,
-                               __global const float* restrict f, int i) {
+                               __global const float* restrict f, int count, int i) {
   const float ui = u[i], vi = v[i], di = d[i];
   if (sf_receiver_outside(ui, vi, di)) {
     out[i] = 1.0f;
     return;
   }
   float b[SF_CHANNELS];
+#if defined(SF_ANISO)
+  const sf_aniso a = sf_aniso_footprint(f[i], f[(size_t)count + i], f[2 * (size_t)count + i], f[3 * (size_t)count + i], SF_ANISO);
+  sf_lookup_aniso(basis, chain, sat, width, height, ui, vi, &a, b);
+#else
   sf_lookup(basis, chain, sat, width, height, ui, vi, f ? f[i] : 1.0f, b);
+#endif
   out[i] = clamp(sf_visibility(b, clamp(di, 0.0f, 1.0f), P), 0.0f, 1.0f);
 }
 
@@ -35,13 +40,14 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
   // chain / sat / f: the lookup's mip chain or summed-area table and the receivers' footprints
   // (lookup.clh, SF_LOOKUP); null when unused (f null = footprint 1). SF_MIPS_JOINED: basis
   // holds the chain too (chain points into it) and level_offsets[k] is level k's element offset
-  // in basis (lookup.clh); null otherwise.
+  // in basis (lookup.clh); null otherwise. SF_ANISO: f holds the receivers' Jacobians instead,
+  // four planes of count floats (dudx, dvdx, dudy, dvdy; lookup.clh "Anisotropic footprints").
   const int i0 = get_global_id(0) * SF_RX_VEC;
   if (i0 >= count) return;
 #if SF_RX_VEC > 1
   if (count - i0 < SF_RX_VEC) {
     for (int i = i0; i < count; ++i)
-      sf_reconstruct_one(basis, width, height, u, v, d, out, P, chain, sat, f, i);
+      sf_reconstruct_one(basis, width, height, u, v, d, out, P, chain, sat, f, count, i);
     return;
   }
 #endif
@@ -60,8 +66,14 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
     return;
   }
   sf_rxf b[SF_CHANNELS];
+#if defined(SF_ANISO)
+  sf_rx_lookup_aniso(basis, chain, sat, level_offsets, width, height, select(centre, ui, inside),
+                     select(centre, vi, inside), sf_rx_vload(f + i0), sf_rx_vload(f + (size_t)count + i0),
+                     sf_rx_vload(f + 2 * (size_t)count + i0), sf_rx_vload(f + 3 * (size_t)count + i0), b);
+#else
   sf_rx_lookup(basis, chain, sat, level_offsets, width, height, select(centre, ui, inside),
                select(centre, vi, inside), f ? sf_rx_vload(f + i0) : one, b);
+#endif
   const sf_rxf dc = clamp(select(centre, di, inside), 0.0f, 1.0f);
 #if defined(sf_visibility_vec)
   const sf_rxf vis = sf_visibility_vec(b, dc, P);

@@ -79,18 +79,15 @@ void box_corners(double u, double v, double fx, double fy, int W, int H, double&
   Y0 = std::fmaf(float(v), float(H), -sy);
   Y1 = std::fmaf(float(v), float(H), sy);
 }
-void box_corners(double u, double v, double f, int W, int H, double& X0, double& X1, double& Y0, double& Y1) {
-  box_corners(u, v, f, f, W, H, X0, X1, Y0, Y1);
-}
 
 double overlap(int i, double a, double b) { return std::max(0.0, std::min(i + 1.0, b) - std::max(double(i), a)); }
 
-// Level-0 weights of the lookup (before the blur).
-Window level0_window(int W, int H, Lookup kind, double u, double v, double f) {
+// Level-0 weights of the lookup (before the blur): mips at footprint f, the box over fx x fy.
+Window level0_window(int W, int H, Lookup kind, double u, double v, double f, double fx, double fy) {
   if (kind == Lookup::Bilinear) return bilinear_window(W, H, u, v, 1.0);
   if (kind == Lookup::Sat) {
     double X0, X1, Y0, Y1;
-    box_corners(u, v, f, W, H, X0, X1, Y0, Y1);
+    box_corners(u, v, fx, fy, W, H, X0, X1, Y0, Y1);
     const int ia = int(std::floor(X0)), ib = int(std::ceil(X1)) - 1;
     const int ja = int(std::floor(Y0)), jb = int(std::ceil(Y1)) - 1;
     Window win(clampi(ia, 0, W - 1), clampi(ja, 0, H - 1), clampi(ib, 0, W - 1), clampi(jb, 0, H - 1));
@@ -155,6 +152,24 @@ Planes sat_table(const Planes& img) {
 
 double footprint_at(const Receivers& rx, size_t i) {
   return (!rx.grid && rx.has_footprint && i < rx.f.size()) ? double(rx.f[i]) : 1.0;
+}
+
+FootprintProbes isotropic_probe(double f) {
+  FootprintProbes p;
+  p.f = p.fx = p.fy = float(f);
+  return p;
+}
+
+FootprintProbes probes_at(const Receivers& rx, size_t i, int max_anisotropy) {
+  if (rx.grid || !rx.has_jacobian || max_anisotropy <= 1 || i >= rx.dudx.size())
+    return isotropic_probe(footprint_at(rx, i));
+  return footprint_probes(rx.dudx[i], rx.dvdx[i], rx.dudy[i], rx.dvdy[i], max_anisotropy);
+}
+
+void probe_uv(const FootprintProbes& p, int k, int W, int H, double u, double v, double& uk, double& vk) {
+  const float o = p.offset(k);
+  uk = double(float(u) + (o * p.du) / float(W));
+  vk = double(float(v) + (o * p.dv) / float(H));
 }
 
 int lod(double f, int top, double& t) {
@@ -226,12 +241,25 @@ double LookupRef::value(int c, double u, double v, double f) const {
   }
 }
 
+double LookupRef::value(int c, double u, double v, const FootprintProbes& p) const {
+  if (kind_ == Lookup::Bilinear) return bilinear(chain_[0], c, u, v);
+  const Planes& level0 = chain_[0];
+  double acc = 0;
+  for (int k = 0; k < p.n; ++k) {
+    double uk, vk;
+    probe_uv(p, k, level0.width, level0.height, u, v, uk, vk);
+    acc += kind_ == Lookup::Mips ? trilinear(chain_, c, uk, vk, p.f) : box_mean(level0, c, uk, vk, p.fx, p.fy);
+  }
+  return acc / p.n;
+}
+
 double LookupRef::box(int c, double u, double v, double fx, double fy) const {
   return box_mean(chain_[0], c, u, v, fx, fy);
 }
 
-std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u, double v, double f) {
-  const Window l0 = level0_window(W, H, kind, u, v, f);
+namespace {
+// The blur's taps around a level-0 window.
+std::vector<Tap> blurred_taps(int W, int H, const BlurOptions& blur_opt, const Window& l0) {
   const int R = blur_opt.radius;
   const auto g = gaussian_weights(R, blur_opt.sigma);
   Window out(std::max(l0.x0 - R, 0), std::max(l0.y0 - R, 0), std::min(l0.x0 + l0.w - 1 + R, W - 1),
@@ -250,6 +278,40 @@ std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup k
     for (int i = 0; i < out.w; ++i)
       if (out.v[size_t(j) * out.w + i] != 0) taps.push_back({out.x0 + i, out.y0 + j, out.v[size_t(j) * out.w + i]});
   return taps;
+}
+}  // namespace
+
+std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u, double v, double f) {
+  return blurred_taps(W, H, blur_opt, level0_window(W, H, kind, u, v, f, f, f));
+}
+
+std::vector<Tap> lookup_taps(int W, int H, const BlurOptions& blur_opt, Lookup kind, double u, double v,
+                             const FootprintProbes& p) {
+  std::vector<Window> parts;
+  int x0 = W, y0 = H, x1 = -1, y1 = -1;
+  for (int k = 0; k < p.n; ++k) {
+    double uk, vk;
+    probe_uv(p, k, W, H, u, v, uk, vk);
+    parts.push_back(level0_window(W, H, kind, uk, vk, p.f, p.fx, p.fy));
+    const Window& w = parts.back();
+    x0 = std::min(x0, w.x0), y0 = std::min(y0, w.y0);
+    x1 = std::max(x1, w.x0 + w.w - 1), y1 = std::max(y1, w.y0 + w.h - 1);
+  }
+  Window all(x0, y0, x1, y1);
+  for (Window& w : parts) {
+    for (double& x : w.v) x /= p.n;
+    add_into(all, w);
+  }
+  return blurred_taps(W, H, blur_opt, all);
+}
+
+double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, const Plane& plane,
+             const FootprintProbes& probes, double bias) {
+  if (outside(u, v, plane.d)) return 1.0;
+  double acc = 0;
+  for (const Tap& t : lookup_taps(depth.width, depth.height, blur_opt, kind, u, v, probes))
+    if (depth.at(t.x, t.y) - plane.at(t.x, t.y) + bias >= 0) acc += t.w;
+  return acc;
 }
 
 double s_ref(const HostImage& depth, const BlurOptions& blur_opt, Lookup kind, double u, double v, double d, double f,

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "reference.hpp"
+#include "shadowfilter/footprint.hpp"
 
 namespace sf::ref {
 
@@ -16,6 +17,14 @@ Planes sat_table(const Planes& img);
 
 // Footprint of receiver i: rx.f[i] when the receivers carry one, else 1.
 double footprint_at(const Receivers& rx, size_t i);
+
+// The probes of receiver i's footprint lookup (footprint.hpp): its Jacobian's where the receivers
+// carry one and max_anisotropy > 1, else one probe of footprint footprint_at(rx, i).
+FootprintProbes probes_at(const Receivers& rx, size_t i, int max_anisotropy);
+// One probe of footprint f (fx = fy = f).
+FootprintProbes isotropic_probe(double f);
+// Probe k's coordinates, rounded as the kernels compute them: u + (offset du) / W in float.
+void probe_uv(const FootprintProbes& p, int k, int W, int H, double u, double v, double& uk, double& vk);
 
 // Level of detail as the kernels compute it: k0 = floor(log2(max(f,1))) (float32 log2),
 // t = fraction, clamped to the top level.
@@ -37,6 +46,8 @@ class LookupRef {
   // level's plane c is rounded as a pyramid stored in plane_storage[c] holds it.
   LookupRef(const Planes& filtered, Lookup kind, const std::vector<Storage>& plane_storage);
   double value(int c, double u, double v, double f) const;
+  // The mean of the probes' lookups (mips at p.f, the box over p.fx x p.fy).
+  double value(int c, double u, double v, const FootprintProbes& p) const;
   // Area-weighted mean over fx x fy texels of level 0 (box_mean; a rectangle through a SAT).
   double box(int c, double u, double v, double fx, double fy) const;
 
@@ -53,6 +64,9 @@ struct Tap {
   double w;
 };
 std::vector<Tap> lookup_taps(int width, int height, const BlurOptions& blur, Lookup kind, double u, double v, double f);
+// The same for the mean of a footprint's probes (each weighted 1 / p.n).
+std::vector<Tap> lookup_taps(int width, int height, const BlurOptions& blur, Lookup kind, double u, double v,
+                             const FootprintProbes& p);
 
 // s_ref under a lookup: sum_t W_x(t) H(z_t - d + bias). Background / outside = 1.
 double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, double d, double f,
@@ -61,6 +75,8 @@ double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, doubl
 struct Plane;
 double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, const Plane& plane,
              double f, double bias = 0.0);
+double s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, double u, double v, const Plane& plane,
+             const FootprintProbes& probes, double bias = 0.0);
 std::vector<double> s_ref(const HostImage& depth, const BlurOptions& blur, Lookup kind, const Receivers& rx);
 
 }  // namespace sf::ref

@@ -131,7 +131,8 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
       if (receiver_outside(u, v, d)) continue;
       const Plane plane = receiver_plane(depth, rx, i, opt.receiver_plane);
       const double bias = plane.bias(depth_bias(opt), opt.receiver_plane.slope_bias);
-      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane, footprint_at(rx, i), bias)
+      out[i] = footprints ? s_ref(depth, weights, opt.lookup.kind, u, v, plane,
+                                  probes_at(rx, i, opt.lookup.max_anisotropy), bias)
                           : pcf(depth, weights, plane, bias);
     }
     shadow_facing_away(opt, rx, out);
@@ -152,7 +153,7 @@ std::vector<double> filter(const FilterOptions& opt, const HostImage& depth, con
     receiver_at(rx, i, u, v, d);
     if (receiver_outside(u, v, d)) continue;
     for (int c = 0; c < m.channels; ++c)
-      b[c] = rx.grid ? bilinear(filtered, c, u, v) : lookup.value(c, u, v, footprint_at(rx, i));
+      b[c] = rx.grid ? bilinear(filtered, c, u, v) : lookup.value(c, u, v, probes_at(rx, i, opt.lookup.max_anisotropy));
     out[i] = m.visibility(b.data(), std::clamp(d, 0.0, 1.0));
   }
   shadow_facing_away(opt, rx, out);

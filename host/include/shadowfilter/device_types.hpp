@@ -48,6 +48,10 @@ struct DeviceReceivers {
   // Map space.
   cl::Buffer u, v, d;
   cl::Buffer f;  // footprints in level-0 texels (points mode); empty = 1 for every receiver
+  // Points mode: the receivers' Jacobians, four planes of count floats (dudx, dvdx, dudy, dvdy;
+  // footprint.hpp); footprint lookups follow them where FilterOptions::lookup.max_anisotropy > 1.
+  // Empty = isotropic at f.
+  cl::Buffer jacobian{};
   // Receivers per row of the receiver image, whose neighbours give each receiver's plane
   // (FilterOptions::receiver_plane, SoftOptions::receiver_plane); 0 = unstructured points.
   int row = 0;

@@ -47,6 +47,11 @@ struct Receivers {
   std::vector<float> ndl;         // empty unless has_ndl; NaN = unknown
   bool has_normal = false;
   std::vector<float> nx, ny, nz;  // empty unless has_normal; NaN = unknown
+  // dudx dvdx dudy dvdy: the Jacobian of (u W, v H) over the image's pixels, level-0 texels per
+  // pixel (footprint.hpp): footprint lookups follow it up to LookupOptions::max_anisotropy.
+  // f is then its isotropic footprint. Empty unless has_jacobian.
+  bool has_jacobian = false;
+  std::vector<float> dudx, dvdx, dudy, dvdy;
   size_t count() const { return static_cast<size_t>(width) * height; }
 };
 

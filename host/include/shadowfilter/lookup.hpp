@@ -14,6 +14,8 @@ struct LookupBuffers {
   cl::Buffer chain;          // mips: the mip chain of the filtered basis
   cl::Buffer sat;            // sat: the summed-area table of the filtered basis
   cl::Buffer footprint;      // per receiver f in level-0 texels; empty = 1 everywhere
+  cl::Buffer jacobian;       // DeviceReceivers::jacobian; empty = isotropic at footprint
+  int max_anisotropy = 1;    // with jacobian: the most probes (LookupOptions::max_anisotropy; 1 = isotropic)
   cl::Buffer level_offsets;  // joined mips: mip_level_offsets (method_kernels.hpp); empty = built per call
 };
 // The shape.channels filtered values of `count` receivers (method-agnostic): out holds

@@ -38,13 +38,15 @@ cl::Event enqueue_reconstruct_grid(Runtime& rt, const MethodDesc& method, const 
 // Gaussian(opt.blur) (x) bilinear weights of s_ref (methods.md sec. 2), brute force. sm uses the
 // bilinear weights only (the prefilter radius does not apply to it). opt.method picks which.
 // pcf with opt.lookup mips|sat weights the tests by that lookup's composite weights at the
-// receivers' footprints (`footprint`: one f per receiver; empty = 1); sm ignores them.
+// receivers' footprints (`footprint`: one f per receiver; empty = 1; `jacobian`: their
+// Jacobians, DeviceReceivers::jacobian, read instead of f where opt.lookup.max_anisotropy > 1);
+// sm ignores them.
 // With opt.receiver_plane, d is each receiver's plane; receiver_row: receivers per row of the
 // receiver image (DeviceReceivers::row), 0 for unstructured points.
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, int width, int height, size_t count,
                              int receiver_row, const cl::Buffer& depth, const cl::Buffer& u, const cl::Buffer& v,
-                             const cl::Buffer& d, const cl::Buffer& footprint, const cl::Buffer& visibility,
-                             const EventList* wait = nullptr);
+                             const cl::Buffer& d, const cl::Buffer& footprint, const cl::Buffer& jacobian,
+                             const cl::Buffer& visibility, const EventList* wait = nullptr);
 cl::Event enqueue_pcf_grid(Runtime& rt, const FilterOptions& opt, int width, int height, const cl::Buffer& depth,
                            const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait = nullptr);
 

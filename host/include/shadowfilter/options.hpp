@@ -135,6 +135,11 @@ struct LookupOptions {
   // bilinear: no pyramid (fastest, aliases under minification); mips: trilinear at
   // LOD log2(f) over the mean pyramid; sat: area-weighted box of side f via a summed-area table.
   Lookup kind = Lookup::Bilinear;
+  // Receivers that carry a Jacobian (Receivers::dudx ...): mips and sat read up to this many
+  // probes along the footprint's major axis (footprint.hpp; docs/lookups.md "Anisotropic
+  // footprints"), pcf its filtered test over the same probes. 1 = the isotropic lookup at f.
+  // In [1, kMaxAnisotropy].
+  int max_anisotropy = 8;
 };
 
 // ESM failure classification (Annen 2008 ch. 7.3): flagged receivers fall back to a 2x2 PCF of

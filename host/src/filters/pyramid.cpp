@@ -167,9 +167,14 @@ cl::Event enqueue_pyramid(Runtime& rt, Reduce op, Storage storage, const Schedul
 cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const ImageShape& shape, size_t count,
                                 const LookupBuffers& lookup, const cl::Buffer& level0, const cl::Buffer& u,
                                 const cl::Buffer& v, const cl::Buffer& out, const EventList* wait) try {
-  cl::Program p = rt.program(
-      {"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
-      detail::BuildOptions().storage(storage).define("SF_CHANNELS", shape.channels).lookup(lookup.kind).str());
+  const int aniso = detail::anisotropy(lookup.kind, lookup.jacobian, lookup.max_anisotropy);
+  cl::Program p = rt.program({"common.clh", "storage.clh", "lookup.clh", "lookup_values.cl"},
+                             detail::BuildOptions()
+                                 .storage(storage)
+                                 .define("SF_CHANNELS", shape.channels)
+                                 .lookup(lookup.kind)
+                                 .define_if(aniso > 1, "SF_ANISO", aniso)
+                                 .str());
   cl::Kernel k(p, "sf_lookup_points");
   detail::KernelArgs(k)
       .buffer(level0)
@@ -179,7 +184,7 @@ cl::Event enqueue_lookup_points(Runtime& rt, Storage storage, const ImageShape& 
       .value(shape.height)
       .buffer(u)
       .buffer(v)
-      .optional(lookup.footprint)
+      .optional(aniso > 1 ? lookup.jacobian : lookup.footprint)
       .buffer(out)
       .value(static_cast<int>(count));
   cl::Event e;

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "shadowfilter/blur.hpp"
+#include "shadowfilter/footprint.hpp"
 #include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/parameters.hpp"
 
@@ -70,6 +71,12 @@ const std::vector<Parameter>& filter_parameters() {
     lookup.get = [](const FilterOptions& o) { return double(o.lookup.kind); };
     lookup.set = [](FilterOptions& o, double v) { o.lookup.kind = static_cast<Lookup>(int(v)); };
     t.push_back(lookup);
+    t.push_back(Parameter::integer("FilterOptions::lookup.max_anisotropy", "--max-anisotropy", "N",
+                                   "Most probes along a footprint's major axis (mips, sat, pcf; receivers with "
+                                   "dudx dvdx dudy dvdy); 1 = the isotropic lookup at f")
+                    .with_default(d.lookup.max_anisotropy)
+                    .within({1, double(kMaxAnisotropy)})
+                    .on(&FilterOptions::lookup, &LookupOptions::max_anisotropy));
 
     // Named in the enum's order (EsmClassify: None 0, ZMax 1, Threshold 2, Auto 3).
     Parameter classify =

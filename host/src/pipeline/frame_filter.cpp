@@ -26,6 +26,10 @@ bool shares_host_memory(const Runtime& rt) {
 bool reads_footprint(const Receivers& rx, const FilterOptions& o) {
   return !rx.grid && rx.has_footprint && o.lookup.kind != Lookup::Bilinear;
 }
+// ... and their Jacobians, for anisotropic lookups (footprint.hpp).
+bool reads_jacobian(const Receivers& rx, const FilterOptions& o) {
+  return !rx.grid && rx.has_jacobian && o.lookup.kind != Lookup::Bilinear && o.lookup.max_anisotropy > 1;
+}
 
 }  // namespace
 
@@ -34,13 +38,14 @@ bool reads_footprint(const Receivers& rx, const FilterOptions& o) {
 struct FrameFilter::Buffers {
   int width = 0, height = 0;
   size_t count = 0;
-  bool grid = false, footprint = false;
+  bool grid = false, footprint = false, jacobian = false;
   size_t input_bytes = 0;  // the depth map and the receivers on the device (as filter() counts them)
-  cl::Buffer depth, u, v, d, f, visibility;
+  cl::Buffer depth, u, v, d, f, jac, visibility;
+  std::vector<float> jacobian_planes;  // the frame's dudx, dvdx, dudy, dvdy one after the other
 
-  bool fits(const HostImage& map, const Receivers& rx, bool with_footprint) const {
+  bool fits(const HostImage& map, const Receivers& rx, bool with_footprint, bool with_jacobian) const {
     return map.width == width && map.height == height && rx.count() == count && rx.grid == grid &&
-           with_footprint == footprint;
+           with_footprint == footprint && with_jacobian == jacobian;
   }
 };
 
@@ -56,9 +61,10 @@ FrameFilter::~FrameFilter() = default;
 // The pipeline follows the map's size, the frame buffers the map's size and the receivers.
 void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   const bool footprint = reads_footprint(receivers, options_);
+  const bool jacobian = reads_jacobian(receivers, options_);
   const bool same_map =
       pipe_ && pipe_->basis_shape().width == depth.width && pipe_->basis_shape().height == depth.height;
-  if (same_map && buffers_ && buffers_->fits(depth, receivers, footprint)) return;
+  if (same_map && buffers_ && buffers_->fits(depth, receivers, footprint, jacobian)) return;
   if (!same_map) {
     pipe_.reset();
     buffers_.reset();
@@ -67,7 +73,7 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   buffers_.reset();
   const size_t count = receivers.count();
   auto b = std::make_unique<Buffers>();
-  b->input_bytes = (depth.data.size() + count * (receivers.grid ? 2 : 4)) * sizeof(float);
+  b->input_bytes = (depth.data.size() + count * (receivers.grid ? 2 : 4) + (jacobian ? 4 * count : 0)) * sizeof(float);
   check_fits_device(*rt_, std::max(pipe_->basis_shape().bytes(), count * sizeof(float)),
                     pipe_->device_bytes() + b->input_bytes, "this run");
   b->width = depth.width;
@@ -75,6 +81,8 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   b->count = count;
   b->grid = receivers.grid;
   b->footprint = footprint;
+  b->jacobian = jacobian;
+  if (jacobian) b->jacobian_planes.resize(4 * count);
   if (!zero_copy_) {
     const cl::Context& ctx = rt_->context();
     auto alloc = [&ctx](cl_mem_flags flags, size_t floats) { return cl::Buffer(ctx, flags, floats * sizeof(float)); };
@@ -84,6 +92,7 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
       b->u = alloc(CL_MEM_READ_ONLY, count);
       b->v = alloc(CL_MEM_READ_ONLY, count);
       if (footprint) b->f = alloc(CL_MEM_READ_ONLY, count);
+      if (jacobian) b->jac = alloc(CL_MEM_READ_ONLY, 4 * count);
     }
     b->visibility = alloc(CL_MEM_WRITE_ONLY, count);
   }
@@ -104,6 +113,9 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
   const size_t count = receivers.count();
   if (receivers.d.size() != count || (!receivers.grid && (receivers.u.size() != count || receivers.v.size() != count)))
     throw InputError("receivers' data does not match their size");
+  if (receivers.has_jacobian && (receivers.dudx.size() != count || receivers.dvdx.size() != count ||
+                                 receivers.dudy.size() != count || receivers.dvdy.size() != count))
+    throw InputError("receivers' Jacobian does not match their size");
   prepare(depth, receivers);
   // The map's depth range from the host copy, where the lookup's limit depends on it: a frame
   // the lookup cannot hold is refused before anything is enqueued, and prefilter() needs no
@@ -126,7 +138,7 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
 
   // The frame's inputs as device buffers: the host vectors themselves, or copies into the
   // buffers allocated for this size.
-  const Buffers& b = *buffers_;
+  Buffers& b = *buffers_;
   EventList uploads;
   auto input = [&](const std::vector<float>& host, const cl::Buffer& allocated) {
     if (zero_copy_)
@@ -147,6 +159,12 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
     rx.u = input(receivers.u, b.u);
     rx.v = input(receivers.v, b.v);
     if (b.footprint) rx.f = input(receivers.f, b.f);
+    if (b.jacobian) {
+      const std::vector<float>* planes[4] = {&receivers.dudx, &receivers.dvdx, &receivers.dudy, &receivers.dvdy};
+      for (int p = 0; p < 4; ++p)
+        std::copy(planes[p]->begin(), planes[p]->end(), b.jacobian_planes.begin() + p * count);
+      rx.jacobian = input(b.jacobian_planes, b.jac);
+    }
   }
   const cl::Buffer vis = zero_copy_ ? cl::Buffer(rt.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR,
                                                  count * sizeof(float), result.visibility.data.data())

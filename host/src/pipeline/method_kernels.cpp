@@ -144,7 +144,8 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
                                      const cl::Buffer& d, const cl::Buffer& visibility, const EventList* wait) try {
   if (method.raw_depth)
     return enqueue_pcf_points(rt, opt, width, height, count, receiver_row, basis, u, v, d,
-                              lookup ? lookup->footprint : cl::Buffer(), visibility, wait);
+                              lookup ? lookup->footprint : cl::Buffer(), lookup ? lookup->jacobian : cl::Buffer(),
+                              visibility, wait);
   // The footprint lookup (lookup.hpp): -DSF_LOOKUP and its buffers, null when unused.
   const Lookup kind = lookup ? lookup->kind : Lookup::Bilinear;
   int vec = detail::reconstruct_vector_width(opt);
@@ -157,12 +158,14 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
       kind == Lookup::Mips ? joined_chain_offset(basis, lookup->chain, storage_bytes(opt.storage), mips.chain_values)
                            : -1;
   const bool joined = chain_offset >= 0;
+  const int aniso = lookup ? detail::anisotropy(kind, lookup->jacobian, lookup->max_anisotropy) : 1;
   cl::Kernel k = method_kernel(
       rt, method, opt, "reconstruct.cl", "sf_reconstruct_points",
       detail::BuildOptions::without_standard()
           .define("SF_RX_VEC", vec)
           .append(kind == Lookup::Bilinear ? "" : detail::BuildOptions::without_standard().lookup(kind).str())
           .flag_if(joined, "SF_MIPS_JOINED")
+          .define_if(aniso > 1, "SF_ANISO", aniso)
           .flag_if(joined || (kind == Lookup::Bilinear && width >= 2), "SF_RX_PAIRS"));
   // The caller's table (the pipeline builds it once with its mip chain), else one built here.
   cl::Buffer level_offsets = joined ? lookup->level_offsets : cl::Buffer();
@@ -188,7 +191,9 @@ cl::Event enqueue_reconstruct_points(Runtime& rt, const MethodDesc& method, cons
       .bytes(method_params(method, opt))
       .optional(kind == Lookup::Mips ? lookup->chain : none)
       .optional(kind == Lookup::Sat ? lookup->sat : none)
-      .optional(lookup ? lookup->footprint : none)
+      .optional(aniso > 1 ? lookup->jacobian
+                : lookup  ? lookup->footprint
+                          : none)
       .optional(level_offsets);
   cl::Event e;
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global_1d((count + vec - 1) / vec, opt.schedule),

@@ -24,17 +24,22 @@ struct PcfSetup {
   sf_plane_params plane{};
 };
 
-PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear) {
+PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Lookup lookup = Lookup::Bilinear,
+                   int aniso = 1) {
   const MethodDesc& m = *opt.method;
   if (!m.raw_depth) throw InputError("method " + opt.method.name() + " does not read the depth map itself");
   detail::validate_unless_planned(m, opt);
   PcfSetup s;
   // Footprint lookups reuse lookup.clh's level-of-detail rule (one float channel).
-  const cl::Program p =
-      lookup == Lookup::Bilinear
-          ? rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, detail::BuildOptions().str())
-          : rt.program({"common.clh", "storage.clh", "lookup.clh", "receiver_plane.clh", "pcf.cl"},
-                       detail::BuildOptions().storage(Storage::F32).define("SF_CHANNELS", 1).lookup(lookup).str());
+  const cl::Program p = lookup == Lookup::Bilinear
+                            ? rt.program({"common.clh", "receiver_plane.clh", "pcf.cl"}, detail::BuildOptions().str())
+                            : rt.program({"common.clh", "storage.clh", "lookup.clh", "receiver_plane.clh", "pcf.cl"},
+                                         detail::BuildOptions()
+                                             .storage(Storage::F32)
+                                             .define("SF_CHANNELS", 1)
+                                             .lookup(lookup)
+                                             .define_if(aniso > 1, "SF_ANISO", aniso)
+                                             .str());
   s.kernel = cl::Kernel(p, name);
   s.radius = m.filtered ? opt.blur.radius : 0;
   s.bias = depth_bias(opt);
@@ -48,12 +53,13 @@ PcfSetup pcf_setup(Runtime& rt, const FilterOptions& opt, const char* name, Look
 
 cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, int width, int height, size_t count,
                              int receiver_row, const cl::Buffer& depth, const cl::Buffer& u, const cl::Buffer& v,
-                             const cl::Buffer& d, const cl::Buffer& footprint, const cl::Buffer& visibility,
-                             const EventList* wait) try {
+                             const cl::Buffer& d, const cl::Buffer& footprint, const cl::Buffer& jacobian,
+                             const cl::Buffer& visibility, const EventList* wait) try {
   // sm is the unfiltered test (methods.md): footprints do not apply to it (docs/lookups.md).
   const Lookup lookup = opt.method->filtered ? opt.lookup.kind : Lookup::Bilinear;
+  const int aniso = detail::anisotropy(lookup, jacobian, opt.lookup.max_anisotropy);
   PcfSetup s = lookup == Lookup::Bilinear ? pcf_setup(rt, opt, "sf_pcf_points")
-                                          : pcf_setup(rt, opt, "sf_pcf_points_footprint", lookup);
+                                          : pcf_setup(rt, opt, "sf_pcf_points_footprint", lookup, aniso);
   detail::KernelArgs args(s.kernel);
   args.buffer(depth)
       .value(width)
@@ -66,7 +72,7 @@ cl::Event enqueue_pcf_points(Runtime& rt, const FilterOptions& opt, int width, i
       .value(s.bias)
       .value(s.radius)
       .value(s.weights);
-  if (lookup != Lookup::Bilinear) args.optional(footprint);
+  if (lookup != Lookup::Bilinear) args.optional(aniso > 1 ? jacobian : footprint);
   s.plane.row = receiver_row;
   args.value(s.plane);
   cl::Kernel& k = s.kernel;

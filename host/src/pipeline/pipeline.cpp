@@ -173,6 +173,8 @@ cl::Event Pipeline::reconstruct(const DeviceReceivers& rx, const cl::Buffer& vis
   lookup.level_offsets = level_offsets_;
   lookup.sat = sat_;
   lookup.footprint = rx.f;
+  lookup.jacobian = rx.jacobian;
+  lookup.max_anisotropy = options_.lookup.max_anisotropy;
   if (rx.grid) {  // footprint 1 at texel centres: every lookup reads the texel itself
     reconstruct_done_ =
         enqueue_reconstruct_grid(*rt_, *method_, options_, shape_.width, shape_.height, basis_, rx.d, visibility, wait);
@@ -198,6 +200,7 @@ LookupBuffers Pipeline::lookup_tables() const {
   t.chain = chain_;
   t.sat = sat_;
   t.level_offsets = level_offsets_;
+  t.max_anisotropy = options_.lookup.max_anisotropy;
   return t;
 }
 

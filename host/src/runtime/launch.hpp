@@ -42,6 +42,7 @@ class BuildOptions {
     return *this;
   }
   BuildOptions& flag_if(bool on, const std::string& name) { return on ? flag(name) : *this; }
+  BuildOptions& define_if(bool on, const std::string& name, int value) { return on ? define(name, value) : *this; }
   BuildOptions& storage(Storage s) { return define("SF_STORAGE", static_cast<int>(s)); }
   BuildOptions& lookup(Lookup l) { return define("SF_LOOKUP", static_cast<int>(l)); }
   BuildOptions& append(const std::string& options) {  // options another builder made (" -D...")
@@ -54,6 +55,13 @@ class BuildOptions {
  private:
   std::string s_;
 };
+
+// The probes a footprint lookup reads at most (-DSF_ANISO, kernels/lookup.clh): the options'
+// max_anisotropy where the lookup has a footprint and the receivers carry Jacobians, else 1
+// (isotropic at f, no SF_ANISO).
+inline int anisotropy(Lookup kind, const cl::Buffer& jacobian, int max_anisotropy) {
+  return kind != Lookup::Bilinear && jacobian() ? max_anisotropy : 1;
+}
 
 // Sets a kernel's arguments in order: buffer() for __global pointers (optional() passes NULL
 // for an empty buffer, which the kernel tests), value() for ints, floats and the shared structs,

@@ -57,11 +57,13 @@ CLI::App* add_receivers_command(CLI::App& app, ReceiversArgs& a) {
   c->add_flag("-q,--quiet", a.quiet, "Do not print the summary line");
   c->add_flag("--json", a.json, "Print the summary as one JSON object instead of a line of text");
   c->footer(
-      std::string("Writes per camera pixel: u, v (the surface point in the light's map, [0, 1], texel i's centre at "
-                  "(i + 0.5) / W), d = (z - near) / (far - near) along the light's axis, f = the pixel's footprint in "
-                  "the map's level-0 texels, ndl = n.l towards the light, nx ny nz = the normal in light space scaled "
-                  "to one texel (what --normal-offset moves along); NaN on background pixels; u = v = -1 "
-                  "outside the light's frustum. Its header names the map size and the light's planes.\n\n") +
+      std::string(
+          "Writes per camera pixel: u, v (the surface point in the light's map, [0, 1], texel i's centre at "
+          "(i + 0.5) / W), d = (z - near) / (far - near) along the light's axis, f = the pixel's footprint in "
+          "the map's level-0 texels, ndl = n.l towards the light, nx ny nz = the normal in light space scaled "
+          "to one texel (what --normal-offset moves along), dudx dvdx dudy dvdy = the Jacobian of (u W, v H) over "
+          "the pixel (what --max-anisotropy follows); NaN on background pixels; u = v = -1 "
+          "outside the light's frustum. Its header names the map size and the light's planes.\n\n") +
       "Examples:\n"
       "  shadowfilter receivers --camera camera.json --camera-depth camera_depth.exr --light sun.json "
       "--shadow-map sun_depth.exr -o rx.exr\n"
@@ -78,7 +80,7 @@ int run_receivers(const ReceiversArgs& a) {
   const std::string ext = extension_of(a.output);
   if (ext != ".exr" && ext != ".tif" && ext != ".tiff")
     throw InputError("output image '" + a.output +
-                     "': receivers are written as float .exr or .tif (8 channels), not '" + ext + "'");
+                     "': receivers are written as float .exr or .tif (12 channels), not '" + ext + "'");
   if (a.threads < 0) throw InputError("--threads must be >= 0, got " + std::to_string(a.threads));
   io::check_outputs({a.output},
                     {a.inputs.camera, a.inputs.camera_depth, a.inputs.light, a.inputs.normals, a.shadow_map});
@@ -118,12 +120,13 @@ int run_receivers(const ReceiversArgs& a) {
   const double run_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_run).count();
 
   const ProjectionDepth light_depth = light_projection_depth(light.view_projection);
-  HostImage image(rx.width, rx.height, 8);
-  image.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
+  HostImage image(rx.width, rx.height, 12);
+  image.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz", "dudx", "dvdx", "dudy", "dvdy"};
   for (size_t i = 0; i < rx.count(); ++i) {
-    float* p = &image.data[i * 8];
+    float* p = &image.data[i * 12];
     p[0] = rx.u[i], p[1] = rx.v[i], p[2] = rx.d[i], p[3] = rx.f[i], p[4] = rx.ndl[i];
     p[5] = rx.nx[i], p[6] = rx.ny[i], p[7] = rx.nz[i];
+    p[8] = rx.dudx[i], p[9] = rx.dvdx[i], p[10] = rx.dudy[i], p[11] = rx.dvdy[i];
   }
   image.attributes = io::receiver_header_attributes(map_w, map_h, light_depth.near_plane, light_depth.far_plane);
   const auto t_write = Clock::now();

@@ -1,6 +1,8 @@
 // Reading shadow maps and receivers (methods.md sec. 1). Writing lives in image_write.cpp.
 #include "image_io.hpp"
 
+#include "shadowfilter/footprint.hpp"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -90,7 +92,7 @@ std::vector<int> find_channels(const RawImage& img, const std::vector<std::strin
 // Channel indices of u, v, d[, f[, ndl]]: by name when the file's channels are exactly
 // u v d [f [ndl]] (in any order), else positional R G B [A [5th]].
 std::vector<int> receiver_channel_order(const RawImage& img) {
-  std::vector<std::string> names{"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
+  std::vector<std::string> names{"u", "v", "d", "f", "ndl", "nx", "ny", "nz", "dudx", "dvdx", "dudy", "dvdy"};
   names.resize(size_t(img.channels));
   std::vector<int> by_name = find_channels(img, names);
   if (!by_name.empty()) return by_name;
@@ -256,9 +258,10 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
   const RawImage raw = read_raw(path, kReceiverImageRole);
   const ReceiverHeader facts = read_receiver_header(raw);
   if (header) *header = facts;
-  if (raw.channels < 3 || (raw.channels > 5 && raw.channels != 8))
+  if (raw.channels < 3 || (raw.channels > 5 && raw.channels != 8 && raw.channels != 12))
     fail(kReceiverImageRole, path,
-         "expected 3, 4, 5 or 8 channels (u v d [f [ndl [nx ny nz]]], or R G B [A [5th [6th-8th]]]), found " +
+         "expected 3, 4, 5, 8 or 12 channels (u v d [f [ndl [nx ny nz [dudx dvdx dudy dvdy]]]], or R G B [A [5th "
+         "[6th-8th [9th-12th]]]]), found " +
              std::to_string(raw.channels) + " channel" + (raw.channels == 1 ? "" : "s"));
   require_float_receivers(raw, path);
 
@@ -269,7 +272,8 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
   rec.grid = false;
   rec.has_footprint = raw.channels >= 4;
   rec.has_ndl = raw.channels >= 5;
-  rec.has_normal = raw.channels == 8;
+  rec.has_normal = raw.channels >= 8;
+  rec.has_jacobian = raw.channels == 12;
   const size_t n = raw.texels();
   rec.u.resize(n);
   rec.v.resize(n);
@@ -280,6 +284,12 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
     rec.nx.resize(n);
     rec.ny.resize(n);
     rec.nz.resize(n);
+  }
+  if (rec.has_jacobian) {
+    rec.dudx.resize(n);
+    rec.dvdx.resize(n);
+    rec.dudy.resize(n);
+    rec.dvdy.resize(n);
   }
   std::vector<float> stored_d(n);
   for (size_t t = 0; t < n; ++t) stored_d[t] = raw.at(t, order[2]);
@@ -312,11 +322,18 @@ Receivers load_receiver_image(const std::string& path, const DepthLoadOptions& d
     rec.u[t] = raw.at(t, order[0]);
     rec.v[t] = raw.at(t, order[1]);
     if (rec.has_footprint) rec.f[t] = raw.at(t, order[3]);
+    if (rec.has_jacobian) {
+      rec.dudx[t] = raw.at(t, order[8]);
+      rec.dvdx[t] = raw.at(t, order[9]);
+      rec.dudy[t] = raw.at(t, order[10]);
+      rec.dvdy[t] = raw.at(t, order[11]);
+    }
     const float d = stored_d[t];
     const bool defined =
         std::isfinite(rec.u[t]) && std::isfinite(rec.v[t]) && std::isfinite(rec.f[t]) && std::isfinite(d);
     rec.d[t] = defined ? d : kNaN;
   }
+  isotropic_where_unknown(rec);  // a non-finite Jacobian is unknown (footprint.hpp)
   return rec;
 }
 

@@ -140,6 +140,33 @@ SceneDefaults contact() {
   return s;
 }
 
+// A lattice of thin slats 1.5 over the floor throws a fine grid of shadows on it, seen from 0.4
+// above the floor along its length: footprints tens of texels long along the view and a few
+// across, the ground at a grazing angle of Annen 2008 sec. 6.2 (fig. 6.6, 7.7), where an
+// isotropic footprint over-blurs the shadow lines that run away from the camera.
+SceneDefaults grazing() {
+  SceneDefaults s;
+  SceneGeometry& g = s.geometry;
+  g.name = "grazing";
+  s.purpose =
+      "a lattice's grid of shadows on a floor seen from 0.4 above it: grazing footprints, anisotropic "
+      "filtering (Annen 2008 sec. 6.2, fig. 6.6, 7.7)";
+  add_floor(g, kFloorHalfSize);
+  constexpr int kSlats = 24;
+  constexpr double kPitch = 8.0 / kSlats, kWidth = 0.07, kLow = 1.5, kHigh = 1.56;
+  for (int k = 0; k < kSlats; ++k) {
+    const double a = -4.0 + kPitch * (k + 0.5) - 0.5 * kWidth;
+    add_box(g, "slat_x" + std::to_string(k), {-4.0, kLow, a}, {4.0, kHigh, a + kWidth});
+    add_box(g, "slat_z" + std::to_string(k), {a, kHigh, -4.0}, {a + kWidth, kHigh + 0.06, 4.0});
+  }
+  s.light_direction = {0.12, -1.0, 0.18};
+  s.camera.position = {0.3, 0.4, 3.9};
+  s.camera.target = {-0.2, 0.05, -4.0};
+  s.camera.vertical_fov_degrees = 30.0;
+  s.light_size = 0.1;
+  return s;
+}
+
 void grow_branch(TriMesh& mesh, Rng& rng, Vec3 base, Vec3 dir, double len, double radius, int depth) {
   const Vec3 tip = base + len * dir;
   add_prism(mesh, base, tip, radius, radius * 0.75, depth > 3 ? 6 : 4);
@@ -363,8 +390,8 @@ using Maker = std::function<SceneDefaults()>;
 
 const std::vector<std::pair<std::string, Maker>>& makers() {
   static const std::vector<std::pair<std::string, Maker>> list = {
-      {"spheres", spheres}, {"fence", fence},     {"backyard", backyard}, {"contact", contact},
-      {"thin", thin},       {"terrain", terrain}, {"city", city},         {"treeline", treeline}};
+      {"spheres", spheres}, {"fence", fence}, {"backyard", backyard}, {"contact", contact}, {"thin", thin},
+      {"terrain", terrain}, {"city", city},   {"treeline", treeline}, {"grazing", grazing}};
   return list;
 }
 

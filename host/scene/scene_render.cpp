@@ -123,10 +123,13 @@ double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream)
 // its neighbourhood: the rays through the midpoints of the pixel's left/right edges (and of
 // its top/bottom edges) are intersected with the tangent plane of the hit at the pixel centre
 // -- for a planar surface exactly half-way to the neighbouring pixels' own coordinates -- and
-// each pair's distance in texels (du*W, dv*H) is a footprint width; f = the larger one. Using
-// the tangent plane instead of the neighbours' hits avoids jumps at silhouettes. At grazing
-// angles where an edge ray misses the plane, f is capped at the shadow-map size.
-double SceneRenderer::footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal) const {
+// each pair's difference in texels (du*W, dv*H) is a column of the Jacobian (footprint.hpp),
+// its length a footprint width; f = the larger one. Using the tangent plane instead of the
+// neighbours' hits avoids jumps at silhouettes. At grazing angles where an edge ray misses the
+// plane, f is capped at the shadow-map size and that column is NaN (unknown: the lookup is then
+// isotropic at f); a longer column is shortened to the cap.
+SceneRenderer::Footprint SceneRenderer::footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point,
+                                                         Vec3 normal) const {
   const double cap = std::max(setup_.map_width, setup_.map_height);
   auto coords_on_plane = [&](double px, double py) -> std::optional<LightCoords> {
     const Ray ray = camera.ray_through(px, py);
@@ -136,15 +139,26 @@ double SceneRenderer::footprint_texels(const PerspectiveCamera& camera, int x, i
     if (!(t > 0.0)) return std::nullopt;
     return setup_.light.project(ray.at(t));
   };
-  auto width_between = [&](double x0, double y0, double x1, double y1) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // The column from (x0, y0) to (x1, y1) and its length (cap where a ray misses the plane).
+  auto column = [&](double x0, double y0, double x1, double y1, double* du, double* dv) {
     const auto a = coords_on_plane(x0, y0);
     const auto b = coords_on_plane(x1, y1);
-    if (!a || !b) return cap;
-    return std::hypot((a->u - b->u) * setup_.map_width, (a->v - b->v) * setup_.map_height);
+    if (!a || !b) {
+      *du = *dv = nan;
+      return cap;
+    }
+    *du = (b->u - a->u) * setup_.map_width;
+    *dv = (b->v - a->v) * setup_.map_height;
+    const double length = std::hypot(*du, *dv);
+    if (length > cap) *du *= cap / length, *dv *= cap / length;
+    return length;
   };
-  const double across = width_between(x, y + 0.5, x + 1.0, y + 0.5);
-  const double down = width_between(x + 0.5, y, x + 0.5, y + 1.0);
-  return std::min(cap, std::max(across, down));
+  Footprint out;
+  const double across = column(x, y + 0.5, x + 1.0, y + 0.5, &out.jacobian[0], &out.jacobian[1]);
+  const double down = column(x + 0.5, y, x + 0.5, y + 1.0, &out.jacobian[2], &out.jacobian[3]);
+  out.f = std::min(cap, std::max(across, down));
+  return out;
 }
 
 // World offsets across pixel (x, y) for the layered view: the same construction as the
@@ -196,9 +210,10 @@ CameraImages SceneRenderer::camera_view(bool with_soft) const { return camera_vi
 CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool with_soft) const {
   const int w = camera.width, h = camera.height;
   CameraImages out;
-  out.receivers = HostImage(w, h, 8, kNaN);
-  out.receivers.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz"};
-  out.receivers.channel_formats = {"float", "float", "float", "half", "half", "float", "float", "float"};
+  out.receivers = HostImage(w, h, 12, kNaN);
+  out.receivers.channel_names = {"u", "v", "d", "f", "ndl", "nx", "ny", "nz", "dudx", "dvdx", "dudy", "dvdy"};
+  out.receivers.channel_formats = {"float", "float", "float", "half", "half", "float",
+                                   "float", "float", "half",  "half", "half", "half"};
   out.reference_hard = HostImage(w, h, 1, 1.0f);
   out.reference_hard.channel_names = {"Y"};
   out.reference_hard.channel_formats = {"half"};
@@ -223,7 +238,9 @@ CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool wi
       out.receivers.at(x, y, 0) = float(c.u);
       out.receivers.at(x, y, 1) = float(c.v);
       out.receivers.at(x, y, 2) = float(c.d);
-      out.receivers.at(x, y, 3) = float(footprint_texels(camera, x, y, point, hit->normal));
+      const Footprint footprint = footprint_texels(camera, x, y, point, hit->normal);
+      out.receivers.at(x, y, 3) = float(footprint.f);
+      for (int c = 0; c < 4; ++c) out.receivers.at(x, y, 8 + c) = float(footprint.jacobian[size_t(c)]);
       const double ndl = n_dot_l(point, hit->normal);
       out.receivers.at(x, y, 4) = float(ndl);
       const std::array<float, 3> n = texel_scaled_normal(point, hit->normal);

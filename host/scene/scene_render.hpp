@@ -72,7 +72,12 @@ class SceneRenderer {
  private:
   template <class RowFn>
   void for_each_row(const char* label, int rows, int width, const RowFn& row_fn) const;
-  double footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal) const;
+  // The pixel's footprint: f and the Jacobian columns (dudx, dvdx), (dudy, dvdy) in texels.
+  struct Footprint {
+    double f = 0;
+    std::array<double, 4> jacobian{};
+  };
+  Footprint footprint_texels(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal) const;
   void pixel_offsets(const PerspectiveCamera& camera, int x, int y, Vec3 point, Vec3 normal, double distance, Vec3& dx,
                      Vec3& dy) const;
   const SceneSetup& setup_;

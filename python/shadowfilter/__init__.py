@@ -73,7 +73,8 @@ def _float32(name, array, ndim):
 def filter(depth, receivers=None, *, receiver_depth=None, method="esm", device=None, **options):
     """Filtered visibility in [0, 1] of each receiver against the depth map `depth` (H, W).
 
-    receivers: (h, w, 3, 4, 5 or 8) u, v, d[, f[, ndl[, nx, ny, nz]]] per camera pixel; or receiver_depth: (H, W) depth
+    receivers: (h, w, 3, 4, 5, 8 or 12) u, v, d[, f[, ndl[, nx, ny, nz[, dudx, dvdx, dudy, dvdy]]]] per camera
+    pixel; or receiver_depth: (H, W) depth
     of a receiver per shadow-map texel. Returns (h, w) or (H, W) float32.
     """
     if (receivers is None) == (receiver_depth is None):
@@ -160,9 +161,10 @@ def load_view(source):
 
 
 def receivers(camera, camera_depth, light, *, map_size, camera_depth_kind="window", normals=None, counts=None):
-    """The receivers of every camera pixel as an (h, w, 8) float32 array u, v, d, f, ndl, nx, ny, nz,
-    ready for filter(): the surface seen through each pixel projected into the light's map, and its
-    normal in light space scaled to one texel, what normal_offset moves along (docs/inputs.md).
+    """The receivers of every camera pixel as an (h, w, 12) float32 array u, v, d, f, ndl, nx, ny, nz,
+    dudx, dvdx, dudy, dvdy, ready for filter(): the surface seen through each pixel projected into
+    the light's map, its normal in light space scaled to one texel, what normal_offset moves along,
+    and the Jacobian of (u W, v H) over the pixel, what max_anisotropy follows (docs/inputs.md).
 
     camera, light: View, dict or JSON file. camera_depth: (h, w) window depth (the depth buffer,
     any clip space, reversed-Z as the projection shows), view depth or distance in world units, or

@@ -69,7 +69,7 @@ def filter(depth: npt.ArrayLike, receivers: Optional[npt.ArrayLike] = None, *,
 def receivers(camera: ViewLike, camera_depth: npt.ArrayLike, light: ViewLike, *, map_size: Tuple[int, int],
               camera_depth_kind: str = "window", normals: Optional[npt.ArrayLike] = None,
               counts: Optional[Dict[str, int]] = None) -> npt.NDArray[np.float32]:
-    """(h, w, 8) u, v, d, f, ndl, nx, ny, nz of every camera pixel in the light's map."""
+    """(h, w, 12) u, v, d, f, ndl, nx, ny, nz, dudx, dvdx, dudy, dvdy of every camera pixel in the light's map."""
 def soft_light(light: Union[SoftLight, ViewLike, None] = None, *,
                light_size: Union[float, Tuple[float, float], None] = None,
                light_type: Optional[str] = None, light_near: Optional[float] = None,

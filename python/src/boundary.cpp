@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "shadowfilter/footprint.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/soft.hpp"
 
@@ -21,15 +22,18 @@ sf::HostImage host_image(const Image2D& a) {
 
 sf::Receivers receivers_of(const Image3D& a) {
   const size_t h = a.shape(0), w = a.shape(1), c = a.shape(2);
-  if (c < 3 || (c > 5 && c != 8))
-    throw sf::InputError("receivers must have 3, 4, 5 or 8 channels (u, v, d[, f[, ndl[, nx, ny, nz]]]), got " +
-                         std::to_string(c));
+  if (c < 3 || (c > 5 && c != 8 && c != 12))
+    throw sf::InputError(
+        "receivers must have 3, 4, 5, 8 or 12 channels (u, v, d[, f[, ndl[, nx, ny, nz[, dudx, dvdx, dudy, dvdy]]]]), "
+        "got " +
+        std::to_string(c));
   sf::Receivers r;
   r.width = static_cast<int>(w);
   r.height = static_cast<int>(h);
   r.has_footprint = c >= 4;
   r.has_ndl = c >= 5;
-  r.has_normal = c == 8;
+  r.has_normal = c >= 8;
+  r.has_jacobian = c == 12;
   const size_t n = w * h;
   r.u.resize(n);
   r.v.resize(n);
@@ -41,6 +45,12 @@ sf::Receivers receivers_of(const Image3D& a) {
     r.ny.resize(n);
     r.nz.resize(n);
   }
+  if (r.has_jacobian) {
+    r.dudx.resize(n);
+    r.dvdx.resize(n);
+    r.dudy.resize(n);
+    r.dvdy.resize(n);
+  }
   const float* p = a.data();
   for (size_t i = 0; i < n; ++i, p += c) {
     r.u[i] = p[0];
@@ -48,8 +58,10 @@ sf::Receivers receivers_of(const Image3D& a) {
     r.d[i] = p[2];
     if (c >= 4) r.f[i] = p[3];
     if (c >= 5) r.ndl[i] = p[4];
-    if (c == 8) r.nx[i] = p[5], r.ny[i] = p[6], r.nz[i] = p[7];
+    if (c >= 8) r.nx[i] = p[5], r.ny[i] = p[6], r.nz[i] = p[7];
+    if (c == 12) r.dudx[i] = p[8], r.dvdx[i] = p[9], r.dudy[i] = p[10], r.dvdy[i] = p[11];
   }
+  sf::isotropic_where_unknown(r);  // a non-finite Jacobian is unknown (footprint.hpp)
   return r;
 }
 

@@ -112,18 +112,20 @@ std::pair<Output3D, nb::dict> receivers_of_camera(
     nb::gil_scoped_release released;
     r = sf::camera_receivers(camera, cd, light, o, &counts);
   }
-  auto* out = new std::vector<float>(r.count() * 8);
+  constexpr size_t kChannels = 12;  // u v d f ndl nx ny nz dudx dvdx dudy dvdy
+  auto* out = new std::vector<float>(r.count() * kChannels);
   for (size_t i = 0; i < r.count(); ++i) {
-    float* p = out->data() + 8 * i;
+    float* p = out->data() + kChannels * i;
     p[0] = r.u[i], p[1] = r.v[i], p[2] = r.d[i], p[3] = r.f[i], p[4] = r.ndl[i];
     p[5] = r.nx[i], p[6] = r.ny[i], p[7] = r.nz[i];
+    p[8] = r.dudx[i], p[9] = r.dvdx[i], p[10] = r.dudy[i], p[11] = r.dvdy[i];
   }
   nb::capsule owner(out, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
   nb::dict c;
   c["background"] = counts.background;
   c["outside"] = counts.outside;
   c["no_normal"] = counts.no_normal;
-  return {Output3D(out->data(), {static_cast<size_t>(r.height), static_cast<size_t>(r.width), 8}, owner), c};
+  return {Output3D(out->data(), {static_cast<size_t>(r.height), static_cast<size_t>(r.width), kChannels}, owner), c};
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ def test_the_package_equals_the_cli_and_the_analytic_depth(tmp_path):
     depth = ground_window_depth()
     counts = {}
     rx = sf.receivers(CAMERA, depth, LIGHT, map_size=(256, 256), counts=counts)
-    assert rx.shape == (H, W, 8) and rx.dtype == np.float32
+    assert rx.shape == (H, W, 12) and rx.dtype == np.float32
     ground = np.isfinite(rx[..., 2])
     assert ground.sum() > W * H // 2 and counts["background"] == W * H - ground.sum()
     # The light looks straight down from y = 10 with planes 1 and 20: the plane is at d = 9 / 19.
@@ -83,7 +83,7 @@ def test_the_package_equals_the_cli_and_the_analytic_depth(tmp_path):
                     str(tmp_path / "depth.exr"), "--light", str(tmp_path / "light.json"), "--map-size", "256x256",
                     "-o", str(tmp_path / "rx.exr"), "-q"], check=True)
     cli = channels(str(tmp_path / "rx.exr"))
-    for i, k in enumerate("u v d f ndl nx ny nz".split()):
+    for i, k in enumerate("u v d f ndl nx ny nz dudx dvdx dudy dvdy".split()):
         np.testing.assert_array_equal(rx[..., i], cli[k], err_msg=k)
 
 
@@ -119,3 +119,25 @@ def test_bad_views_are_refused_with_the_cli_words():
         sf.receivers({**CAMERA, "clip": "metal"}, ground_window_depth(), LIGHT, map_size=(8, 8))
     with pytest.raises(sf.InputError):
         sf.receivers(CAMERA, ground_window_depth() * 3, LIGHT, map_size=(8, 8))  # window depth beyond [0, 1]
+
+
+def test_the_jacobian_is_the_footprint_and_anisotropic_lookups_follow_it():
+    depth = ground_window_depth()
+    rx = sf.receivers(CAMERA, depth, LIGHT, map_size=(256, 256))
+    ground = np.isfinite(rx[..., 2]) & (rx[..., 0] >= 0) & (rx[..., 0] <= 1) & (rx[..., 1] >= 0) & (rx[..., 1] <= 1)
+    jx, jy = np.hypot(rx[..., 8], rx[..., 9]), np.hypot(rx[..., 10], rx[..., 11])
+    # f is the longer column; the ground seen from the camera's angle is longer along the view.
+    np.testing.assert_allclose(np.maximum(jx, jy)[ground], rx[..., 3][ground], rtol=1e-4)
+    ratio = np.maximum(jx, jy)[ground] / np.maximum(np.minimum(jx, jy)[ground], 1e-9)
+    assert ratio.max() > 1.5
+    # A blocker edge across the ground: the anisotropic lookup differs from the isotropic one,
+    # and max_anisotropy=1 is the isotropic lookup of the 8 channels bit for bit.
+    m = np.full((256, 256), 9 / 19, np.float32)
+    m[100:140, :] = 0.2
+    iso = sf.filter(m, rx[..., :8], method="vsm", lookup="mips", blur_radius=1)
+    one = sf.filter(m, rx, method="vsm", lookup="mips", blur_radius=1, max_anisotropy=1)
+    np.testing.assert_array_equal(one, iso)
+    aniso = sf.filter(m, rx, method="vsm", lookup="mips", blur_radius=1, max_anisotropy=8)
+    assert np.abs(aniso - iso)[ground].max() > 0.05
+    with pytest.raises(sf.InputError, match="max_anisotropy"):
+        sf.filter(m, rx, method="vsm", lookup="mips", max_anisotropy=17)

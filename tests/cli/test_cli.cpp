@@ -129,7 +129,7 @@ TEST_F(Cli, FiveChannelReceiversFilterLikeFourAndSixAreRefused) {
 
   io::write_image(path("rx6.exr"), HostImage(5, 4, 6, 0.5f));
   expect_input_error("filter --shadow-map " + path("sm.exr") + " --receivers " + path("rx6.exr"),
-                     "expected 3, 4, 5 or 8 channels");
+                     "expected 3, 4, 5, 8 or 12 channels");
 }
 
 TEST_F(Cli, NonFiniteDepthIsAnErrorUnlessAskedFar) {

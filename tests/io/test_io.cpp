@@ -519,13 +519,13 @@ TEST_F(ImageIoTest, FourChannelReceiversHaveNoNdl) {
 TEST_F(ImageIoTest, WrongReceiverChannelCountIsRejected) {
   sf::io::write_image(file("one.exr"), ramp(3, 3, 1));
   expect_input_error([&] { sf::io::load_receiver_image(file("one.exr")); },
-                     {"one.exr", "expected 3, 4, 5 or 8 channels", "found 1 channel"});
+                     {"one.exr", "expected 3, 4, 5, 8 or 12 channels", "found 1 channel"});
   sf::io::write_image(file("two.exr"), ramp(3, 3, 2));
   expect_input_error([&] { sf::io::load_receiver_image(file("two.exr")); },
-                     {"two.exr", "expected 3, 4, 5 or 8 channels", "found 2 channels"});
+                     {"two.exr", "expected 3, 4, 5, 8 or 12 channels", "found 2 channels"});
   sf::io::write_image(file("six.exr"), ramp(3, 3, 6));
   expect_input_error([&] { sf::io::load_receiver_image(file("six.exr")); },
-                     {"six.exr", "expected 3, 4, 5 or 8 channels", "found 6 channels"});
+                     {"six.exr", "expected 3, 4, 5, 8 or 12 channels", "found 6 channels"});
 }
 
 TEST_F(ImageIoTest, ReceiverDepthIsDecodedOnTheShadowMapGrid) {

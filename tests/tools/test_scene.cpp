@@ -99,7 +99,7 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
   // nx ny nz (6th-8th): that normal n scaled to one texel in light space. Square texels of width
   // `texel` under this light: (n.right, n.down, n.forward texel / depth range) = (n.x, n.z,
   // -n.y texel / depth range); 0, 0, -texel / depth range on the floor.
-  ASSERT_EQ(view.receivers.channels, 8);
+  ASSERT_EQ(view.receivers.channels, 12);
   size_t facing_away = 0, ndl_wrong = 0, lit_facing_away = 0, normal_wrong = 0;
   double worst_ndl_error = 0.0, worst_normal_error = 0.0;
   for (int y = 0; y < setup.camera.height; ++y)
@@ -134,6 +134,38 @@ TEST(SceneAnalytic, SphereCastsDiskOfItsRadius) {
   EXPECT_EQ(normal_wrong, 0u);
   EXPECT_GT(facing_away, 100u);
   EXPECT_EQ(lit_facing_away, 0u);
+
+  // dudx dvdx dudy dvdy (9th-12th): on the floor, the differences of the map coordinates between
+  // the pixel's edge midpoints on its plane; the camera's projection onto the plane is smooth, so
+  // half the central difference of the neighbours' (u W, v H) agrees to second order (and to half
+  // precision): 1% of the footprint. f is the longer column's length.
+  size_t jacobian_checked = 0, jacobian_wrong = 0, f_wrong = 0;
+  const auto floor_at = [&](int x, int y) {
+    const float d = view.receivers.at(x, y, 2);
+    return std::isfinite(d) && std::abs(d - (0.0 - setup.light.near_plane) / setup.light.depth_range()) <= 1e-5;
+  };
+  for (int y = 1; y + 1 < setup.camera.height; ++y)
+    for (int x = 1; x + 1 < setup.camera.width; ++x) {
+      if (!floor_at(x, y) || !floor_at(x - 1, y) || !floor_at(x + 1, y) || !floor_at(x, y - 1) || !floor_at(x, y + 1))
+        continue;
+      const auto& rx = view.receivers;
+      const double W = setup.map_width, H = setup.map_height;
+      const double want[4] = {
+          0.5 * W * (rx.at(x + 1, y, 0) - rx.at(x - 1, y, 0)), 0.5 * H * (rx.at(x + 1, y, 1) - rx.at(x - 1, y, 1)),
+          0.5 * W * (rx.at(x, y + 1, 0) - rx.at(x, y - 1, 0)), 0.5 * H * (rx.at(x, y + 1, 1) - rx.at(x, y - 1, 1))};
+      const double f = rx.at(x, y, 3);
+      bool ok = true;
+      for (int c = 0; c < 4; ++c) ok = ok && std::abs(rx.at(x, y, 8 + c) - want[c]) <= 1e-2 * f + 1e-3;
+      jacobian_wrong += !ok;
+      const double longer =
+          std::max(std::hypot(rx.at(x, y, 8), rx.at(x, y, 9)), std::hypot(rx.at(x, y, 10), rx.at(x, y, 11)));
+      f_wrong += !(std::abs(longer - f) <= 2e-3 * f);
+      ++jacobian_checked;
+    }
+  std::printf("  Jacobian: %zu floor pixels checked\n", jacobian_checked);
+  EXPECT_GT(jacobian_checked, 10000u);
+  EXPECT_EQ(jacobian_wrong, 0u);
+  EXPECT_EQ(f_wrong, 0u);
 }
 
 // Parallel planes: a square occluder at height h = 1 over the floor and a square light of side L

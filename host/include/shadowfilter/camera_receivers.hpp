@@ -16,6 +16,9 @@
 //     midpoints of the pixel's left and right (top and bottom) edges meet P's tangent plane, the
 //     points are projected into the map, f = the larger of the two distances (capped at the
 //     map's larger side);
+//   - dudx dvdx dudy dvdy: the same two pairs' differences in texels, the Jacobian of the map
+//     coordinates over the pixel (footprint.hpp; columns shortened to the cap, diag(f, f) where a
+//     pair is not finite);
 //   - ndl: the unit normal (turned towards the camera: surfaces are two-sided) dotted with the
 //     unit direction from P to the light;
 //   - nx, ny, nz: that normal in light space scaled to one texel, the change of (u W, v H, d) when
@@ -24,7 +27,7 @@
 // Normals come from the depth buffer (per axis the central difference where both neighbours lie
 // on P's surface, else the one-sided difference towards the neighbour that continues it best) or
 // from a normal image. Background pixels (see CameraDepth) have u = v = d = f = ndl = nx = ny =
-// nz = NaN.
+// nz = NaN, and a NaN Jacobian.
 // A point the light's map cannot hold (behind a perspective light, in front of its near plane or
 // beyond its far plane) is outside: u = v = -1, d = 0 (the filter lights it, as any receiver
 // outside the map).

@@ -39,6 +39,11 @@ FootprintProbes footprint_probes(float dudx, float dvdx, float dudy, float dvdy,
 // receivers that carry a Jacobian (the footprint the isotropic lookups and the classification read).
 float isotropic_footprint(float dudx, float dvdx, float dudy, float dvdy);
 
+// A receiver whose Jacobian has a non-finite component has none known: its Jacobian becomes
+// diag(f, f), which reads exactly as the isotropic lookup at f. What every reader of receivers
+// does (receiver images, the Python binding).
+void isotropic_where_unknown(Receivers& rx);
+
 // Receivers::f from the Jacobian channels where the receivers carry them (isotropic_footprint).
 void footprint_from_jacobian(Receivers& rx);
 

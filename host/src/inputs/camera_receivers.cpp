@@ -285,6 +285,11 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
   rx.nx.assign(n, kNaNf);
   rx.ny.assign(n, kNaNf);
   rx.nz.assign(n, kNaNf);
+  rx.has_jacobian = true;
+  rx.dudx.assign(n, kNaNf);
+  rx.dvdx.assign(n, kNaNf);
+  rx.dudy.assign(n, kNaNf);
+  rx.dvdy.assign(n, kNaNf);
   const double map_w = opt.map_width, map_h = opt.map_height;
   const double f_cap = std::max(map_w, map_h);
   const double d_tolerance = 1e-6;
@@ -390,19 +395,29 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
           }
           return p + offset;
         };
-        auto texel_distance = [&](const Vec3& a, const Vec3& b) {
+        // The Jacobian column from a to b in texels (its length a footprint width).
+        auto texel_step = [&](const Vec3& a, const Vec3& b, double* du, double* dv) {
           double ua, va, ub, vb;
           light.uv(a, &ua, &va);
           light.uv(b, &ub, &vb);
-          const double du = (ub - ua) * map_w, dv = (vb - va) * map_h;
-          return std::sqrt(du * du + dv * dv);  // not hypot: its overflow care costs a sixth of the run
+          *du = (ub - ua) * map_w, *dv = (vb - va) * map_h;
+          return std::sqrt(*du * *du + *dv * *dv);  // not hypot: its overflow care costs a sixth of the run
         };
-        const double fx = texel_distance(edge_point(side_o[size_t(x)], side_d[size_t(x)]),
-                                         edge_point(side_o[size_t(x) + 1], side_d[size_t(x) + 1]));
-        const double fy = texel_distance(edge_point(top_o[size_t(x)], top_d[size_t(x)]),
-                                         edge_point(bottom_o[size_t(x)], bottom_d[size_t(x)]));
+        double jac[4];
+        const double fx = texel_step(edge_point(side_o[size_t(x)], side_d[size_t(x)]),
+                                     edge_point(side_o[size_t(x) + 1], side_d[size_t(x) + 1]), &jac[0], &jac[1]);
+        const double fy = texel_step(edge_point(top_o[size_t(x)], top_d[size_t(x)]),
+                                     edge_point(bottom_o[size_t(x)], bottom_d[size_t(x)]), &jac[2], &jac[3]);
         double f = std::max(fx, fy);
         f = std::isfinite(f) ? std::min(f, f_cap) : f_cap;
+        // Columns as long as f at most (the cap); an unknown one (non-finite) leaves the receiver
+        // isotropic at f (footprint.hpp).
+        const bool known = std::isfinite(fx) && std::isfinite(fy);
+        const double lengths[2] = {fx, fy};
+        for (int c = 0; c < 4; ++c) {
+          const double length = lengths[c / 2];
+          jac[c] = !known ? (c == 0 || c == 3 ? f : 0.0) : length > f_cap ? jac[c] * (f_cap / length) : jac[c];
+        }
 
         double u, v;
         light.uv(p, &u, &v);
@@ -418,6 +433,10 @@ Receivers camera_receivers(const ViewProjection& camera_vp, const CameraDepth& d
         rx.v[i] = float(v);
         rx.d[i] = float(std::clamp(d, 0.0, 1.0));
         rx.f[i] = float(f);
+        rx.dudx[i] = float(jac[0]);
+        rx.dvdx[i] = float(jac[1]);
+        rx.dudy[i] = float(jac[2]);
+        rx.dvdy[i] = float(jac[3]);
         rx.ndl[i] = has_normal ? float(dot(normal, light.direction_to_light(p))) : kNaNf;
         if (has_normal && projected) {
           // The texel-scaled normal (normal_offset.hpp), over a step far below the point's texel.

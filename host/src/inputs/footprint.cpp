@@ -35,6 +35,18 @@ float isotropic_footprint(float dudx, float dvdx, float dudy, float dvdy) {
   return std::max(std::hypot(dudx, dvdx), std::hypot(dudy, dvdy));
 }
 
+void isotropic_where_unknown(Receivers& rx) {
+  if (!rx.has_jacobian) return;
+  for (size_t i = 0; i < rx.count(); ++i) {
+    if (std::isfinite(rx.dudx[i]) && std::isfinite(rx.dvdx[i]) && std::isfinite(rx.dudy[i]) &&
+        std::isfinite(rx.dvdy[i]))
+      continue;
+    const float f = rx.has_footprint ? rx.f[i] : 1.0f;
+    rx.dudx[i] = rx.dvdy[i] = f;
+    rx.dvdx[i] = rx.dudy[i] = 0.0f;
+  }
+}
+
 void footprint_from_jacobian(Receivers& rx) {
   if (!rx.has_jacobian) return;
   rx.has_footprint = true;

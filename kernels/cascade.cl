@@ -41,6 +41,18 @@ inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map
   return isfinite(f) ? f : 1.0f;
 }
 
+// The Jacobian of (u W, v H) over the pixel in layer k (sf::layer_jacobian; footprint.hpp):
+// (dudx, dvdx, dudy, dvdy), the two pixel offsets through the layer's Jacobian as above; the
+// identity (footprint 1, as sf_cascade_footprint) where a component is not finite.
+inline float4 sf_cascade_jacobian(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx, float3 dy) {
+  __constant const float* m = C->m + 16 * k;
+  const float3 r3 = (float3)(m[12], m[13], m[14]);
+  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
+  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
+  const float4 j = (float4)(dot(du, dx), dot(dv, dx), dot(du, dy), dot(dv, dy));
+  return all(isfinite(j)) ? j : (float4)(1.0f, 0.0f, 0.0f, 1.0f);
+}
+
 // The normal offset (normal_offset.hpp) in layer k: p moved C->normal_offset of the layer's texels
 // along n, a texel being 1 / sqrt(|grad uW| |grad vH|) wide at p (q = p in the layer). n is the
 // camera-facing unit normal, -(dx x dy) / |dx x dy|: a pixel's offsets run along the image's x and
@@ -71,7 +83,9 @@ inline float3 sf_cascade_normal(float3 dx, float3 dy) {
 //   per layer k at k * stride + i: u, v, d, f as that layer's reconstruction reads them. Layers
 //     that do not serve i get d = NaN, the mark the reconstruction treats as outside (visibility
 //     1, never a neighbour of the receiver plane), u = v = 0 and f = 1: no other non-finite
-//     value leaves the kernel.
+//     value leaves the kernel;
+//   where out_jac is not null, per layer k its Jacobian (sf_cascade_jacobian) as four planes of
+//     count floats from 4 k stride (DeviceReceivers::jacobian), the identity where k does not serve i.
 // The rule is select_cascade's (cascade_layout.cpp), step by step: the layer whose split range
 // holds the view depth, else the next one whose map holds p; in the blend band (the last
 // `blend` of that layer's range) the next layer rises linearly to weight 1, if p is on its map.
@@ -83,7 +97,8 @@ inline void sf_cascade_project_one(__global const float* restrict x, __global co
                                    const int count, __constant sf_cascade_params* restrict C, const int stride,
                                    __global char2* restrict layers, __global float* restrict weight,
                                    __global float* restrict out_u, __global float* restrict out_v,
-                                   __global float* restrict out_d, __global float* restrict out_f, const int i) {
+                                   __global float* restrict out_d, __global float* restrict out_f,
+                                   __global float* restrict out_jac, const int i) {
   // SF_CASCADES (= C->count, from the host) fixes every loop's trip count: the rule below is
   // written without data-dependent loops so that PoCL runs work-items side by side in SIMD.
   const float3 p = (float3)(x[i], y[i], z[i]);
@@ -118,6 +133,14 @@ inline void sf_cascade_project_one(__global const float* restrict x, __global co
     out_v[j] = served ? q.v : 0.0f;
     out_d[j] = served ? q.d : NAN;
     out_f[j] = served ? sf_cascade_footprint(C, k, q, dx, dy) : 1.0f;
+    if (out_jac) {
+      const float4 jac = served ? sf_cascade_jacobian(C, k, q, dx, dy) : (float4)(1.0f, 0.0f, 0.0f, 1.0f);
+      const size_t b = (size_t)4 * k * stride + i, n = (size_t)count;
+      out_jac[b] = jac.x;
+      out_jac[b + n] = jac.y;
+      out_jac[b + 2 * n] = jac.z;
+      out_jac[b + 3 * n] = jac.w;
+    }
   }
 }
 
@@ -168,13 +191,14 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
                                  const int count, __constant sf_cascade_params* restrict C, const int stride,
                                  __global char2* restrict layers, __global float* restrict weight,
                                  __global float* restrict out_u, __global float* restrict out_v,
-                                 __global float* restrict out_d, __global float* restrict out_f) {
+                                 __global float* restrict out_d, __global float* restrict out_f,
+                                 __global float* restrict out_jac) {
   const int i0 = get_global_id(0) * SF_CASCADE_VEC;
   if (i0 >= count) return;
   if (count - i0 < SF_CASCADE_VEC) {
     for (int i = i0; i < count; ++i)
       sf_cascade_project_one(x, y, z, depth, dxx, dxy, dxz, dyx, dyy, dyz, count, C, stride, layers, weight, out_u,
-                             out_v, out_d, out_f, i);
+                             out_v, out_d, out_f, out_jac, i);
     return;
   }
   const sf_cfv px = vload16(0, x + i0), py = vload16(0, y + i0), pz = vload16(0, z + i0);
@@ -232,6 +256,20 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
     vstore16(select((sf_cfv)(NAN), q.d, served), 0, out_d + j);
     vstore16(select((sf_cfv)(1.0f), sf_cascade_footprint_v(C, k, q, dx0, dx1, dx2, dy0, dy1, dy2), served), 0,
              out_f + j);
+    if (out_jac) {  // sf_cascade_jacobian, as vectors
+      __constant const float* m = C->m + 16 * k;
+      const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
+      const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
+      const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
+      const sf_cfv ax = du0 * dx0 + du1 * dx1 + du2 * dx2, bx = dv0 * dx0 + dv1 * dx1 + dv2 * dx2;
+      const sf_cfv ay = du0 * dy0 + du1 * dy1 + du2 * dy2, by = dv0 * dy0 + dv1 * dy1 + dv2 * dy2;
+      const sf_civ use = served & isfinite(ax) & isfinite(bx) & isfinite(ay) & isfinite(by);
+      const size_t b = (size_t)4 * k * stride + i0, n = (size_t)count;
+      vstore16(select((sf_cfv)(1.0f), ax, use), 0, out_jac + b);
+      vstore16(select((sf_cfv)(0.0f), bx, use), 0, out_jac + b + n);
+      vstore16(select((sf_cfv)(0.0f), ay, use), 0, out_jac + b + 2 * n);
+      vstore16(select((sf_cfv)(1.0f), by, use), 0, out_jac + b + 3 * n);
+    }
   }
 }
 

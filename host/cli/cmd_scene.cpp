@@ -40,6 +40,11 @@ CLI::App* add_scene_command(CLI::App& app, SceneArgs& a) {
                         "Area light: L (a square) or W,H (W along the light's right, H along its down), "
                         "light-space units (default: the scene's square)");
   c->add_option("--samples", a.samples, "Area-light samples per pixel (a square number)")->capture_default_str();
+  c->add_option("--soft-reference", a.soft_reference,
+                "Soft reference's samples from the surface point at the pixel's centre (centre) or over the "
+                "whole pixel (pixel: the antialiased pixel, what footprint lookups estimate); default: the "
+                "scene's (pixel for grazing, centre for the others)")
+      ->check(CLI::IsMember({"centre", "pixel"}));
   c->add_option("--seed", a.seed, "Seed of the area-light sampling")->capture_default_str();
   c->add_option("--threads", a.threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
@@ -94,6 +99,7 @@ int run_scene(const SceneArgs& a) {
   if (!a.light_size.empty()) request.light_size = a.light_size[0];
   if (a.light_size.size() == 2) request.light_height = a.light_size[1];
   request.samples = a.samples;
+  if (!a.soft_reference.empty()) request.pixel_average = a.soft_reference == "pixel";
   request.seed = a.seed;
   request.progress = !a.quiet;
   request.threads = a.threads;

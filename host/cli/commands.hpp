@@ -90,6 +90,7 @@ struct SceneArgs {
   std::vector<double> light_dir, light_pos;
   double fov = std::numeric_limits<double>::quiet_NaN();  // NaN: fitted
   std::vector<double> light_size;                         // --light-size L or W,H; empty: the scene's default
+  std::string soft_reference;                             // centre | pixel; empty: the scene's default
   bool quiet = false;
   // Camera and path (NaN / empty: the scene's default; CLI numbers are finite, finite_numbers.hpp).
   std::vector<double> camera_pos, camera_look, camera_to;

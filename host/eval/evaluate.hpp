@@ -119,7 +119,8 @@ AcneLeak acne_leak(const std::vector<float>& v, const HostImage& ref_hard, const
 double metric_value(const ErrorStats& e, const std::string& metric);
 void check_metric(const std::string& metric);
 
-// s_ref of a scene for the weights of (blur, lookup), computed once per key on all cores.
+// s_ref of a scene for the weights of (blur, lookup, max_anisotropy where the receivers carry
+// Jacobians; footprint.hpp), computed once per key on all cores.
 class SrefCache {
  public:
   explicit SrefCache(const Scene& scene, double bias = kDefaultSrefBias) : scene_(scene), bias_(bias) {}
@@ -127,7 +128,8 @@ class SrefCache {
   // The weights a configuration's output approximates: sm has no prefilter, sm and pcf read the
   // raw depth through bilinear weights (pipeline.cpp), everything else (blur, lookup).
   const std::vector<double>& for_options(const FilterOptions& o);
-  const std::vector<double>& get(const BlurOptions& blur, Lookup lookup);
+  const std::vector<double>& get(const BlurOptions& blur, Lookup lookup,
+                                 int max_anisotropy = LookupOptions{}.max_anisotropy);
 
  private:
   const Scene& scene_;
@@ -136,7 +138,8 @@ class SrefCache {
 };
 // Against each receiver's plane (ref::receiver_plane under `plane`; off: the constant d).
 std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
-                                   double bias = 0.0, const ReceiverPlaneOptions& plane = {});
+                                   double bias = 0.0, const ReceiverPlaneOptions& plane = {},
+                                   int max_anisotropy = LookupOptions{}.max_anisotropy);
 
 // --- timing -----------------------------------------------------------------------------------
 struct Measured {

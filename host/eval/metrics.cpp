@@ -116,7 +116,7 @@ double metric_value(const ErrorStats& e, const std::string& m) {
 // --- s_ref -----------------------------------------------------------------------------------------
 
 std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& blur, Lookup lookup, const Receivers& rx,
-                                   double bias, const ReceiverPlaneOptions& plane) {
+                                   double bias, const ReceiverPlaneOptions& plane, int max_anisotropy) {
   const size_t n = rx.count();
   std::vector<double> out(n, 1.0);
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -125,8 +125,8 @@ std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& bl
     for (size_t i = t; i < n; i += threads) {
       const double u = rx.grid ? ref::texel_centre(int(i % rx.width), rx.width) : rx.u[i];
       const double v = rx.grid ? ref::texel_centre(int(i / rx.width), rx.height) : rx.v[i];
-      out[i] = ref::s_ref(depth, blur, lookup, u, v, ref::receiver_plane(depth, rx, i, plane), ref::footprint_at(rx, i),
-                          bias);
+      out[i] = ref::s_ref(depth, blur, lookup, u, v, ref::receiver_plane(depth, rx, i, plane),
+                          ref::probes_at(rx, i, max_anisotropy), bias);
     }
   };
   std::vector<std::thread> pool;
@@ -136,19 +136,20 @@ std::vector<double> s_ref_parallel(const HostImage& depth, const BlurOptions& bl
   return out;
 }
 
-const std::vector<double>& SrefCache::get(const BlurOptions& blur, Lookup lookup) {
+const std::vector<double>& SrefCache::get(const BlurOptions& blur, Lookup lookup, int max_anisotropy) {
   const float sigma = blur.radius > 0 ? (blur.sigma > 0 ? blur.sigma : float((2 * blur.radius + 1) / 6.0)) : 0.0f;
-  const std::string key = std::to_string(blur.radius) + "/" + std::to_string(sigma) + "/" + std::to_string(int(lookup));
+  const std::string key = std::to_string(blur.radius) + "/" + std::to_string(sigma) + "/" +
+                          std::to_string(int(lookup)) + "/" + std::to_string(max_anisotropy);
   auto it = cache_.find(key);
   if (it != cache_.end()) return it->second;
-  return cache_[key] = s_ref_parallel(scene_.depth, blur, lookup, scene_.receivers, bias_);
+  return cache_[key] = s_ref_parallel(scene_.depth, blur, lookup, scene_.receivers, bias_, {}, max_anisotropy);
 }
 
 const std::vector<double>& SrefCache::for_options(const FilterOptions& o) {
   const MethodDesc& m = *o.method;
   BlurOptions blur = o.blur;
   if (!m.filtered) blur = BlurOptions{};
-  return get(blur, m.raw_depth ? Lookup::Bilinear : o.lookup.kind);
+  return get(blur, m.raw_depth ? Lookup::Bilinear : o.lookup.kind, o.lookup.max_anisotropy);
 }
 
 }  // namespace sf::eval

@@ -42,6 +42,11 @@ CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& v
     rx.v.assign(count, 0.0f);
     rx.d.assign(count, std::numeric_limits<float>::quiet_NaN());
     rx.f.assign(count, 1.0f);
+    rx.has_jacobian = true;  // the identity where the layer does not serve the receiver
+    rx.dudx.assign(count, 1.0f);
+    rx.dvdx.assign(count, 0.0f);
+    rx.dudy.assign(count, 0.0f);
+    rx.dvdy.assign(count, 1.0f);
   }
   for (size_t i = 0; i < count; ++i) {
     const Point3 p{view.x[i], view.y[i], view.z[i]};
@@ -57,6 +62,13 @@ CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& v
       rx.v[i] = float(q.v);
       rx.d[i] = float(q.d);
       rx.f[i] = float(layer_footprint(set, k, moved(set, k, p, dx, dy, normal_offset), dx, dy));
+      const std::array<double, 4> jac = layer_jacobian(set, k, moved(set, k, p, dx, dy, normal_offset), dx, dy);
+      if (std::isfinite(jac[0]) && std::isfinite(jac[1]) && std::isfinite(jac[2]) && std::isfinite(jac[3])) {
+        rx.dudx[i] = float(jac[0]);
+        rx.dvdx[i] = float(jac[1]);
+        rx.dudy[i] = float(jac[2]);
+        rx.dvdy[i] = float(jac[3]);
+      }
     }
   }
   return out;

@@ -164,6 +164,7 @@ SceneSetup make_setup(const SceneRequest& request, SceneDefaults* defaults_out) 
   setup.light_size = request.light_size ? *request.light_size : defaults.light_size;
   setup.light_height = request.light_height ? *request.light_height : -1.0;
   setup.samples = request.samples;
+  setup.pixel_average = request.pixel_average.value_or(defaults.pixel_average);
   setup.seed = request.seed;
   setup.progress = request.progress;
   setup.threads = request.threads;
@@ -204,6 +205,7 @@ SceneSummary generate_scene(const SceneRequest& request) {
   add_light_sides(soft_attributes, setup);
   soft_attributes["samples"] = std::to_string(setup.samples);
   soft_attributes["seed"] = std::to_string(setup.seed);
+  if (setup.pixel_average) soft_attributes["pixel_average"] = "1";  // the samples cover the pixel, not its centre
   for (const SceneFrame& frame : summary.plan.frames) {
     const std::string prefix = frame.dir.empty() ? "" : frame.dir + "/";
     CameraImages camera = renderer.camera_view(frame.camera, true);

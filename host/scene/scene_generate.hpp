@@ -21,6 +21,7 @@ struct SceneRequest {
   std::optional<double> light_size;     // default: the scene's
   std::optional<double> light_height;   // a rectangular light's side along down (default: a square)
   int samples = 64;
+  std::optional<bool> pixel_average;  // the soft reference over the whole pixel (default: the scene's)
   unsigned seed = 1;
   CameraRequest camera;  // --camera-*, --frames, --camera-path
   LayoutRequest layout;  // --layout and its options

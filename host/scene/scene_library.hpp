@@ -14,6 +14,8 @@ struct SceneDefaults {
   Vec3 light_direction{0.35, -1.0, 0.25};  // ortho direction; perspective: default look direction
   PerspectiveCamera camera;                // width/height are set by the caller
   double light_size = 0.2;                 // area-light side, world units
+  // The soft reference averages over the pixel (SceneSetup::pixel_average).
+  bool pixel_average = false;
   // View depths a cascade layout covers (--camera-near/--camera-far); 0 = derived from the
   // bounding box as seen from the camera (layer_render.hpp, default_view_depths).
   double camera_near = 0.0;
@@ -22,7 +24,7 @@ struct SceneDefaults {
   std::string source;   // mesh file, or "built-in"
 };
 
-// spheres, fence, backyard, contact, thin, terrain, city, treeline.
+// spheres, fence, backyard, contact, thin, terrain, city, treeline, grazing.
 const std::vector<std::string>& builtin_scene_names();
 bool is_builtin_scene(const std::string& name);
 SceneDefaults make_builtin_scene(const std::string& name);

@@ -119,6 +119,32 @@ double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream)
   return double(visible) / double(strata_ * strata_);
 }
 
+double SceneRenderer::pixel_visible_fraction(const PerspectiveCamera& camera, int x, int y, uint64_t stream) const {
+  uint64_t state = stream;
+  int visible = 0, hits = 0;
+  for (int sy = 0; sy < strata_; ++sy) {
+    for (int sx = 0; sx < strata_; ++sx) {
+      const double px = x + (sx + uniform(state)) / strata_, py = y + (sy + uniform(state)) / strata_;
+      const double s = (sx + uniform(state)) / strata_ - 0.5, t = (sy + uniform(state)) / strata_ - 0.5;
+      const Ray ray = camera.ray_through(px, py);
+      const auto hit = tracer_.closest(ray, 0.0, std::numeric_limits<double>::infinity(), kMaskAll);
+      if (!hit) continue;
+      ++hits;
+      const Vec3 point = ray.at(hit->t);
+      const Vec3 normal = dot(hit->normal, ray.direction) > 0.0 ? -1.0 * hit->normal : hit->normal;
+      const Vec3 origin = point + offset_ * normal;
+      const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, setup_.area_light_height(), s, t);
+      const Vec3 delta = target - origin;
+      const double distance = length(delta);
+      if (!(distance > 0.0)) continue;
+      const Vec3 direction = (1.0 / distance) * delta;
+      if (dot(normal, direction) <= 0.0) continue;  // light sample below the surface
+      if (!tracer_.occluded(Ray{origin, direction}, 0.0, distance, kMaskAll)) ++visible;
+    }
+  }
+  return hits ? double(visible) / double(hits) : 1.0;
+}
+
 // Footprint of pixel (x, y) in level-0 shadow-map texels, from the shadow-map coordinates of
 // its neighbourhood: the rays through the midpoints of the pixel's left/right edges (and of
 // its top/bottom edges) are intersected with the tangent plane of the hit at the pixel centre
@@ -253,7 +279,9 @@ CameraImages SceneRenderer::camera_view(const PerspectiveCamera& camera, bool wi
       for (int c = 0; c < 11; ++c) out.view.at(x, y, c) = float(view_values[c]);
       out.reference_hard.at(x, y) = lit_hard(point, hit->normal) ? 1.0f : 0.0f;
       if (with_soft) {
-        out.reference_soft.at(x, y) = float(visible_fraction(point, hit->normal, pixel_stream(setup_.seed, x, y)));
+        const uint64_t stream = pixel_stream(setup_.seed, x, y);
+        out.reference_soft.at(x, y) = float(setup_.pixel_average ? pixel_visible_fraction(camera, x, y, stream)
+                                                                 : visible_fraction(point, hit->normal, stream));
       }
     }
   });

@@ -23,6 +23,11 @@ struct SceneSetup {
   double light_height = -1.0;  // its side along down; < 0: light_size (a square)
   double area_light_height() const { return light_height >= 0.0 ? light_height : light_size; }
   int samples = 64;  // area-light samples per pixel, a square number
+  // The soft reference over the whole pixel: each sample's camera ray through a point of its
+  // stratum of the pixel, paired with a point of the same stratum of the light (the visibility a
+  // renderer's antialiased pixel shows, what footprint lookups estimate); false: every sample
+  // from the surface point at the pixel's centre.
+  bool pixel_average = false;
   unsigned seed = 1;
   bool progress = true;  // progress bars on stderr for stages over a second
   int threads = 0;       // 0 = hardware concurrency
@@ -67,6 +72,8 @@ class SceneRenderer {
   // The receivers' nx ny nz at a hit (normal_offset.hpp).
   std::array<float, 3> texel_scaled_normal(Vec3 point, Vec3 normal) const;
   double visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const;
+  // SceneSetup::pixel_average's soft value of pixel (x, y) (1 where no stratum's ray hits).
+  double pixel_visible_fraction(const PerspectiveCamera& camera, int x, int y, uint64_t stream) const;
   const RayTracer& tracer() const { return tracer_; }
 
  private:

@@ -195,6 +195,11 @@ ref::CascadeProjection read_projection(const LayeredPipeline& pipe, const ViewRe
   const int K = pipe.layer_count();
   const std::vector<float> u = test::from_device(p.u, K * p.stride), v = test::from_device(p.v, K * p.stride);
   const std::vector<float> d = test::from_device(p.d, K * p.stride), f = test::from_device(p.f, K * p.stride);
+  const std::vector<float> jac = p.jacobian() ? test::from_device(p.jacobian, 4 * K * p.stride) : std::vector<float>();
+  const auto jac_plane = [&](int k, int c) {
+    const auto first = jac.begin() + 4 * k * p.stride + c * p.count;
+    return std::vector<float>(first, first + p.count);
+  };
   ref::CascadeProjection out;
   for (size_t i = 0; i < p.count; ++i) {
     CascadeChoice c;
@@ -213,6 +218,11 @@ ref::CascadeProjection read_projection(const LayeredPipeline& pipe, const ViewRe
       return std::vector<float>(a.begin() + k * p.stride, a.begin() + k * p.stride + p.count);
     };
     rx.u = plane(u), rx.v = plane(v), rx.d = plane(d), rx.f = plane(f);
+    if (p.jacobian()) {  // four planes of count floats from 4 k stride
+      rx.has_jacobian = true;
+      std::vector<float>* planes[4] = {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy};
+      for (int c = 0; c < 4; ++c) *planes[c] = jac_plane(k, c);
+    }
     out.layers.push_back(std::move(rx));
   }
   return out;
@@ -377,9 +387,12 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
       const Point3 p = position(view, i);
       view.depth[i] = float(dot((p - scene().camera.position), scene().camera.forward));
     }
-    LayeredPipeline pipe(runtime_ptr(), FilterOptions{}, set);
+    FilterOptions opt;
+    opt.lookup.kind = Lookup::Mips;  // anisotropic: the projection writes the Jacobians too
+    LayeredPipeline pipe(runtime_ptr(), opt, set);
     run(pipe, render_maps(set), view);
     const ref::CascadeProjection got = read_projection(pipe, view);
+    ASSERT_TRUE(got.layers[0].has_jacobian);
     size_t near_boundary = 0, blended = 0, none = 0, fell_through = 0;
     for (size_t i = 0; i < view.count(); ++i) {
       const Point3 p = position(view, i);
@@ -398,6 +411,7 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
         const Receivers& rx = got.layers[k];
         if (k != want.layer[0] && k != want.layer[1]) {
           ASSERT_TRUE(std::isnan(rx.d[i]) && rx.u[i] == 0.0f && rx.v[i] == 0.0f && rx.f[i] == 1.0f) << k << " " << i;
+          ASSERT_TRUE(rx.dudx[i] == 1.0f && rx.dvdx[i] == 0.0f && rx.dudy[i] == 0.0f && rx.dvdy[i] == 1.0f) << k;
           continue;
         }
         const LayerTransform::MapPoint q = set.layers[k].transform.apply(p);
@@ -407,6 +421,9 @@ TEST(Layered, ProjectionKernelChoosesAsSelectCascade) {
         ASSERT_NEAR(rx.v[i], q.v, 1e-5) << k << " " << i;
         ASSERT_NEAR(rx.d[i], q.d, 1e-5) << k << " " << i;
         ASSERT_NEAR(rx.f[i], f, 1e-4 * std::max(1.0, f)) << k << " " << i;
+        const std::array<double, 4> jac = layer_jacobian(set, k, p, dx, dy);
+        const float got_jac[4] = {rx.dudx[i], rx.dvdx[i], rx.dudy[i], rx.dvdy[i]};
+        for (int c = 0; c < 4; ++c) ASSERT_NEAR(got_jac[c], jac[size_t(c)], 1e-4 * std::max(1.0, f)) << k << " " << i;
       }
     }
     // The random receivers reach every branch of the rule.

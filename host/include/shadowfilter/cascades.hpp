@@ -77,6 +77,10 @@ CascadeChoice select_cascade(const CascadeSet& set, double view_depth, const Poi
 // neighbouring pixels. Follows the warp, so the same world footprint covers the right number of
 // texels in every layer.
 double layer_footprint(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx, const Point3& dp_dy);
+// The same offsets as the Jacobian of (u W, v H) over the pixel in the layer's texels
+// (dudx, dvdx, dudy, dvdy; footprint.hpp): layer_footprint is its longer column's length.
+std::array<double, 4> layer_jacobian(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx,
+                                     const Point3& dp_dy);
 
 // PSSM's practical split scheme (Oliveira 2009 sec. 3.1; Zhang et al.): K + 1 view depths from near to
 // far, s_i = lambda n (f/n)^(i/K) + (1 - lambda)(n + (f - n) i / K).

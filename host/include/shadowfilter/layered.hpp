@@ -85,10 +85,13 @@ class LayeredPipeline {
   // What the projection of the last reconstruct() wrote (valid after its event): per receiver
   // `layers` (cl_char2: first, second layer, -1 = none) and `weight` (the second layer's), and
   // per layer k the receivers at k * stride: u, v, d (NaN where k does not serve the receiver)
-  // and f (footprint in layer texels).
+  // and f (footprint in layer texels); where a layer's lookup follows Jacobians (a footprint
+  // lookup with max_anisotropy > 1), `jacobian`: per layer k from 4 k stride, the receivers'
+  // Jacobians in layer texels, four planes of count floats (DeviceReceivers::jacobian); else empty.
   struct Projection {
     size_t count = 0, stride = 0;
     cl::Buffer layers, weight, u, v, d, f, visibility;  // visibility: per layer, before the blend
+    cl::Buffer jacobian;
   };
   const Projection& projection() const { return proj_; }
 
@@ -103,7 +106,7 @@ class LayeredPipeline {
   // The layers' pipelines plus the per-receiver arrays allocated so far.
   size_t device_bytes() const;
   // Bytes reconstruct() allocates per receiver for K layers: u, v, d, f and a visibility per
-  // layer, the choice and weight.
+  // layer, the choice and weight (the Jacobians, where a layer reads them, add 4 floats per layer).
   static size_t bytes_per_receiver(int layers);
   // Device seconds of the last prefilter/reconstruct (waits for their events): every layer's
   // stages summed stage by stage (layer(k).times() has one layer's), the projection and the blend.

@@ -394,6 +394,14 @@ CascadeChoice select_cascade(const CascadeSet& set, double view_depth, const Poi
   return choice;
 }
 
+std::array<double, 4> layer_jacobian(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx,
+                                     const Point3& dp_dy) {
+  Point3 du, dv;
+  set.layers.at(layer).transform.jacobian_uv(p, du, dv);
+  return {set.width * dot(du, dp_dx), set.height * dot(dv, dp_dx), set.width * dot(du, dp_dy),
+          set.height * dot(dv, dp_dy)};
+}
+
 double layer_footprint(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx, const Point3& dp_dy) {
   Point3 du, dv;
   set.layers.at(layer).transform.jacobian_uv(p, du, dv);

@@ -189,7 +189,8 @@ size_t LayeredPipeline::device_bytes() const {
   size_t total = 0;
   for (const auto& p : pipes_) total += p->device_bytes();
   for (const auto& f : soft_) total += f->device_bytes();
-  if (proj_.count) total += size_t(layer_count()) * proj_.stride * 5 * sizeof(float) + proj_.count * 6;
+  if (proj_.count)
+    total += size_t(layer_count()) * proj_.stride * (proj_.jacobian() ? 9 : 5) * sizeof(float) + proj_.count * 6;
   return total;
 }
 
@@ -200,8 +201,13 @@ void LayeredPipeline::allocate(size_t count) {
   const size_t align = std::max<size_t>(rt_->device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4) / 4;
   const size_t stride = (count + align - 1) / align * align;
   const size_t plane_bytes = stride * sizeof(float), all_bytes = K * plane_bytes;
-  check_fits_device(*rt_, std::max(all_bytes, soft() ? size_t(0) : pipes_.front()->buffer_plan().largest()),
-                    device_bytes() + 5 * all_bytes + count * 6, "the layered receivers");
+  // The Jacobians, where some layer's lookup follows them (footprint.hpp).
+  bool jacobian = false;
+  for (const auto& p : pipes_)
+    jacobian = jacobian || (p->options().lookup.kind != Lookup::Bilinear && p->options().lookup.max_anisotropy > 1);
+  check_fits_device(
+      *rt_, std::max((jacobian ? 4 : 1) * all_bytes, soft() ? size_t(0) : pipes_.front()->buffer_plan().largest()),
+      device_bytes() + (jacobian ? 9 : 5) * all_bytes + count * 6, "the layered receivers");
   proj_ = Projection{};
   layer_rx_.clear();
   layer_vis_.clear();
@@ -212,6 +218,7 @@ void LayeredPipeline::allocate(size_t count) {
   proj_.weight = cl::Buffer(ctx, CL_MEM_READ_WRITE, count * sizeof(float));
   for (cl::Buffer* b : {&proj_.u, &proj_.v, &proj_.d, &proj_.f, &proj_.visibility})
     *b = cl::Buffer(ctx, CL_MEM_READ_WRITE, all_bytes);
+  if (jacobian) proj_.jacobian = cl::Buffer(ctx, CL_MEM_READ_WRITE, 4 * all_bytes);
   for (int k = 0; k < K; ++k) {
     const size_t origin = k * plane_bytes, bytes = count * sizeof(float);
     DeviceReceivers rx;
@@ -220,6 +227,7 @@ void LayeredPipeline::allocate(size_t count) {
     rx.v = sub_buffer(*rt_, proj_.v, origin, bytes);
     rx.d = sub_buffer(*rt_, proj_.d, origin, bytes);
     rx.f = sub_buffer(*rt_, proj_.f, origin, bytes);
+    if (jacobian) rx.jacobian = sub_buffer(*rt_, proj_.jacobian, 4 * origin, 4 * bytes);
     layer_rx_.push_back(rx);
     layer_vis_.push_back(sub_buffer(*rt_, proj_.visibility, origin, bytes));
   }
@@ -269,7 +277,7 @@ cl::Event LayeredPipeline::reconstruct(const DeviceReceivers& rx, const cl::Buff
   detail::KernelArgs args(project);
   for (const cl::Buffer* b : inputs) args.buffer(*b);
   args.value(count).buffer(params_).value(stride).buffer(proj_.layers).buffer(proj_.weight);
-  args.buffer(proj_.u).buffer(proj_.v).buffer(proj_.d).buffer(proj_.f);
+  args.buffer(proj_.u).buffer(proj_.v).buffer(proj_.d).buffer(proj_.f).optional(proj_.jacobian);
   // kCascadeVector receivers per work-item (SF_CASCADE_VEC in cascade.cl).
   constexpr size_t kCascadeVector = 16;
   const cl::NDRange items((rx.count + kCascadeVector - 1) / kCascadeVector);
@@ -280,7 +288,7 @@ cl::Event LayeredPipeline::reconstruct(const DeviceReceivers& rx, const cl::Buff
   for (size_t k = 0; k < pipes_.size(); ++k) {
     DeviceReceivers layer_rx = layer_rx_[k];
     layer_rx.row = rx.row;
-    if (pipes_[k]->options().lookup.kind == Lookup::Bilinear) layer_rx.f = cl::Buffer();
+    if (pipes_[k]->options().lookup.kind == Lookup::Bilinear) layer_rx.f = layer_rx.jacobian = cl::Buffer();
     layers_done.push_back(pipes_[k]->reconstruct(layer_rx, layer_vis_[k], &projected));
   }
   for (size_t k = 0; k < soft_.size(); ++k) {  // the soft methods read every footprint

@@ -99,21 +99,26 @@ bool SceneRenderer::lit_hard(Vec3 point, Vec3 normal) const {
   return !tracer_.occluded(shadow_ray, 0.0, distance, kMaskAll);
 }
 
-double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const {
+// Whether the area light's point (s, t) (in [-1/2, 1/2]^2) is seen from a surface point.
+bool SceneRenderer::sees_light_point(Vec3 point, Vec3 normal, double s, double t) const {
   const Vec3 origin = point + offset_ * normal;
+  const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, setup_.area_light_height(), s, t);
+  const Vec3 delta = target - origin;
+  const double distance = length(delta);
+  if (!(distance > 0.0)) return false;
+  const Vec3 direction = (1.0 / distance) * delta;
+  if (dot(normal, direction) <= 0.0) return false;  // light sample below the surface
+  return !tracer_.occluded(Ray{origin, direction}, 0.0, distance, kMaskAll);
+}
+
+double SceneRenderer::visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const {
   uint64_t state = stream;
   int visible = 0;
   for (int sy = 0; sy < strata_; ++sy) {
     for (int sx = 0; sx < strata_; ++sx) {
       const double s = (sx + uniform(state)) / strata_ - 0.5;
       const double t = (sy + uniform(state)) / strata_ - 0.5;
-      const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, setup_.area_light_height(), s, t);
-      const Vec3 delta = target - origin;
-      const double distance = length(delta);
-      if (!(distance > 0.0)) continue;
-      const Vec3 direction = (1.0 / distance) * delta;
-      if (dot(normal, direction) <= 0.0) continue;  // light sample below the surface
-      if (!tracer_.occluded(Ray{origin, direction}, 0.0, distance, kMaskAll)) ++visible;
+      visible += sees_light_point(point, normal, s, t) ? 1 : 0;
     }
   }
   return double(visible) / double(strata_ * strata_);
@@ -130,16 +135,8 @@ double SceneRenderer::pixel_visible_fraction(const PerspectiveCamera& camera, in
       const auto hit = tracer_.closest(ray, 0.0, std::numeric_limits<double>::infinity(), kMaskAll);
       if (!hit) continue;
       ++hits;
-      const Vec3 point = ray.at(hit->t);
       const Vec3 normal = dot(hit->normal, ray.direction) > 0.0 ? -1.0 * hit->normal : hit->normal;
-      const Vec3 origin = point + offset_ * normal;
-      const Vec3 target = setup_.light.area_light_point(point, setup_.light_size, setup_.area_light_height(), s, t);
-      const Vec3 delta = target - origin;
-      const double distance = length(delta);
-      if (!(distance > 0.0)) continue;
-      const Vec3 direction = (1.0 / distance) * delta;
-      if (dot(normal, direction) <= 0.0) continue;  // light sample below the surface
-      if (!tracer_.occluded(Ray{origin, direction}, 0.0, distance, kMaskAll)) ++visible;
+      visible += sees_light_point(ray.at(hit->t), normal, s, t) ? 1 : 0;
     }
   }
   return hits ? double(visible) / double(hits) : 1.0;

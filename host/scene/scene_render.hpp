@@ -72,6 +72,7 @@ class SceneRenderer {
   // The receivers' nx ny nz at a hit (normal_offset.hpp).
   std::array<float, 3> texel_scaled_normal(Vec3 point, Vec3 normal) const;
   double visible_fraction(Vec3 point, Vec3 normal, uint64_t stream) const;
+  bool sees_light_point(Vec3 point, Vec3 normal, double s, double t) const;
   // SceneSetup::pixel_average's soft value of pixel (x, y) (1 where no stratum's ray hits).
   double pixel_visible_fraction(const PerspectiveCamera& camera, int x, int y, uint64_t stream) const;
   const RayTracer& tracer() const { return tracer_; }

@@ -75,10 +75,13 @@ struct MethodLists {
 MethodLists parse_evaluated_methods(const std::string& list);
 // Every configuration of the grid for these methods. Footprint lookups (mips, sat) are only
 // generated when `max_footprint` > 1 (otherwise they equal bilinear and only cost time).
-// sm and pcf get depth_test.bias = sref_bias (so that they compute s_ref itself).
+// sm and pcf get depth_test.bias = sref_bias (so that they compute s_ref itself). Where the
+// receivers carry Jacobians (`jacobian`), the default and wide grids add each footprint lookup's
+// isotropic twin (max_anisotropy 1, labelled "iso") beside the anisotropic default.
 std::vector<FilterOptions> make_grid(const std::vector<std::string>& methods, Grid grid, double max_footprint,
-                                     double sref_bias = kDefaultSrefBias);
-// One short human-readable label: "esm c=80 R=3 mips f32".
+                                     double sref_bias = kDefaultSrefBias, bool jacobian = false);
+// One short human-readable label: "esm c=80 R=3 mips f32" ("mips iso", "mips aniso4" where
+// max_anisotropy is not the default 8).
 std::string config_label(const FilterOptions& o);
 // The soft methods' grid (their parameters; the light is the scene's): pcss; cssm M = 4 with mips
 // and with the SAT (default: also M = 8 and 16 with mips; wide: and with the SAT); ssmm n = 4

@@ -59,7 +59,7 @@ EvaluationResult run_evaluation(const EvaluationRequest& q, const std::shared_pt
     // Without --auto every lookup runs; with it only what the scene needs (make_grid drops mips
     // and sat when every footprint <= 1).
     const double fp = q.auto_request ? scene.max_footprint : std::max(scene.max_footprint, 2.0);
-    const auto configs = make_grid(q.methods, q.grid, fp, q.sref_bias);
+    const auto configs = make_grid(q.methods, q.grid, fp, q.sref_bias, scene.receivers.has_jacobian);
     const auto soft_configs = make_soft_grid(q.soft_methods, q.grid);
     SrefCache sref(scene, q.sref_bias);
     // One s_ref of the target filter per scene, the same reference for every configuration.

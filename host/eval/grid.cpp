@@ -119,6 +119,9 @@ std::string config_label(const FilterOptions& o) {
   if (!m.raw_depth) {
     if (o.lookup.kind == Lookup::Mips) s << " mips";
     if (o.lookup.kind == Lookup::Sat) s << " sat";
+    const int aniso = o.lookup.max_anisotropy;
+    if (o.lookup.kind != Lookup::Bilinear && aniso != LookupOptions{}.max_anisotropy)
+      s << (aniso == 1 ? std::string(" iso") : " aniso" + std::to_string(aniso));
     s << " " << storage_name(o.storage);
   }
   if (classify_mode(o) == EsmClassify::ZMax) s << " zmax";
@@ -127,7 +130,7 @@ std::string config_label(const FilterOptions& o) {
 }
 
 std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid grid, double max_footprint,
-                                     double sref_bias) {
+                                     double sref_bias, bool jacobian) {
   const bool quick = grid == Grid::Quick, wide = grid == Grid::Wide;
   const std::vector<int> radii = quick  ? std::vector<int>{1, 3}
                                  : wide ? std::vector<int>{0, 1, 3, 7, 15}
@@ -162,6 +165,10 @@ std::vector<FilterOptions> make_grid(const std::vector<std::string>& names, Grid
           o.blur.radius = r;
           o.lookup.kind = lk;
           out.push_back(o);
+          if (jacobian && !quick && lk != Lookup::Bilinear) {  // the isotropic twin (footprint.hpp)
+            o.lookup.max_anisotropy = 1;
+            out.push_back(o);
+          }
         }
       }
     }

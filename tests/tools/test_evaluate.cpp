@@ -100,6 +100,24 @@ TEST(EvalGrid, FootprintLookupsOnlyWhenNeeded) {
   };
   EXPECT_FALSE(has_mips(eval::make_grid(m, eval::Grid::Quick, 1.0)));
   EXPECT_TRUE(has_mips(eval::make_grid(m, eval::Grid::Quick, 3.0)));
+  // Receivers with Jacobians: every footprint lookup of the default grid also runs isotropic,
+  // labelled apart; none without them, and none in the quick grid.
+  auto isotropic = [](const std::vector<FilterOptions>& g) {
+    size_t n = 0, footprint = 0;
+    for (const auto& o : g) {
+      footprint += o.lookup.kind != Lookup::Bilinear && o.lookup.max_anisotropy > 1;
+      if (o.lookup.max_anisotropy == 1) {
+        ++n;
+        EXPECT_NE(eval::config_label(o).find(" iso"), std::string::npos) << eval::config_label(o);
+      }
+    }
+    return std::make_pair(n, footprint);
+  };
+  const auto [iso, aniso] = isotropic(eval::make_grid(m, eval::Grid::Default, 3.0, eval::kDefaultSrefBias, true));
+  EXPECT_GT(iso, 0u);
+  EXPECT_EQ(iso, aniso);
+  EXPECT_EQ(isotropic(eval::make_grid(m, eval::Grid::Default, 3.0)).first, 0u);
+  EXPECT_EQ(isotropic(eval::make_grid(m, eval::Grid::Quick, 3.0, eval::kDefaultSrefBias, true)).first, 0u);
   EXPECT_EQ(eval::parse_methods("all").size(), methods().size());
   EXPECT_THROW(eval::parse_methods("esm,nope"), InputError);
   EXPECT_THROW(eval::parse_grid("huge"), InputError);

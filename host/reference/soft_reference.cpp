@@ -15,8 +15,6 @@ bool outside(double u, double v, double d) {
   return !std::isfinite(d) || !std::isfinite(u) || !std::isfinite(v) || u < 0 || u > 1 || v < 0 || v > 1;
 }
 
-double fp_of(double f) { return std::isfinite(f) ? f : 1.0; }
-
 // The light's footprint (uv: u, v) in the plane of a blocker at z (soft_common.clh sf_soft_width).
 // ssmm's size of a footprint (sf_soft_scale): its shorter side, at least the longer / aniso
 // (ssmm 8, ssmm-improved 1.5: SF_SOFT_MAX_ANISO, SF_SSMM_IMPROVED_ANISO).
@@ -27,10 +25,10 @@ struct Sides {
 double ssmm_aniso(const SoftOptions& o) { return o.method == SoftMethod::SsmmImproved ? 1.5 : 8.0; }
 Sides soft_sides(const SoftLight& L, double d, double z) { return {soft_width(L, d, z), soft_height(L, d, z)}; }
 
-// Kernel sides in texels: each at least the footprint f and one texel, at most `cap`
+// Kernel sides in texels: each at least the footprint's side and one texel, at most `cap`
 // (sf_soft_texels).
-Sides texels(const Sides& w, int W, int H, double f, double cap) {
-  return {std::clamp(std::max(w.u * W, f), 1.0, cap), std::clamp(std::max(w.v * H, f), 1.0, cap)};
+Sides texels(const Sides& w, int W, int H, const SoftFootprint& fp, double cap) {
+  return {std::clamp(std::max(w.u * W, fp.u), 1.0, cap), std::clamp(std::max(w.v * H, fp.v), 1.0, cap)};
 }
 
 // The light's sides over that size (sf_soft_shape).
@@ -40,6 +38,19 @@ Sides shape(const SoftLight& L, double aniso) {
 }
 
 }  // namespace
+
+SoftFootprint soft_footprint(double f) {
+  const double s = std::isfinite(f) ? f : 1.0;
+  return {s, s};
+}
+
+SoftFootprint soft_footprint(const Receivers& rx, size_t i) {
+  if (rx.grid || !rx.has_footprint) return {};
+  if (!rx.has_jacobian) return soft_footprint(rx.f[i]);
+  const double u = std::fabs(double(rx.dudx[i])) + std::fabs(double(rx.dudy[i]));
+  const double v = std::fabs(double(rx.dvdx[i])) + std::fabs(double(rx.dvdy[i]));
+  return std::isfinite(u) && std::isfinite(v) ? SoftFootprint{u, v} : SoftFootprint{};
+}
 
 BoxScan box_scan(const double* img, int w, int h, double u, double v, double wx, double wy, const Plane& p,
                  double bias) {
@@ -111,21 +122,22 @@ double soft_horizon(const SoftOptions& o, const Plane& pl, int W, int H) {
   return std::clamp(1 - below, 0.0, 1.0);
 }
 
-double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, const Plane& plane, double f) {
+double soft_pcss(const Planes& depth, const SoftOptions& o, double u, double v, const Plane& plane,
+                 const SoftFootprint& fp) {
   if (outside(u, v, plane.d)) return 1.0;
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int W = depth.width, H = depth.height;
   const double* img = depth.data.data();
-  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, 1.0, o.max_width);
+  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, SoftFootprint{}, o.max_width);
   const double horizon = soft_horizon(o, plane, W, H);
   const BoxScan s = box_scan(img, W, H, u, v, search.u, search.v, plane, bias);
   if (!(s.blk > 0)) return horizon;
-  const Sides width = texels(soft_sides(o.light, d, s.zavg), W, H, fp_of(f), o.max_width);
+  const Sides width = texels(soft_sides(o.light, d, s.zavg), W, H, fp, o.max_width);
   return box_scan(img, W, H, u, v, width.u, width.v, plane, bias).lit * horizon;
 }
 
 double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double u, double v, const Plane& plane,
-                 double f) {
+                 const SoftFootprint& fp) {
   if (outside(u, v, plane.d)) return 1.0;
   const double d = plane.d, bias = plane.bias(o.bias, o.receiver_plane.slope_bias);
   const int top = int(chain.size()) - 1, W = chain[0].width, H = chain[0].height;
@@ -178,8 +190,8 @@ double soft_ssmm(const std::vector<Planes>& chain, const SoftOptions& o, double 
   const double r = r2.scale(aniso), r0 = n / W;
   if (r < r0) {
     // At most layer 0's box (n texels times the light's shape), at least one texel.
-    const Sides width{std::clamp(std::max(r2.u * W, fp_of(f)), 1.0, std::max(n * box.u, 1.0)),
-                      std::clamp(std::max(r2.v * H, fp_of(f)), 1.0, std::max(n * box.v * H / W, 1.0))};
+    const Sides width{std::clamp(std::max(r2.u * W, fp.u), 1.0, std::max(n * box.u, 1.0)),
+                      std::clamp(std::max(r2.v * H, fp.v), 1.0, std::max(n * box.v * H / W, 1.0))};
     return box_scan(chain[0].data.data(), W, H, u, v, width.u, width.v, plane, bias).lit * horizon;
   }
   const int a = std::min(int(std::floor(std::log2(r / r0))), top);
@@ -230,8 +242,8 @@ double series(const std::vector<double>& b, int M, double dp, double* num) {
 }
 }  // namespace
 
-double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& o, double u, double v, double d, double f,
-                 double* zavg_out) {
+double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& o, double u, double v, double d,
+                 const SoftFootprint& fp, double* zavg_out) {
   if (zavg_out) *zavg_out = NAN;
   if (outside(u, v, d)) return 1.0;
   d = std::clamp(d, 0.0, 1.0);
@@ -239,7 +251,7 @@ double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& o, dou
   const CssmParams P = cssm_params(o);
   const double dp = d - P.offset;
   std::vector<double> b(4 * M + 1);
-  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, fp_of(f), o.max_width);
+  const Sides search = texels(soft_sides(o.light, d, 0.0), W, H, fp, o.max_width);
   const bool unorm = storage_unorm(o.cssm.storage);
   // Mean over fx x fy texels (cssm.cl sf_cssm_lookup): the SAT's rectangle, or the mips'
   // anisotropic probes, n = ceil(long / short) (ratios within 1% of 1: one; at most 8) at the
@@ -268,7 +280,7 @@ double soft_cssm(const LookupRef& basis, int W, int H, const SoftOptions& o, dou
   const double zavg = blocked ? std::clamp(num / den, 0.0, d) : d;
   if (zavg_out && blocked) *zavg_out = zavg;
   const Sides s2 = soft_sides(o.light, d, zavg);
-  const Sides fw = texels({P.width_scale * s2.u, P.width_scale * s2.v}, W, H, fp_of(f), o.max_width);
+  const Sides fw = texels({P.width_scale * s2.u, P.width_scale * s2.v}, W, H, fp, o.max_width);
   for (int c = 0; c < 2 * M; ++c) b[c] = read(c, fw);
   double vis =
       std::clamp(0.5 + P.scale * (series(b, M, dp, nullptr) / (o.cssm.normalise ? P.lit : 1.0) - 0.5), 0.0, 1.0);

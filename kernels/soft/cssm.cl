@@ -214,7 +214,7 @@ __kernel void sf_cssm_points(__global const sf_stored* restrict basis, const int
     return;
   }
   const float dd = clamp(di, 0.0f, 1.0f), dp = dd - P.offset;
-  const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
+  const float2 fp = sf_soft_footprint(f, count, i);
   float b[SF_CHANNELS];
   const float2 search = sf_soft_texels(L, sf_soft_width(L, dd, 0.0f), W, H, fp);
   sf_cssm_lookup(basis, chain, packed, W, H, ui, vi, search.x, search.y, SF_CHANNELS, b);

@@ -22,9 +22,9 @@ __kernel void sf_pcss_points(__global const float* restrict depth, const int W, 
   const sf_plane p = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p, L.bias, P);
   const float horizon = sf_soft_horizon(L, &p, W, H);
-  const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
+  const float2 fp = sf_soft_footprint(f, count, i);
   const float cx = ui * (float)W, cy = vi * (float)H;
-  const float2 search = sf_soft_texels(L, sf_soft_width(L, dd, 0.0f), W, H, 1.0f);
+  const float2 search = sf_soft_texels(L, sf_soft_width(L, dd, 0.0f), W, H, (float2)(1.0f));
   const sf_box_acc s = sf_box_scan(depth, W, H, cx, cy, 0.5f * search.x, 0.5f * search.y, &p, bias);
   if (!(s.blk > 0.0f)) {
     out[i] = horizon;

@@ -48,7 +48,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   const sf_plane p0 = sf_receiver_plane_points(i, count, u, v, d, depth, W, H, ui, vi, dd, P);
   const float bias = sf_plane_bias(&p0, L.bias, P);
   const float horizon = sf_soft_horizon(L, &p0, W, H);  // as pcss
-  const float fp = f ? (isfinite(f[i]) ? f[i] : 1.0f) : 1.0f;
+  const float2 fp = sf_soft_footprint(f, count, i);
   const int top = sf_mip_top(W, H);
   const float nf = (float)n;
   const float2 search2 = sf_soft_width(L, dd, 0.0f);  // uv units
@@ -112,7 +112,7 @@ __kernel void sf_ssmm_points(__global const float* restrict depth, __global cons
   if (r < r0) {
     // At most layer 0's box (n texels times the light's shape), at least one texel.
     const float2 cap = fmax((float2)(2.0f * bx, 2.0f * by * (float)H / (float)W), 1.0f);
-    const float2 width = clamp(fmax((float2)(r2.x * (float)W, r2.y * (float)H), (float2)(fp, fp)), 1.0f, cap);
+    const float2 width = clamp(fmax((float2)(r2.x * (float)W, r2.y * (float)H), fp), 1.0f, cap);
     s = sf_box_scan(depth, W, H, ui * (float)W, vi * (float)H, 0.5f * width.x, 0.5f * width.y, &p0, bias);
     out[i] = clamp(s.lit / s.w, 0.0f, 1.0f) * horizon;
     return;

@@ -16,6 +16,7 @@
 #include "scene_render.hpp"
 #include "sf_test_env.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/footprint.hpp"
 #include "shadowfilter/soft.hpp"
 #include "soft_reference.hpp"
 
@@ -72,11 +73,16 @@ std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, cons
   SoftFilter f(runtime_ptr(), o, depth.width, depth.height);
   cl::Buffer dz = to_device(depth.data), u = to_device(rx.u), v = to_device(rx.v), d = to_device(rx.d);
   cl::Buffer fp = rx.has_footprint ? to_device(rx.f) : cl::Buffer();
+  std::vector<float> jac;  // the Jacobian's four planes (DeviceReceivers::jacobian)
+  if (rx.has_jacobian)
+    for (const auto* plane : {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy})
+      jac.insert(jac.end(), plane->begin(), plane->end());
   cl::Buffer out = to_device(std::vector<float>(rx.d.size(), -1.0f));
   cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
   cl::Event e = f.prefilter(dz);
   EventList after{e};
-  const DeviceReceivers points{false, rx.d.size(), u, v, d, fp};
+  DeviceReceivers points{false, rx.d.size(), u, v, d, fp};
+  if (rx.has_jacobian) points.jacobian = to_device(jac);
   if (zavg)
     f.reconstruct(points, out, za, &after);
   else
@@ -94,6 +100,7 @@ struct RefCase {
   Storage storage = Storage::F32;   // cssm's basis (mips only)
   double width = 0.1, height = -1;  // the light's sides (map widths; height < 0: a square)
   double light_distance = 0;        // ortho: the light's plane this far before d = 0 (map depths)
+  bool jacobian = false;            // receivers with Jacobians (footprint rectangles up to 12 texels)
 };
 
 class SoftKernelVsReference : public ::testing::TestWithParam<RefCase> {};
@@ -118,8 +125,20 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
     rx.d.push_back(i % 2 ? 0.8f : dd(rng));
     rx.f.push_back(fp(rng));
   }
-  rx.d[0] = NAN;   // background
-  rx.u[1] = 1.5f;  // outside
+  rx.d[0] = NAN;     // background
+  rx.u[1] = 1.5f;    // outside
+  if (c.jacobian) {  // every orientation, ratios up to 10, major sides 0.5 .. 12 texels
+    rx.has_jacobian = true;
+    std::uniform_real_distribution<float> angle(0.0f, 6.2831853f), major(0.5f, 12.0f), ratio(1.0f, 10.0f);
+    for (int i = 0; i < rx.width; ++i) {
+      const float m = major(rng), w = m / ratio(rng), t = angle(rng);
+      rx.dudx.push_back(m * std::cos(t));
+      rx.dvdx.push_back(m * std::sin(t));
+      rx.dudy.push_back(-w * std::sin(t));
+      rx.dvdy.push_back(w * std::cos(t));
+    }
+    footprint_from_jacobian(rx);
+  }
   SoftOptions o = ortho_options(c.method, c.width, 1.0);
   o.light.height = c.height;
   o.light.light_distance = c.light_distance;
@@ -155,11 +174,11 @@ TEST_P(SoftKernelVsReference, AgreesWithDoubleReference) {
     // map's slope, as in the kernel, which run_device gives no receiver row.
     const ref::Plane plane = ref::receiver_plane(depth, rx, i, o.receiver_plane);
     if (c.method == SoftMethod::Pcss)
-      want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], plane, rx.f[i]);
+      want = ref::soft_pcss(P, o, rx.u[i], rx.v[i], plane, ref::soft_footprint(rx, i));
     else if (c.method == SoftMethod::Cssm)
-      want = ref::soft_cssm(*lk, depth.width, depth.height, o, rx.u[i], rx.v[i], rx.d[i], rx.f[i]);
+      want = ref::soft_cssm(*lk, depth.width, depth.height, o, rx.u[i], rx.v[i], rx.d[i], ref::soft_footprint(rx, i));
     else
-      want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], plane, rx.f[i]);
+      want = ref::soft_ssmm(chain, o, rx.u[i], rx.v[i], plane, ref::soft_footprint(rx, i));
     ASSERT_TRUE(std::isfinite(got[i])) << i;
     const double e = std::abs(got[i] - want);
     bad += e > tol;
@@ -201,7 +220,13 @@ INSTANTIATE_TEST_SUITE_P(
                       RefCase{SoftMethod::Pcss, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5},
                       RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::F32, 0.15, -1, 0.5},
                       RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5},
-                      RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5}),
+                      RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.15, -1, 0.5},
+                      // Receivers with Jacobians: each footprint the rectangle bounding its pixel.
+                      RefCase{SoftMethod::Pcss, Lookup::Sat, 4, false, Storage::F32, 0.1, -1, 0, true},
+                      RefCase{SoftMethod::Cssm, Lookup::Sat, 4, false, Storage::F32, 0.1, -1, 0, true},
+                      RefCase{SoftMethod::Cssm, Lookup::Mips, 4, false, Storage::F32, 0.1, -1, 0, true},
+                      RefCase{SoftMethod::Ssmm, Lookup::Sat, 4, false, Storage::F32, 0.1, -1, 0, true},
+                      RefCase{SoftMethod::SsmmImproved, Lookup::Sat, 4, false, Storage::F32, 0.1, -1, 0, true}),
     [](const auto& info) {
       std::string s = soft_method_name(info.param.method);
       std::replace(s.begin(), s.end(), '-', '_');
@@ -210,6 +235,7 @@ INSTANTIATE_TEST_SUITE_P(
       if (info.param.perspective) s += "_persp";
       if (info.param.storage != Storage::F32) s += std::string("_") + storage_name(info.param.storage);
       if (info.param.light_distance > 0) s += "_behind";
+      if (info.param.jacobian) s += "_jacobian";
       if (info.param.height >= 0)
         s += info.param.height > info.param.width       ? "_tall"
              : info.param.width > 8 * info.param.height ? "_wider"

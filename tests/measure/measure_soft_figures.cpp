@@ -403,7 +403,7 @@ TEST(SoftFigures, CssmStorageMix) {
         for (size_t i = 0; i < vis.size(); ++i) {
           if (!std::isfinite(sc.rx.d[i])) continue;
           vis[i] = float(ref::soft_cssm(lookup, sc.depth.width, sc.depth.height, o, sc.rx.u[i], sc.rx.v[i], sc.rx.d[i],
-                                        sc.rx.has_footprint ? sc.rx.f[i] : 1.0));
+                                        ref::soft_footprint(sc.rx, i)));
         }
         if (name == "f32") f32[k] = vis;
         mean_rmse += errors(sc, vis).rmse / scenes.size();

@@ -202,7 +202,7 @@ void LayeredPipeline::allocate(size_t count) {
   const size_t stride = (count + align - 1) / align * align;
   const size_t plane_bytes = stride * sizeof(float), all_bytes = K * plane_bytes;
   // The Jacobians, where some layer's lookup follows them (footprint.hpp).
-  bool jacobian = false;
+  bool jacobian = soft();  // the soft methods' footprint rectangles
   for (const auto& p : pipes_)
     jacobian = jacobian || (p->options().lookup.kind != Lookup::Bilinear && p->options().lookup.max_anisotropy > 1);
   check_fits_device(

@@ -39,7 +39,8 @@ ClSoftLight cl_light(const SoftOptions& o) {
 const std::vector<std::string> kSoftHeaders = {"common.clh", "storage.clh", "lookup.clh", "receiver_plane.clh",
                                                "soft/soft_common.clh"};
 
-cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
+// jacobian: the receivers' footprints are Jacobians (-DSF_SOFT_JACOBIAN, soft_common.clh).
+cl::Program cssm_program(Runtime& rt, const SoftOptions& o, bool jacobian = false) {
   const int M = o.cssm.order;
   std::vector<std::string> files = kSoftHeaders;
   files.push_back("soft/cssm.cl");
@@ -48,6 +49,7 @@ cl::Program cssm_program(Runtime& rt, const SoftOptions& o) {
                                .define("SF_CHANNELS", 4 * M + 1)
                                .lookup(o.cssm.lookup)
                                .storage(o.cssm.storage)
+                               .flag_if(jacobian, "SF_SOFT_JACOBIAN")
                                .str());
 }
 
@@ -329,7 +331,10 @@ cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& v
   if (rx.grid) throw InputError("SoftFilter::reconstruct takes points (DeviceReceivers::grid must be false)");
   if (rx.count > 0 && (!rx.u() || !rx.v() || !rx.d()))
     throw InputError("SoftFilter::reconstruct: DeviceReceivers::u, v and d must be buffers");
-  const cl::Buffer &u = rx.u, &v = rx.v, &d = rx.d, &f = rx.f;
+  // The receivers' footprints: their Jacobians where given (the rectangle bounding each pixel's
+  // parallelogram, soft_common.clh), else f.
+  const bool jacobian = rx.jacobian() != nullptr;
+  const cl::Buffer &u = rx.u, &v = rx.v, &d = rx.d, &f = jacobian ? rx.jacobian : rx.f;
   const size_t count = rx.count;
   const int receiver_row = rx.row;
   const ClSoftLight L = cl_light(opt_);
@@ -339,13 +344,19 @@ cl::Event SoftFilter::reconstruct(const DeviceReceivers& rx, const cl::Buffer& v
   if (opt_.method == SoftMethod::Pcss) {
     std::vector<std::string> files = kSoftHeaders;
     files.push_back("soft/pcss.cl");
-    k = cl::Kernel(rt_->program(files, detail::BuildOptions().define("SF_CHANNELS", 1).str()), "sf_pcss_points");
+    k = cl::Kernel(
+        rt_->program(files,
+                     detail::BuildOptions().define("SF_CHANNELS", 1).flag_if(jacobian, "SF_SOFT_JACOBIAN").str()),
+        "sf_pcss_points");
   } else if (opt_.method == SoftMethod::Cssm) {
-    k = cl::Kernel(cssm_program(*rt_, opt_), "sf_cssm_points");
+    k = cl::Kernel(cssm_program(*rt_, opt_, jacobian), "sf_cssm_points");
   } else {
     std::vector<std::string> files = kSoftHeaders;
     files.push_back("soft/ssmm.cl");
-    k = cl::Kernel(rt_->program(files, detail::BuildOptions().define("SF_CHANNELS", 1).str()), "sf_ssmm_points");
+    k = cl::Kernel(
+        rt_->program(files,
+                     detail::BuildOptions().define("SF_CHANNELS", 1).flag_if(jacobian, "SF_SOFT_JACOBIAN").str()),
+        "sf_ssmm_points");
   }
   detail::KernelArgs args(k);
   if (opt_.method == SoftMethod::Pcss)
@@ -396,6 +407,7 @@ namespace {
 struct HostPoints {
   std::vector<float> u, v, d, f;
   bool has_f = false;
+  std::vector<float> jacobian;  // dudx, dvdx, dudy, dvdy one after the other; empty without
 };
 
 HostPoints points_of(const Receivers& rx, int W, int H) {
@@ -416,6 +428,9 @@ HostPoints points_of(const Receivers& rx, int W, int H) {
       p.f = rx.f;
       p.has_f = true;
     }
+    if (rx.has_jacobian)
+      for (const std::vector<float>* plane : {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy})
+        p.jacobian.insert(p.jacobian.end(), plane->begin(), plane->end());
   }
   return p;
 }
@@ -456,6 +471,7 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     rx.v = upload(*rt, p.v);
     rx.d = upload(*rt, p.d);
     if (p.has_f) rx.f = upload(*rt, p.f);
+    if (!p.jacobian.empty()) rx.jacobian = upload(*rt, p.jacobian);
     const size_t n = rx.count;
     cl::Buffer out(rt->context(), CL_MEM_READ_WRITE, std::max<size_t>(n, 1) * sizeof(float));
     cl::Event prep = sfl.prefilter(depth);
@@ -465,7 +481,8 @@ SoftResult soft_filter_lights(std::shared_ptr<Runtime> rt, const SoftOptions& op
     std::vector<float> vis(n);
     if (n) rt->queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), vis.data(), &ran);
     r.times += sfl.times();
-    r.device_bytes += sfl.device_bytes() + (in.depth.data.size() + (p.has_f ? 5 : 4) * n) * sizeof(float);
+    r.device_bytes +=
+        sfl.device_bytes() + (in.depth.data.size() + (p.has_f ? 5 : 4) * n + p.jacobian.size()) * sizeof(float);
     size_t facing_away = 0;
     if (opt.facing_away_shadowed) facing_away = shadow_facing_away(in.receivers, vis);  // each light's own ndl
     if (&in == &lights.front()) r.facing_away = facing_away;

@@ -28,30 +28,33 @@ inline bool sf_cascade_on_map(sf_map_point q) {
   return q.w > 0.0f && q.u >= 0.0f && q.u <= 1.0f && q.v >= 0.0f && q.v <= 1.0f;
 }
 
-// Footprint in layer texels (sf::layer_footprint): the larger of the two pixel offsets through
-// the layer's Jacobian, du = (M0 - u M3) / w and dv = (M1 - v M3) / w, scaled to texels.
-inline float sf_cascade_footprint(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx, float3 dy) {
+// The gradients of u W and v H over world space at q in layer k: du = (M0 - u M3) W / w and
+// dv = (M1 - v M3) H / w.
+inline void sf_cascade_gradients(__constant sf_cascade_params* C, int k, sf_map_point q, float3* du, float3* dv) {
   __constant const float* m = C->m + 16 * k;
   const float3 r3 = (float3)(m[12], m[13], m[14]);
-  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
-  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
-  const float ax = dot(du, dx), bx = dot(dv, dx), ay = dot(du, dy), by = dot(dv, dy);
-  const float fx = sqrt(ax * ax + bx * bx), fy = sqrt(ay * ay + by * by);
+  *du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
+  *dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
+}
+
+// The pixel offsets dx, dy in layer k's texels: (dudx, dvdx, dudy, dvdy), the Jacobian of
+// (u W, v H) over the pixel (sf::layer_jacobian; footprint.hpp), non-finite where q is.
+inline float4 sf_cascade_texel_offsets(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx, float3 dy) {
+  float3 du, dv;
+  sf_cascade_gradients(C, k, q, &du, &dv);
+  return (float4)(dot(du, dx), dot(dv, dx), dot(du, dy), dot(dv, dy));
+}
+
+// Footprint in layer texels (sf::layer_footprint): the longer of the two offsets.
+inline float sf_cascade_footprint(float4 j) {
+  const float fx = sqrt(j.x * j.x + j.y * j.y), fy = sqrt(j.z * j.z + j.w * j.w);
   const float f = fmax(fx, fy);
   return isfinite(f) ? f : 1.0f;
 }
 
-// The Jacobian of (u W, v H) over the pixel in layer k (sf::layer_jacobian; footprint.hpp):
-// (dudx, dvdx, dudy, dvdy), the two pixel offsets through the layer's Jacobian as above; the
-// identity (footprint 1, as sf_cascade_footprint) where a component is not finite.
-inline float4 sf_cascade_jacobian(__constant sf_cascade_params* C, int k, sf_map_point q, float3 dx, float3 dy) {
-  __constant const float* m = C->m + 16 * k;
-  const float3 r3 = (float3)(m[12], m[13], m[14]);
-  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
-  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
-  const float4 j = (float4)(dot(du, dx), dot(dv, dx), dot(du, dy), dot(dv, dy));
-  return all(isfinite(j)) ? j : (float4)(1.0f, 0.0f, 0.0f, 1.0f);
-}
+// The Jacobian as the layer's reconstruction reads it: the identity (footprint 1, as
+// sf_cascade_footprint) where a component is not finite.
+inline float4 sf_cascade_jacobian(float4 j) { return all(isfinite(j)) ? j : (float4)(1.0f, 0.0f, 0.0f, 1.0f); }
 
 // The normal offset (normal_offset.hpp) in layer k: p moved C->normal_offset of the layer's texels
 // along n, a texel being 1 / sqrt(|grad uW| |grad vH|) wide at p (q = p in the layer). n is the
@@ -60,10 +63,8 @@ inline float4 sf_cascade_jacobian(__constant sf_cascade_params* C, int k, sf_map
 // surface. p itself where the offset is 0, the offsets span no plane or the move is not finite.
 inline float3 sf_cascade_moved(__constant sf_cascade_params* C, int k, sf_map_point q, float3 p, float3 n) {
   if (C->normal_offset == 0.0f) return p;
-  __constant const float* m = C->m + 16 * k;
-  const float3 r3 = (float3)(m[12], m[13], m[14]);
-  const float3 du = ((float3)(m[0], m[1], m[2]) - q.u * r3) * ((float)C->width / q.w);
-  const float3 dv = ((float3)(m[4], m[5], m[6]) - q.v * r3) * ((float)C->height / q.w);
+  float3 du, dv;
+  sf_cascade_gradients(C, k, q, &du, &dv);
   const float3 moved = p + (C->normal_offset * rsqrt(length(du) * length(dv))) * n;
   return all(isfinite(moved)) ? moved : p;
 }
@@ -132,9 +133,10 @@ inline void sf_cascade_project_one(__global const float* restrict x, __global co
     out_u[j] = served ? q.u : 0.0f;
     out_v[j] = served ? q.v : 0.0f;
     out_d[j] = served ? q.d : NAN;
-    out_f[j] = served ? sf_cascade_footprint(C, k, q, dx, dy) : 1.0f;
+    const float4 offsets = sf_cascade_texel_offsets(C, k, q, dx, dy);
+    out_f[j] = served ? sf_cascade_footprint(offsets) : 1.0f;
     if (out_jac) {
-      const float4 jac = served ? sf_cascade_jacobian(C, k, q, dx, dy) : (float4)(1.0f, 0.0f, 0.0f, 1.0f);
+      const float4 jac = served ? sf_cascade_jacobian(offsets) : (float4)(1.0f, 0.0f, 0.0f, 1.0f);
       const size_t b = (size_t)4 * k * stride + i, n = (size_t)count;
       out_jac[b] = jac.x;
       out_jac[b + n] = jac.y;
@@ -169,15 +171,38 @@ inline sf_civ sf_cascade_on_map_v(sf_map_points q) {
   return (q.w > 0.0f) & (q.u >= 0.0f) & (q.u <= 1.0f) & (q.v >= 0.0f) & (q.v <= 1.0f);
 }
 
-inline sf_cfv sf_cascade_footprint_v(__constant sf_cascade_params* C, int k, sf_map_points q, sf_cfv dx0, sf_cfv dx1,
-                                     sf_cfv dx2, sf_cfv dy0, sf_cfv dy1, sf_cfv dy2) {
+// sf_cascade_gradients of every lane: du = (du0, du1, du2), dv = (dv0, dv1, dv2).
+typedef struct {
+  sf_cfv du0, du1, du2, dv0, dv1, dv2;
+} sf_cascade_grads;
+
+inline sf_cascade_grads sf_cascade_gradients_v(__constant sf_cascade_params* C, int k, sf_map_points q) {
   __constant const float* m = C->m + 16 * k;
   const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
-  const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
-  const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
-  const sf_cfv ax = du0 * dx0 + du1 * dx1 + du2 * dx2, bx = dv0 * dx0 + dv1 * dx1 + dv2 * dx2;
-  const sf_cfv ay = du0 * dy0 + du1 * dy1 + du2 * dy2, by = dv0 * dy0 + dv1 * dy1 + dv2 * dy2;
-  const sf_cfv f = fmax(sqrt(ax * ax + bx * bx), sqrt(ay * ay + by * by));
+  sf_cascade_grads g;
+  g.du0 = (m[0] - q.u * m[12]) * su, g.du1 = (m[1] - q.u * m[13]) * su, g.du2 = (m[2] - q.u * m[14]) * su;
+  g.dv0 = (m[4] - q.v * m[12]) * sv, g.dv1 = (m[5] - q.v * m[13]) * sv, g.dv2 = (m[6] - q.v * m[14]) * sv;
+  return g;
+}
+
+// sf_cascade_texel_offsets of every lane: (ax, bx, ay, by) = (dudx, dvdx, dudy, dvdy).
+typedef struct {
+  sf_cfv ax, bx, ay, by;
+} sf_cascade_offsets;
+
+inline sf_cascade_offsets sf_cascade_texel_offsets_v(__constant sf_cascade_params* C, int k, sf_map_points q,
+                                                     sf_cfv dx0, sf_cfv dx1, sf_cfv dx2, sf_cfv dy0, sf_cfv dy1,
+                                                     sf_cfv dy2) {
+  const sf_cascade_grads g = sf_cascade_gradients_v(C, k, q);
+  sf_cascade_offsets o;
+  o.ax = g.du0 * dx0 + g.du1 * dx1 + g.du2 * dx2, o.bx = g.dv0 * dx0 + g.dv1 * dx1 + g.dv2 * dx2;
+  o.ay = g.du0 * dy0 + g.du1 * dy1 + g.du2 * dy2, o.by = g.dv0 * dy0 + g.dv1 * dy1 + g.dv2 * dy2;
+  return o;
+}
+
+// sf_cascade_footprint of every lane.
+inline sf_cfv sf_cascade_footprint_v(sf_cascade_offsets o) {
+  const sf_cfv f = fmax(sqrt(o.ax * o.ax + o.bx * o.bx), sqrt(o.ay * o.ay + o.by * o.by));
   return select((sf_cfv)(1.0f), f, isfinite(f));
 }
 
@@ -241,12 +266,9 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
     const sf_civ served = (l0 == k) | (l1 == k);
     sf_map_points q = sf_cascade_apply_v(C, k, px, py, pz);
     if (C->normal_offset != 0.0f) {  // sf_cascade_moved, as vectors
-      __constant const float* m = C->m + 16 * k;
-      const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
-      const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
-      const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
-      const sf_cfv step = C->normal_offset * rsqrt(sqrt(du0 * du0 + du1 * du1 + du2 * du2) *
-                                                   sqrt(dv0 * dv0 + dv1 * dv1 + dv2 * dv2));
+      const sf_cascade_grads g = sf_cascade_gradients_v(C, k, q);
+      const sf_cfv step = C->normal_offset * rsqrt(sqrt(g.du0 * g.du0 + g.du1 * g.du1 + g.du2 * g.du2) *
+                                                   sqrt(g.dv0 * g.dv0 + g.dv1 * g.dv1 + g.dv2 * g.dv2));
       const sf_cfv mx = px + step * n0, my = py + step * n1, mz = pz + step * n2;
       const sf_civ finite = isfinite(mx) & isfinite(my) & isfinite(mz);
       q = sf_cascade_apply_v(C, k, select(px, mx, finite), select(py, my, finite), select(pz, mz, finite));
@@ -254,21 +276,15 @@ __kernel void sf_cascade_project(__global const float* restrict x, __global cons
     vstore16(select((sf_cfv)(0.0f), q.u, served), 0, out_u + j);
     vstore16(select((sf_cfv)(0.0f), q.v, served), 0, out_v + j);
     vstore16(select((sf_cfv)(NAN), q.d, served), 0, out_d + j);
-    vstore16(select((sf_cfv)(1.0f), sf_cascade_footprint_v(C, k, q, dx0, dx1, dx2, dy0, dy1, dy2), served), 0,
-             out_f + j);
+    const sf_cascade_offsets o = sf_cascade_texel_offsets_v(C, k, q, dx0, dx1, dx2, dy0, dy1, dy2);
+    vstore16(select((sf_cfv)(1.0f), sf_cascade_footprint_v(o), served), 0, out_f + j);
     if (out_jac) {  // sf_cascade_jacobian, as vectors
-      __constant const float* m = C->m + 16 * k;
-      const sf_cfv su = (float)C->width / q.w, sv = (float)C->height / q.w;
-      const sf_cfv du0 = (m[0] - q.u * m[12]) * su, du1 = (m[1] - q.u * m[13]) * su, du2 = (m[2] - q.u * m[14]) * su;
-      const sf_cfv dv0 = (m[4] - q.v * m[12]) * sv, dv1 = (m[5] - q.v * m[13]) * sv, dv2 = (m[6] - q.v * m[14]) * sv;
-      const sf_cfv ax = du0 * dx0 + du1 * dx1 + du2 * dx2, bx = dv0 * dx0 + dv1 * dx1 + dv2 * dx2;
-      const sf_cfv ay = du0 * dy0 + du1 * dy1 + du2 * dy2, by = dv0 * dy0 + dv1 * dy1 + dv2 * dy2;
-      const sf_civ use = served & isfinite(ax) & isfinite(bx) & isfinite(ay) & isfinite(by);
+      const sf_civ use = served & isfinite(o.ax) & isfinite(o.bx) & isfinite(o.ay) & isfinite(o.by);
       const size_t b = (size_t)4 * k * stride + i0, n = (size_t)count;
-      vstore16(select((sf_cfv)(1.0f), ax, use), 0, out_jac + b);
-      vstore16(select((sf_cfv)(0.0f), bx, use), 0, out_jac + b + n);
-      vstore16(select((sf_cfv)(0.0f), ay, use), 0, out_jac + b + 2 * n);
-      vstore16(select((sf_cfv)(1.0f), by, use), 0, out_jac + b + 3 * n);
+      vstore16(select((sf_cfv)(1.0f), o.ax, use), 0, out_jac + b);
+      vstore16(select((sf_cfv)(0.0f), o.bx, use), 0, out_jac + b + n);
+      vstore16(select((sf_cfv)(0.0f), o.ay, use), 0, out_jac + b + 2 * n);
+      vstore16(select((sf_cfv)(1.0f), o.by, use), 0, out_jac + b + 3 * n);
     }
   }
 }

@@ -12,8 +12,7 @@ __kernel void sf_lookup_points(__global const sf_stored* restrict level0,
   if (i >= count) return;
   float b[SF_CHANNELS];
 #if defined(SF_ANISO)
-  const size_t n = (size_t)count;
-  const sf_aniso a = sf_aniso_footprint(f[i], f[n + i], f[2 * n + i], f[3 * n + i], SF_ANISO);
+  const sf_aniso a = sf_aniso_at(f, count, i, SF_ANISO);
   sf_lookup_aniso(level0, chain, sat, width, height, u[i], v[i], &a, b);
 #else
   sf_lookup(level0, chain, sat, width, height, u[i], v[i], f ? f[i] : 1.0f, b);

@@ -190,13 +190,11 @@ __kernel void sf_pcf_points_footprint(__global const float* restrict depth, cons
                                               clamp(di, 0.0f, 1.0f), P);
   const float b = sf_plane_bias(&p, bias, P);
 #if defined(SF_ANISO)
-  const size_t n = (size_t)count;
-  const sf_aniso a = sf_aniso_footprint(f[i], f[n + i], f[2 * n + i], f[3 * n + i], SF_ANISO);
+  const sf_aniso a = sf_aniso_at(f, count, i, SF_ANISO);
   float acc = 0.0f;
   for (int k = 0; k < a.n; ++k) {
-    const float o = sf_aniso_offset(k, a.n);
-    const float uk = ui + (o * a.du) / (float)width, vk = vi + (o * a.dv) / (float)height;
-    acc += sf_pcf_footprint(depth, width, height, uk, vk, a.f, a.fx, a.fy, &p, b, radius, &g);
+    const float2 q = sf_aniso_probe(&a, k, width, height, ui, vi);
+    acc += sf_pcf_footprint(depth, width, height, q.x, q.y, a.f, a.fx, a.fy, &p, b, radius, &g);
   }
   out[i] = acc / (float)a.n;
 #else

@@ -16,7 +16,7 @@ inline void sf_reconstruct_one(__global const sf_stored* restrict basis, int wid
   }
   float b[SF_CHANNELS];
 #if defined(SF_ANISO)
-  const sf_aniso a = sf_aniso_footprint(f[i], f[(size_t)count + i], f[2 * (size_t)count + i], f[3 * (size_t)count + i], SF_ANISO);
+  const sf_aniso a = sf_aniso_at(f, count, i, SF_ANISO);
   sf_lookup_aniso(basis, chain, sat, width, height, ui, vi, &a, b);
 #else
   sf_lookup(basis, chain, sat, width, height, ui, vi, f ? f[i] : 1.0f, b);

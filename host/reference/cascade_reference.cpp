@@ -56,13 +56,14 @@ CascadeProjection project_cascades(const CascadeSet& set, const ViewReceivers& v
     for (int j = 0; j < 2; ++j) {
       const int k = c.layer[j];
       if (k < 0) continue;
-      const LayerTransform::MapPoint q = set.layers[k].transform.apply(moved(set, k, p, dx, dy, normal_offset));
+      const Point3 m = moved(set, k, p, dx, dy, normal_offset);
+      const LayerTransform::MapPoint q = set.layers[k].transform.apply(m);
       Receivers& rx = out.layers[k];
       rx.u[i] = float(q.u);
       rx.v[i] = float(q.v);
       rx.d[i] = float(q.d);
-      rx.f[i] = float(layer_footprint(set, k, moved(set, k, p, dx, dy, normal_offset), dx, dy));
-      const std::array<double, 4> jac = layer_jacobian(set, k, moved(set, k, p, dx, dy, normal_offset), dx, dy);
+      rx.f[i] = float(layer_footprint(set, k, m, dx, dy));
+      const std::array<double, 4> jac = layer_jacobian(set, k, m, dx, dy);
       if (std::isfinite(jac[0]) && std::isfinite(jac[1]) && std::isfinite(jac[2]) && std::isfinite(jac[3])) {
         rx.dudx[i] = float(jac[0]);
         rx.dvdx[i] = float(jac[1]);

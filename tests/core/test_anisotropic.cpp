@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 
+#include "device_lookup.hpp"
 #include "lookups.hpp"
 #include "receiver_plane.hpp"
 #include "reference.hpp"
@@ -17,8 +18,6 @@
 #include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/lookup.hpp"
 #include "shadowfilter/methods.hpp"
-#include "shadowfilter/mips.hpp"
-#include "shadowfilter/sat.hpp"
 #include "shadowfilter/sat_precision.hpp"
 
 namespace sf::test {
@@ -121,39 +120,16 @@ Receivers jacobian_receivers(int n, unsigned seed, float dlo, float dhi) {
   return rx;
 }
 
-// The Jacobian's four planes as the device reads them.
-std::vector<float> jacobian_planes(const Receivers& rx) {
-  std::vector<float> p;
-  for (const auto* v : {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy}) p.insert(p.end(), v->begin(), v->end());
-  return p;
-}
-
 // Device lookups (lookup_values.cl) of a planar image at Jacobian receivers: out[c][i].
-std::vector<std::vector<float>> device_lookup(const ref::Planes& img, Lookup kind, const Receivers& rx, int max_aniso) {
-  const ImageShape shape{img.width, img.height, img.channels, 4};
-  cl::Buffer level0 = to_device(std::vector<float>(img.data.begin(), img.data.end()));
+std::vector<std::vector<float>> aniso_lookup(const ref::Planes& img, Lookup kind, const Receivers& rx, int max_aniso) {
   LookupBuffers lk;
   lk.kind = kind;
-  if (kind == Lookup::Mips) {
-    const MipLayout L = mip_layout(img.width, img.height, img.channels);
-    lk.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(L.chain_values, 1) * 4);
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, {}, shape, level0, lk.chain).wait();
-  } else {
-    const SatLayout L = sat_layout(shape);
-    lk.sat = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * 4);
-    cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * 4);
-    enqueue_sat(runtime(), Storage::F32, {}, {}, shape, level0, lk.sat, bands).wait();
-  }
   lk.footprint = to_device(rx.f);
-  lk.jacobian = to_device(jacobian_planes(rx));
+  std::vector<float> planes;
+  jacobian_planes(rx, planes);
+  lk.jacobian = to_device(planes);
   lk.max_anisotropy = max_aniso;
-  const size_t n = rx.count();
-  cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, n * img.channels * 4);
-  enqueue_lookup_points(runtime(), Storage::F32, shape, n, lk, level0, to_device(rx.u), to_device(rx.v), out).wait();
-  const auto flat = from_device(out, n * img.channels);
-  std::vector<std::vector<float>> res(size_t(img.channels));
-  for (int c = 0; c < img.channels; ++c) res[size_t(c)].assign(flat.begin() + c * n, flat.begin() + (c + 1) * n);
-  return res;
+  return device_lookup(img, lk, rx.u, rx.v);
 }
 
 // Values in [0.05, 1]; each probe is a lookup of Lookups.MatchTheReference (2e-6), the probes'
@@ -167,7 +143,7 @@ TEST_P(AnisotropicLookups, MatchTheReference) {
   std::uniform_real_distribution<float> dist(0.05f, 1.0f);
   for (auto& v : img.data) v = dist(rng);
   const Receivers rx = jacobian_receivers(600, 11, 0.0f, 1.0f);
-  const auto got = device_lookup(img, kind, rx, max_aniso);
+  const auto got = aniso_lookup(img, kind, rx, max_aniso);
   const ref::LookupRef lookup(img, kind);
   int probes = 0;
   for (size_t i = 0; i < rx.count(); ++i) {

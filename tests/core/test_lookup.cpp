@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "device_lookup.hpp"
 #include "image_io.hpp"
 #include "lookups.hpp"
 #include "receiver_plane.hpp"
@@ -14,8 +15,6 @@
 #include "shadowfilter/frame_filter.hpp"
 #include "shadowfilter/pipeline.hpp"
 #include "shadowfilter/blur.hpp"
-#include "shadowfilter/mips.hpp"
-#include "shadowfilter/sat.hpp"
 #include "shadowfilter/lookup.hpp"
 
 namespace sf::test {
@@ -57,29 +56,10 @@ Receivers random_receivers(int n, unsigned seed, unsigned depth_seed, float dlo,
 
 // Device lookups of `img` (planar, N channels) at the receivers: out[c][i].
 std::vector<std::vector<float>> device_lookup(const ref::Planes& img, Lookup kind, const Rx& rx) {
-  const ImageShape shape{img.width, img.height, img.channels, 4};
-  std::vector<float> host(img.data.begin(), img.data.end());
-  cl::Buffer level0 = to_device(host);
   LookupBuffers lk;
   lk.kind = kind;
-  if (kind == Lookup::Mips) {
-    const MipLayout L = mip_layout(img.width, img.height, img.channels);
-    lk.chain = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, std::max<size_t>(L.chain_values, 1) * 4);
-    enqueue_pyramid(runtime(), Reduce::Mean, Storage::F32, {}, shape, level0, lk.chain).wait();
-  } else if (kind == Lookup::Sat) {
-    const SatLayout L = sat_layout(shape);
-    lk.sat = cl::Buffer(runtime().context(), CL_MEM_READ_WRITE, L.table_floats * 4);
-    cl::Buffer bands(runtime().context(), CL_MEM_READ_WRITE, L.band_floats * 4);
-    enqueue_sat(runtime(), Storage::F32, {}, {}, shape, level0, lk.sat, bands).wait();
-  }
   lk.footprint = to_device(rx.f);
-  const size_t n = rx.u.size();
-  cl::Buffer out(runtime().context(), CL_MEM_READ_WRITE, n * img.channels * 4);
-  enqueue_lookup_points(runtime(), Storage::F32, shape, n, lk, level0, to_device(rx.u), to_device(rx.v), out).wait();
-  const auto flat = from_device(out, n * img.channels);
-  std::vector<std::vector<float>> res(img.channels);
-  for (int c = 0; c < img.channels; ++c) res[c].assign(flat.begin() + c * n, flat.begin() + (c + 1) * n);
-  return res;
+  return test::device_lookup(img, lk, rx.u, rx.v);
 }
 
 class Lookups : public ::testing::TestWithParam<std::tuple<Lookup, int, int, int>> {};

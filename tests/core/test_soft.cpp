@@ -74,9 +74,7 @@ std::vector<float> run_device(const SoftOptions& o, const HostImage& depth, cons
   cl::Buffer dz = to_device(depth.data), u = to_device(rx.u), v = to_device(rx.v), d = to_device(rx.d);
   cl::Buffer fp = rx.has_footprint ? to_device(rx.f) : cl::Buffer();
   std::vector<float> jac;  // the Jacobian's four planes (DeviceReceivers::jacobian)
-  if (rx.has_jacobian)
-    for (const auto* plane : {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy})
-      jac.insert(jac.end(), plane->begin(), plane->end());
+  if (rx.has_jacobian) jacobian_planes(rx, jac);
   cl::Buffer out = to_device(std::vector<float>(rx.d.size(), -1.0f));
   cl::Buffer za = to_device(std::vector<float>(rx.d.size(), 0.0f));
   cl::Event e = f.prefilter(dz);

@@ -44,6 +44,10 @@ float isotropic_footprint(float dudx, float dvdx, float dudy, float dvdy);
 // does (receiver images, the Python binding).
 void isotropic_where_unknown(Receivers& rx);
 
+// The Jacobian as the device reads it (DeviceReceivers::jacobian): dudx, dvdx, dudy, dvdy one
+// plane after the other, written into `planes` (resized to 4 count; its storage is reused).
+void jacobian_planes(const Receivers& rx, std::vector<float>& planes);
+
 // Receivers::f from the Jacobian channels where the receivers carry them (isotropic_footprint).
 void footprint_from_jacobian(Receivers& rx);
 

@@ -140,6 +140,8 @@ struct LookupOptions {
   // footprints"), pcf its filtered test over the same probes. 1 = the isotropic lookup at f.
   // In [1, kMaxAnisotropy].
   int max_anisotropy = 8;
+  // Whether the lookup follows receivers' Jacobians (a footprint lookup of more than one probe).
+  bool follows_jacobian() const { return kind != Lookup::Bilinear && max_anisotropy > 1; }
 };
 
 // ESM failure classification (Annen 2008 ch. 7.3): flagged receivers fall back to a 2x2 PCF of

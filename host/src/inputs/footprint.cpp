@@ -47,6 +47,14 @@ void isotropic_where_unknown(Receivers& rx) {
   }
 }
 
+void jacobian_planes(const Receivers& rx, std::vector<float>& planes) {
+  const size_t n = rx.count();
+  planes.resize(4 * n);
+  const std::vector<float>* columns[4] = {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy};
+  for (size_t p = 0; p < 4; ++p)
+    std::copy(columns[p]->begin(), columns[p]->begin() + long(n), planes.begin() + long(p * n));
+}
+
 void footprint_from_jacobian(Receivers& rx) {
   if (!rx.has_jacobian) return;
   rx.has_footprint = true;

@@ -403,10 +403,8 @@ std::array<double, 4> layer_jacobian(const CascadeSet& set, int layer, const Poi
 }
 
 double layer_footprint(const CascadeSet& set, int layer, const Point3& p, const Point3& dp_dx, const Point3& dp_dy) {
-  Point3 du, dv;
-  set.layers.at(layer).transform.jacobian_uv(p, du, dv);
-  const auto texels = [&](const Point3& dp) { return std::hypot(set.width * dot(du, dp), set.height * dot(dv, dp)); };
-  return std::max(texels(dp_dx), texels(dp_dy));
+  const std::array<double, 4> j = layer_jacobian(set, layer, p, dp_dx, dp_dy);
+  return std::max(std::hypot(j[0], j[1]), std::hypot(j[2], j[3]));
 }
 
 double layer_texel_size(const CascadeSet& set, int layer, const Point3& p) {

@@ -203,8 +203,7 @@ void LayeredPipeline::allocate(size_t count) {
   const size_t plane_bytes = stride * sizeof(float), all_bytes = K * plane_bytes;
   // The Jacobians, where some layer's lookup follows them (footprint.hpp).
   bool jacobian = soft();  // the soft methods' footprint rectangles
-  for (const auto& p : pipes_)
-    jacobian = jacobian || (p->options().lookup.kind != Lookup::Bilinear && p->options().lookup.max_anisotropy > 1);
+  for (const auto& p : pipes_) jacobian = jacobian || p->options().lookup.follows_jacobian();
   check_fits_device(
       *rt_, std::max((jacobian ? 4 : 1) * all_bytes, soft() ? size_t(0) : pipes_.front()->buffer_plan().largest()),
       device_bytes() + (jacobian ? 9 : 5) * all_bytes + count * 6, "the layered receivers");

@@ -9,6 +9,7 @@
 #include "cl_errors.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/footprint.hpp"
 #include "shadowfilter/methods.hpp"
 #include "shadowfilter/normal_offset.hpp"
 
@@ -28,7 +29,7 @@ bool reads_footprint(const Receivers& rx, const FilterOptions& o) {
 }
 // ... and their Jacobians, for anisotropic lookups (footprint.hpp).
 bool reads_jacobian(const Receivers& rx, const FilterOptions& o) {
-  return !rx.grid && rx.has_jacobian && o.lookup.kind != Lookup::Bilinear && o.lookup.max_anisotropy > 1;
+  return !rx.grid && rx.has_jacobian && o.lookup.follows_jacobian();
 }
 
 }  // namespace
@@ -82,7 +83,6 @@ void FrameFilter::prepare(const HostImage& depth, const Receivers& receivers) {
   b->grid = receivers.grid;
   b->footprint = footprint;
   b->jacobian = jacobian;
-  if (jacobian) b->jacobian_planes.resize(4 * count);
   if (!zero_copy_) {
     const cl::Context& ctx = rt_->context();
     auto alloc = [&ctx](cl_mem_flags flags, size_t floats) { return cl::Buffer(ctx, flags, floats * sizeof(float)); };
@@ -160,9 +160,7 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
     rx.v = input(receivers.v, b.v);
     if (b.footprint) rx.f = input(receivers.f, b.f);
     if (b.jacobian) {
-      const std::vector<float>* planes[4] = {&receivers.dudx, &receivers.dvdx, &receivers.dudy, &receivers.dvdy};
-      for (int p = 0; p < 4; ++p)
-        std::copy(planes[p]->begin(), planes[p]->end(), b.jacobian_planes.begin() + p * count);
+      jacobian_planes(receivers, b.jacobian_planes);
       rx.jacobian = input(b.jacobian_planes, b.jac);
     }
   }

@@ -7,6 +7,7 @@
 #include "plane_params.hpp"
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
+#include "shadowfilter/footprint.hpp"
 #include "shadowfilter/mips.hpp"
 #include "shadowfilter/normal_offset.hpp"
 #include "shadowfilter/sat.hpp"
@@ -428,9 +429,7 @@ HostPoints points_of(const Receivers& rx, int W, int H) {
       p.f = rx.f;
       p.has_f = true;
     }
-    if (rx.has_jacobian)
-      for (const std::vector<float>* plane : {&rx.dudx, &rx.dvdx, &rx.dudy, &rx.dvdy})
-        p.jacobian.insert(p.jacobian.end(), plane->begin(), plane->end());
+    if (rx.has_jacobian) jacobian_planes(rx, p.jacobian);
   }
   return p;
 }

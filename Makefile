@@ -142,7 +142,7 @@ bench: build deps-bench
 # first, ours beside each baseline under the same load) and written by
 # scripts/performance_tables.py; the run's JSON stays in $(BUILD)/performance.json. A GPU run
 # of the same filter fills the GPU column (docs/gpu.md, scripts/gpu/).
-PERF_FILTER ?= ^copy/|^table|^coherent/query_|^esm_classify/frame/size:2048/|^blur/(ours|opencv_GaussianBlur)/size:2048/|^mips/chain/size:2048/|^esm_vs_opencv/
+PERF_FILTER ?= ^copy/|^table|^coherent/query_|^esm_classify/frame/size:2048/|^blur/(ours|opencv_GaussianBlur)/size:2048/|^mips/chain/size:2048/|^esm_vs_opencv/|^esm_reconstruct/points_on_2048/lookup:1/rx:./vec:16/joined:1/|^esm_reconstruct/bound/taps:8/rx:0/|^esm_classify/fresh_frame/size:2048/
 performance: build deps-bench
 	@cmake -S . -B $(BUILD) -DSF_BUILD_BENCH=ON > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target sf_bench

@@ -152,6 +152,25 @@ SF_RX_INLINE sf_rxf sf_rx_zmax_level(__global const float* restrict zbase, __glo
   const sf_rxi x0 = clamp(xi, zero, w - 1), x1 = clamp(xi + 1, zero, w - 1);
   const sf_rxi r0 = clamp(yi, zero, h - 1) * w, r1 = clamp(yi + 1, zero, h - 1) * w;
   sf_rxf m;
+  if (all(w >= 2)) {
+    // Each row's two texels as one 8-byte load at px = min(x0, w - 2), as the reconstruction's
+    // SF_RX_PAIRS: x0 and x1 are that pair's first or second value (the same texels, half the
+    // loads). A level 1 texel wide has no second value in its row: lane by lane below.
+    const sf_rxi px = min(x0, w - 2), a0 = r0 + px, a1 = r1 + px;
+    SF_RX_CAT(ulong, SF_RX_VEC) q0, q1;
+#pragma unroll
+    for (int j = 0; j < SF_RX_VEC; ++j) {
+      __global const float* z = k[j] == 0 ? zbase : zchain + C->zoff[k[j]];
+      q0[j] = *(__global const sf_ulong_a4*)(z + a0[j]);
+      q1[j] = *(__global const sf_ulong_a4*)(z + a1[j]);
+    }
+    const sf_rxf lo0 = sf_rx_as_float(SF_RX_CAT(convert_int, SF_RX_VEC)(q0));
+    const sf_rxf hi0 = sf_rx_as_float(SF_RX_CAT(convert_int, SF_RX_VEC)(q0 >> 32));
+    const sf_rxf lo1 = sf_rx_as_float(SF_RX_CAT(convert_int, SF_RX_VEC)(q1));
+    const sf_rxf hi1 = sf_rx_as_float(SF_RX_CAT(convert_int, SF_RX_VEC)(q1 >> 32));
+    const sf_rxi s0 = x0 != px, s1 = x1 != px;
+    return fmax(fmax(select(lo0, hi0, s0), select(lo0, hi0, s1)), fmax(select(lo1, hi1, s0), select(lo1, hi1, s1)));
+  }
 #pragma unroll
   for (int j = 0; j < SF_RX_VEC; ++j) {
     __global const float* z = k[j] == 0 ? zbase : zchain + C->zoff[k[j]];
@@ -206,10 +225,19 @@ SF_RX_INLINE sf_rxf sf_rx_esm_pcf2x2(__global const float* restrict depth, int W
   const sf_rxi x0 = clamp(xi, zero, (sf_rxi)(W - 1)), x1 = clamp(xi + 1, zero, (sf_rxi)(W - 1));
   const sf_rxi y0 = clamp(yi, zero, (sf_rxi)(H - 1)), y1 = clamp(yi + 1, zero, (sf_rxi)(H - 1));
   sf_rxf z00, z10, z01, z11;
+  if (W >= 2) {  // each row's two texels as one 8-byte load, as in sf_rx_zmax_level
+    const sf_rxi px = min(x0, (sf_rxi)(W - 2)), s0 = x0 != px, s1 = x1 != px;
+    sf_rxf lo0, hi0, lo1, hi1;
+    sf_rx_pair(depth, y0 * W + px, &lo0, &hi0);
+    sf_rx_pair(depth, y1 * W + px, &lo1, &hi1);
+    z00 = select(lo0, hi0, s0), z10 = select(lo0, hi0, s1);
+    z01 = select(lo1, hi1, s0), z11 = select(lo1, hi1, s1);
+  } else {
 #pragma unroll
-  for (int j = 0; j < SF_RX_VEC; ++j) {
-    z00[j] = depth[y0[j] * W + x0[j]], z10[j] = depth[y0[j] * W + x1[j]];
-    z01[j] = depth[y1[j] * W + x0[j]], z11[j] = depth[y1[j] * W + x1[j]];
+    for (int j = 0; j < SF_RX_VEC; ++j) {
+      z00[j] = depth[y0[j] * W + x0[j]], z10[j] = depth[y0[j] * W + x1[j]];
+      z01[j] = depth[y1[j] * W + x0[j]], z11[j] = depth[y1[j] * W + x1[j]];
+    }
   }
 #define SF_RX_T(Z, X, Y) \
   exp(fmin(c * (Z - fma(gx, sf_rx_float(X) - px, fma(gy, sf_rx_float(Y) - py, pd)) + bias), 0.0f))

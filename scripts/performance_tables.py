@@ -220,11 +220,32 @@ def stage_ratios(run):
         bw = run.counter("mips/chain", "bw_fraction", size=2048, channels=ch)
         row(f"mip chain 2048², {ch} channel{'s' if ch > 1 else ''}", f"{num(run.ms('mips/chain', size=2048, channels=ch))} ms",
             "copy bandwidth", num(bw))
+    # Reconstruction (issue 31 part 2), as the pipeline runs it (trilinear over the joined chain,
+    # 16 receivers per work-item): coherent receivers against streaming their bytes at the copy
+    # bandwidth (u, v, d, f read, the visibility written: 1 / bw_fraction), random ones against
+    # the same 8 gathers per receiver in a kernel that does nothing else (`esm_reconstruct/bound`).
+    rec = "esm_reconstruct/points_on_2048"
+    coh = run.ms(rec, lookup=1, rx=1, vec=16, joined=1)
+    bw = run.counter(rec, "bw_fraction", lookup=1, rx=1, vec=16, joined=1)
+    if coh is not None and bw:
+        row("reconstruction, 2048² trilinear, 1920x1080 coherent rx", f"{num(coh)} ms",
+            "streaming its 20 B per receiver at copy bandwidth", f"{1 / bw:.2f}x the floor")
+    rnd = run.ms(rec, lookup=1, rx=0, vec=16, joined=1)
+    gather = run.ms("esm_reconstruct/bound", taps=8, rx=0)
+    if rnd is not None and gather:
+        row("reconstruction, 2048² trilinear, 1920x1080 random rx", f"{num(rnd)} ms",
+            f"its 8 gathers alone {num(gather)} ms", f"{rnd / gather:.2f}x")
+    fresh = run.counter("esm_classify/fresh_frame", "fresh_over_warm", size=2048)
+    if fresh is not None:
+        row("default frame on a new Pipeline and fresh buffers (programs built), backyard",
+            f"{num(run.ms('esm_classify/fresh_frame', size=2048))} ms", "the same frame warm", f"{fresh:.2f}x")
     for b in sorted(k for k in run.rows if k[0] == "esm_vs_opencv/ours"):
         args = dict(b[1])
         ours = run.ms("esm_vs_opencv/ours", **args)
         cv = run.ms("esm_vs_opencv/opencv", **args)
-        desc = ", ".join(f"{k} {v}" for k, v in sorted(args.items()))
+        rx = {0: "random rx", 1: "coherent rx"}.get(args.pop("rx", None), "")
+        desc = ", ".join([f"{k} {v}" for k, v in sorted(args.items())] + ([rx] if rx else []))
+        args = dict(b[1])
         row(f"ESM pipeline vs the OpenCV pipeline ({desc})", f"{num(ours)} ms", "the OpenCV pipeline",
             f"{num(cv / ours) if cv and ours else '—'}x faster")
     return out
@@ -269,7 +290,9 @@ def doc(cpu, gpu):
          "Issue 31's table: the ESM classification against the reconstruction of the same receivers "
          "(`esm_classify/frame`, 2048² map, 1920x1080 receivers, R = 3), the blur and the mip chains against "
          "the device's measured copy bandwidth (`blur/ours`, `mips/chain`) and cv::GaussianBlur on both "
-         "cores, the ESM pipeline against the OpenCV one (`esm_vs_opencv/*`, both unclassified)."),
+         "cores, the reconstruction against its streaming floor and its gathers (`esm_reconstruct/*`), a frame "
+         "on fresh buffers against the warm one (`esm_classify/fresh_frame`), the ESM pipeline against the "
+         "OpenCV one (`esm_vs_opencv/*`, both unclassified)."),
     ]
     for title, fn, note in sections:
         lines += [f"## {title}", "", note, ""]

@@ -71,18 +71,6 @@ class ReceiverCache {
   std::shared_ptr<const LoadedReceivers> receivers_;
 };
 
-void add_times(StageTimes& total, const StageTimes& t) {
-  total.transform += t.transform;
-  total.blur += t.blur;
-  total.reconstruct += t.reconstruct;
-  total.upload += t.upload;
-  total.download += t.download;
-  total.pyramid += t.pyramid;
-  total.sat += t.sat;
-  total.zmax += t.zmax;
-  total.classify += t.classify;
-}
-
 }  // namespace
 
 int run_filter_batch(const FilterArgs& a) {
@@ -143,7 +131,7 @@ int run_filter_batch(const FilterArgs& a) {
       [&](const FrameSpec&, LoadedFrame& loaded) {
         const Receivers& rx = loaded.receivers->receivers;
         FilterResult r = filter.run(loaded.depth, rx);
-        add_times(device, r.times);
+        device += r.times;
         texels += loaded.depth.texels();
         receivers_done += rx.count();
         return FilteredFrame{std::move(r.visibility), loaded.receivers, std::move(loaded.warnings)};

@@ -21,6 +21,7 @@ nlohmann::json stage_ms_json(const StageTimes& t, double scale) {
   stage("reconstruct", t.reconstruct, true);
   stage("upload", t.upload, true);
   stage("download", t.download, true);
+  stage("resident", t.resident, false);
   return j;
 }
 

@@ -104,6 +104,28 @@ TEST(FrameFilter, ZeroCopyFramesEqualFilterBitForBit) {
   expect_frames_match_filter(FrameFilter::HostMemory::Copy, o);
 }
 
+// On a CPU device a new pipeline's buffers are faulted in before its first frame (resident.hpp):
+// the fills are reported as that frame's `resident`, not in any stage, and a frame on the same
+// buffers reports none. The ESM flags, allocated by the first frame of a receiver count larger
+// than any before, are faulted in by that frame.
+TEST(FrameFilter, NewBuffersAreFaultedInBeforeTheirFirstFrame) {
+  if (runtime_ptr()->info().type != "CPU") GTEST_SKIP() << "buffers are host pages on CPU devices only";
+  FrameFilter batch(runtime_ptr(), esm_mips());
+  const HostImage depth = random_depth(48, 40, 1, 0.2f, 0.9f);
+  const FilterResult first = batch.run(depth, points(17, 13, 0.6f, 2));
+  EXPECT_GT(first.times.resident, 0.0);
+  EXPECT_GT(first.times.transform, 0.0);
+  const FilterResult second = batch.run(depth, points(17, 13, 0.5f, 4));
+  EXPECT_EQ(second.times.resident, 0.0);
+  const FilterResult more = batch.run(depth, points(30, 20, 0.5f, 6));  // new flags only
+  EXPECT_GT(more.times.resident, 0.0);
+  EXPECT_EQ(batch.allocations(), 2);
+  // Not counted as a stage.
+  StageTimes t = more.times;
+  t.resident = 0;
+  EXPECT_EQ(t.total(), more.times.total());
+}
+
 // A frame whose depth range the lookup cannot hold is refused alone: the frames around it run.
 TEST(FrameFilter, RefusedFrameLeavesTheNextOneRunning) {
   FilterOptions o;

@@ -70,7 +70,8 @@ class ClassifyStage {
 
   // One uchar per receiver of the last classify() (1 = flagged).
   const cl::Buffer& flags() const { return flags_; }
-  // Seconds of the last z-max pyramid (with its max filter) and classification (profiling queues).
+  // Seconds of the last z-max pyramid (with its max filter) and classification (profiling queues),
+  // and of faulting in the buffers the frame was the first to use (resident).
   void add_times(StageTimes& t) const;
 
  private:
@@ -81,6 +82,10 @@ class ClassifyStage {
   size_t flags_count_ = 0;
   cl::Event zmax_first_, zmax_done_;
   cl::Event classify_done_;
+  // Faulting in the stage's new buffers on a CPU device (StageTimes::resident): the z-max
+  // buffers before the first frame, the flags where a frame (re)allocates them.
+  cl::Event resident_first_, resident_done_, flags_resident_first_, flags_resident_done_;
+  int frames_ = 0;
 };
 
 }  // namespace sf

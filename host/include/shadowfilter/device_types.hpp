@@ -73,7 +73,10 @@ struct DeviceReceivers {
 struct StageTimes {
   double upload = 0, transform = 0, blur = 0, pyramid = 0, sat = 0, zmax = 0;
   double reconstruct = 0, classify = 0, project = 0, blend = 0, download = 0;
-  // Every device stage, the transfers (upload, download) not included.
+  // Faulting in a new pipeline's buffers on a CPU device (fills of zeros before its first
+  // frame, so that no stage pays for their pages), reported with that first frame.
+  double resident = 0;
+  // Every device stage, the transfers (upload, download) and `resident` not included.
   double total() const { return transform + blur + pyramid + sat + zmax + reconstruct + classify + project + blend; }
   StageTimes& operator+=(const StageTimes& o);  // stage by stage
 };

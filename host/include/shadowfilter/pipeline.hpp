@@ -81,7 +81,8 @@ class Pipeline {
   // ESM classification: one uchar per receiver of the last reconstruct (1 = flagged), or an
   // empty buffer when the options classify nothing.
   const cl::Buffer& flags() const;
-  // Stage times of the last prefilter/reconstruct (waits for their events).
+  // Stage times of the last prefilter/reconstruct (waits for their events); after the first
+  // prefilter also the faulting in of the buffers the constructor allocated (resident).
   StageTimes times() const;
 
  private:
@@ -100,6 +101,10 @@ class Pipeline {
   cl::Buffer level_offsets_;  // mips: the reconstruction's level-offset table of mips_
   cl::Buffer chain_, sat_, sat_bands_;
   cl::Event pyramid_first_, pyramid_done_, sat_first_, sat_done_;
+  // The fills that fault in the new buffers on a CPU device (StageTimes::resident), reported
+  // with the first frame; prefilters_ counts the frames.
+  cl::Event resident_first_, resident_done_;
+  int prefilters_ = 0;
   // The optional stage after the reconstruction (classify.hpp), when the options ask for it.
   std::shared_ptr<ClassifyStage> classify_;
 };

@@ -17,6 +17,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
   project += o.project;
   blend += o.blend;
   download += o.download;
+  resident += o.resident;
   return *this;
 }
 

@@ -124,6 +124,9 @@ class LayeredPipeline {
   std::vector<DeviceReceivers> layer_rx_;  // sub-buffers of proj_ per layer
   std::vector<cl::Buffer> layer_vis_;
   cl::Event project_done_, blend_done_;
+  // The fills that fault in the projection's buffers on a CPU device (StageTimes::resident),
+  // reported with the frame that allocated them.
+  cl::Event resident_first_, resident_done_;
 };
 
 // Host convenience (what the CLI uses), the layered twin of filter(): uploads the maps (one per

@@ -161,6 +161,10 @@ class SoftFilter {
   cl::Event transform_done_, run_done_, pack_done_;
   cl::Event pyr_first_, pyr_done_, sat_first_, sat_done_;
   bool have_pyr_ = false, have_sat_ = false, have_transform_ = false;
+  // The fills that fault in the buffers on a CPU device (StageTimes::resident), reported with
+  // the first frame.
+  cl::Event resident_first_, resident_done_;
+  int prefilters_ = 0;
 };
 
 // Host convenience: one light.

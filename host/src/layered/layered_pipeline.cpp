@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "resident.hpp"
 #include "cl_errors.hpp"
 #include "launch.hpp"
 #include "shadowfilter/blur.hpp"
@@ -230,12 +231,18 @@ void LayeredPipeline::allocate(size_t count) {
     layer_rx_.push_back(rx);
     layer_vis_.push_back(sub_buffer(*rt_, proj_.visibility, origin, bytes));
   }
+  // Every buffer's pages in before the frame runs in them (resident.hpp).
+  const detail::PassEvents resident = detail::fault_in(
+      *rt_, {&proj_.layers, &proj_.weight, &proj_.u, &proj_.v, &proj_.d, &proj_.f, &proj_.visibility, &proj_.jacobian});
+  resident_first_ = resident.first;
+  resident_done_ = resident.last;
 }
 
 cl::Event LayeredPipeline::prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait) try {
   if (depth.size() != size_t(layer_count()))
     throw InputError("LayeredPipeline::prefilter: " + std::to_string(depth.size()) + " depth buffers for " +
                      std::to_string(layer_count()) + " layers");
+  resident_first_ = resident_done_ = cl::Event();  // a frame reports the buffers it allocated
   EventList done;
   for (size_t k = 0; k < pipes_.size(); ++k) done.push_back(pipes_[k]->prefilter(depth[k], wait));
   for (size_t k = 0; k < soft_.size(); ++k) done.push_back(soft_[k]->prefilter(depth[k], wait));
@@ -317,6 +324,7 @@ StageTimes LayeredPipeline::times() const try {
   for (const auto& f : soft_) t += f->times();
   if (project_done_()) t.project = event_seconds(project_done_);
   if (blend_done_()) t.blend = event_seconds(blend_done_);
+  t.resident += detail::resident_seconds({resident_first_, resident_done_});
   return t;
 } catch (const cl::Error& e) {
   detail::throw_device_error("LayeredPipeline::times", e);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "resident.hpp"
 #include "cl_errors.hpp"
 #include "launch.hpp"
 #include "plane_params.hpp"
@@ -278,6 +279,10 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
   } else if (opt_.method == SoftMethod::Ssmm || opt_.method == SoftMethod::SsmmImproved) {
     chain_ = alloc(mip_layout(W_, H_, 1).chain_values * sizeof(float));
   }
+  // Every buffer's pages in before the first frame (resident.hpp).
+  const detail::PassEvents resident = detail::fault_in(*rt_, {&basis_, &chain_, &sat_, &bands_, &packed_});
+  resident_first_ = resident.first;
+  resident_done_ = resident.last;
 } catch (const cl::Error& e) {
   detail::throw_device_error("SoftFilter::SoftFilter", e);
 }
@@ -285,6 +290,7 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
 cl::Event SoftFilter::prefilter(const cl::Buffer& depth, const EventList* wait) try {
   depth_ = depth;
   have_pyr_ = have_sat_ = have_transform_ = false;
+  if (prefilters_++ > 0) resident_first_ = resident_done_ = cl::Event();  // reported with the first frame
   if (opt_.method == SoftMethod::Cssm) {
     const int M = opt_.cssm.order;
     cl::Kernel k(cssm_program(*rt_, opt_), "sf_cssm_basis");
@@ -398,6 +404,7 @@ StageTimes SoftFilter::times() const try {
   if (have_pyr_) t.pyramid = event_seconds(pyr_first_, pyr_done_);
   if (have_sat_) t.sat = event_seconds(sat_first_, pack_done_() ? pack_done_ : sat_done_);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
+  t.resident = detail::resident_seconds({resident_first_, resident_done_});
   return t;
 } catch (const cl::Error& e) {
   detail::throw_device_error("SoftFilter::times", e);

@@ -74,10 +74,12 @@ void BM_ClassifiedFrame(benchmark::State& state) {
   state.counters["flagged_pct"] = 100.0 * flagged / std::max<size_t>(inside, 1);
 }
 
-// The default frame of a one-shot run (`shadowfilter filter` on one map): each iteration builds
-// a new Pipeline and uploads the frame into new buffers, as one process does, runs the frame,
-// then runs it again on that warm pipeline. Manual time: the fresh frame's device time; counters
-// fresh_over_warm and each stage's fresh and warm ms.
+// The default frame on a new Pipeline: each iteration builds a new Pipeline and uploads the
+// frame into new buffers, runs the frame, then runs it again on that warm pipeline. Manual time:
+// the fresh frame's device time; counters fresh_over_warm, each stage's fresh and warm ms and
+// resident_ms (the fills that fault in the new pipeline's buffers, resident.hpp). In one process
+// the allocator hands freed pages back, and the programs are built once: a new process's first
+// frame costs more (scripts/one_shot.sh, docs/batch.md).
 void BM_FreshFrame(benchmark::State& state) {
   const int n = int(state.range(0));
   EsmFrame fr;
@@ -118,6 +120,7 @@ void BM_FreshFrame(benchmark::State& state) {
   stage("zmax", &StageTimes::zmax);
   stage("reconstruct", &StageTimes::reconstruct);
   stage("classify", &StageTimes::classify);
+  state.counters["resident_ms"] = 1e3 * fresh.resident / runs;
 }
 
 }  // namespace

@@ -237,7 +237,7 @@ def stage_ratios(run):
             f"its 8 gathers alone {num(gather)} ms", f"{rnd / gather:.2f}x")
     fresh = run.counter("esm_classify/fresh_frame", "fresh_over_warm", size=2048)
     if fresh is not None:
-        row("default frame on a new Pipeline and fresh buffers (programs built), backyard",
+        row("default frame on a new Pipeline and new buffers in a warm process, backyard",
             f"{num(run.ms('esm_classify/fresh_frame', size=2048))} ms", "the same frame warm", f"{fresh:.2f}x")
     for b in sorted(k for k in run.rows if k[0] == "esm_vs_opencv/ours"):
         args = dict(b[1])

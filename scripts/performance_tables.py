@@ -243,9 +243,8 @@ def stage_ratios(run):
         args = dict(b[1])
         ours = run.ms("esm_vs_opencv/ours", **args)
         cv = run.ms("esm_vs_opencv/opencv", **args)
-        rx = {0: "random rx", 1: "coherent rx"}.get(args.pop("rx", None), "")
-        desc = ", ".join([f"{k} {v}" for k, v in sorted(args.items())] + ([rx] if rx else []))
-        args = dict(b[1])
+        rx = {0: ["random rx"], 1: ["coherent rx"]}.get(args.get("rx"), [])
+        desc = ", ".join([f"{k} {v}" for k, v in sorted(args.items()) if k != "rx"] + rx)
         row(f"ESM pipeline vs the OpenCV pipeline ({desc})", f"{num(ours)} ms", "the OpenCV pipeline",
             f"{num(cv / ours) if cv and ours else '—'}x faster")
     return out

@@ -5,9 +5,9 @@
 #include <string>
 #include <utility>
 
-#include "resident.hpp"
 #include "cl_errors.hpp"
 #include "launch.hpp"
+#include "resident.hpp"
 #include "shadowfilter/blur.hpp"
 #include "shadowfilter/depth_range.hpp"
 #include "shadowfilter/errors.hpp"
@@ -232,10 +232,9 @@ void LayeredPipeline::allocate(size_t count) {
     layer_vis_.push_back(sub_buffer(*rt_, proj_.visibility, origin, bytes));
   }
   // Every buffer's pages in before the frame runs in them (resident.hpp).
-  const detail::PassEvents resident = detail::fault_in(
-      *rt_, {&proj_.layers, &proj_.weight, &proj_.u, &proj_.v, &proj_.d, &proj_.f, &proj_.visibility, &proj_.jacobian});
-  resident_first_ = resident.first;
-  resident_done_ = resident.last;
+  resident_done_ = detail::fault_in(
+      *rt_, {&proj_.layers, &proj_.weight, &proj_.u, &proj_.v, &proj_.d, &proj_.f, &proj_.visibility, &proj_.jacobian},
+      &resident_first_);
 }
 
 cl::Event LayeredPipeline::prefilter(const std::vector<cl::Buffer>& depth, const EventList* wait) try {
@@ -324,7 +323,7 @@ StageTimes LayeredPipeline::times() const try {
   for (const auto& f : soft_) t += f->times();
   if (project_done_()) t.project = event_seconds(project_done_);
   if (blend_done_()) t.blend = event_seconds(blend_done_);
-  t.resident += detail::resident_seconds({resident_first_, resident_done_});
+  t.resident += detail::resident_seconds(resident_first_, resident_done_);
   return t;
 } catch (const cl::Error& e) {
   detail::throw_device_error("LayeredPipeline::times", e);

@@ -180,9 +180,7 @@ ClassifyStage::ClassifyStage(std::shared_ptr<Runtime> runtime, FilterOptions opt
     : rt_(std::move(runtime)), options_(std::move(options)), width_(width), height_(height) {
   if (const size_t bytes = plan.bytes("zmax base")) zmax_base_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
   if (const size_t bytes = plan.bytes("zmax chain")) zmax_chain_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
-  const detail::PassEvents resident = detail::fault_in(*rt_, {&zmax_base_, &zmax_chain_});  // resident.hpp
-  resident_first_ = resident.first;
-  resident_done_ = resident.last;
+  resident_done_ = detail::fault_in(*rt_, {&zmax_base_, &zmax_chain_}, &resident_first_);  // resident.hpp
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::ClassifyStage", e);
 }
@@ -205,9 +203,7 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
   if (!flags_() || flags_count_ < rx.count) {
     flags_count_ = std::max<size_t>(rx.count, 1);
     flags_ = cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, flags_count_);
-    const detail::PassEvents resident = detail::fault_in(*rt_, {&flags_});
-    flags_resident_first_ = resident.first;
-    flags_resident_done_ = resident.last;
+    flags_resident_done_ = detail::fault_in(*rt_, {&flags_}, &flags_resident_first_);
   }
   ClassifyInputs in;
   in.depth = depth_;
@@ -228,8 +224,8 @@ cl::Event ClassifyStage::classify(const cl::Buffer& basis, const LookupBuffers& 
 void ClassifyStage::add_times(StageTimes& t) const try {
   if (zmax_done_()) t.zmax = event_seconds(zmax_first_, zmax_done_);
   if (classify_done_()) t.classify = event_seconds(classify_done_);
-  t.resident += detail::resident_seconds({resident_first_, resident_done_}) +
-                detail::resident_seconds({flags_resident_first_, flags_resident_done_});
+  t.resident += detail::resident_seconds(resident_first_, resident_done_) +
+                detail::resident_seconds(flags_resident_first_, flags_resident_done_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("ClassifyStage::add_times", e);
 }

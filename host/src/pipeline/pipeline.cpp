@@ -112,17 +112,16 @@ Pipeline::Pipeline(std::shared_ptr<Runtime> runtime, FilterOptions options, int 
   if (classify_mode(options_) != EsmClassify::None)
     classify_ = std::make_shared<ClassifyStage>(rt_, options_, width, height, plan_);
   // Every buffer's pages in before the first frame (resident.hpp); basis_ and chain_ are parts of mips_.
-  const detail::PassEvents resident =
-      detail::fault_in(*rt_, {mips_() ? &mips_ : &basis_, &scratch_, &sat_, &sat_bands_});
-  resident_first_ = resident.first;
-  resident_done_ = resident.last;
+  resident_done_ =
+      detail::fault_in(*rt_, {mips_() ? &mips_ : &basis_, &scratch_, &sat_, &sat_bands_}, &resident_first_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("Pipeline::Pipeline", e);
 }
 
 cl::Event Pipeline::prefilter(const cl::Buffer& depth, const EventList* wait) try {
-  const detail::PlannedScope planned;                                     // options_ were validated by the plan
-  if (prefilters_++ > 0) resident_first_ = resident_done_ = cl::Event();  // reported with the first frame
+  const detail::PlannedScope planned;  // options_ were validated by the plan
+  // The fills are reported with the first frame only.
+  if (prefilters_++ > 0) resident_first_ = resident_done_ = cl::Event();
   // Without a stated range, a lookup whose limit depends on it measures this map first
   // (blocking) and refuses it before anything is enqueued.
   if (sat_() && !options_.depth_range && method_->sat_limit) {
@@ -218,7 +217,7 @@ StageTimes Pipeline::times() const try {
   if (reconstruct_done_()) t.reconstruct = event_seconds(reconstruct_done_);
   if (pyramid_done_()) t.pyramid = event_seconds(pyramid_first_, pyramid_done_);
   if (sat_done_()) t.sat = event_seconds(sat_first_, sat_done_);
-  t.resident = detail::resident_seconds({resident_first_, resident_done_});
+  t.resident = detail::resident_seconds(resident_first_, resident_done_);
   if (classify_) classify_->add_times(t);
   return t;
 } catch (const cl::Error& e) {

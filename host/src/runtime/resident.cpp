@@ -5,21 +5,22 @@
 
 namespace sf::detail {
 
-PassEvents fault_in(Runtime& rt, std::initializer_list<const cl::Buffer*> buffers) try {
-  PassEvents ev;
-  if (rt.info().type != "CPU") return ev;
+cl::Event fault_in(Runtime& rt, std::initializer_list<const cl::Buffer*> buffers, cl::Event* first) try {
+  cl::Event last;
+  *first = cl::Event();
+  if (rt.info().type != "CPU") return last;
   for (const cl::Buffer* b : buffers) {
     if (!b || !(*b)()) continue;
-    cl::Event e;
-    rt.queue().enqueueFillBuffer(*b, cl_uchar(0), 0, b->getInfo<CL_MEM_SIZE>(), nullptr, &e);
-    if (!ev.first()) ev.first = e;
-    ev.last = e;
+    rt.queue().enqueueFillBuffer(*b, cl_uchar(0), 0, b->getInfo<CL_MEM_SIZE>(), nullptr, &last);
+    if (!(*first)()) *first = last;
   }
-  return ev;
+  return last;
 } catch (const cl::Error& e) {
   throw_device_error("fault_in", e);
 }
 
-double resident_seconds(const PassEvents& ev) { return ev.last() ? event_seconds(ev.first, ev.last) : 0.0; }
+double resident_seconds(const cl::Event& first, const cl::Event& last) {
+  return last() ? event_seconds(first, last) : 0.0;
+}
 
 }  // namespace sf::detail

@@ -9,16 +9,16 @@
 // device's own memory (a GPU) there is nothing to fault in and nothing is enqueued.
 #include <initializer_list>
 
-#include "pass_events.hpp"
 #include "shadowfilter/runtime.hpp"
 
 namespace sf::detail {
 
-// Fills every non-empty buffer of `buffers` (whole buffers, not sub-buffers) on a CPU device;
-// the first and last fill's events, empty when nothing was enqueued.
-PassEvents fault_in(Runtime& rt, std::initializer_list<const cl::Buffer*> buffers);
+// Fills every non-empty buffer of `buffers` (whole buffers, not sub-buffers) on a CPU device.
+// As the enqueue_* functions: returns the last fill's event, `first` the first's; both empty
+// when nothing was enqueued.
+cl::Event fault_in(Runtime& rt, std::initializer_list<const cl::Buffer*> buffers, cl::Event* first);
 
-// Seconds of fault_in()'s fills (0 when it enqueued none).
-double resident_seconds(const PassEvents& ev);
+// Seconds of fault_in()'s fills from `first` to `last` (0 when it enqueued none).
+double resident_seconds(const cl::Event& first, const cl::Event& last);
 
 }  // namespace sf::detail

@@ -2,10 +2,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "resident.hpp"
 #include "cl_errors.hpp"
 #include "launch.hpp"
 #include "plane_params.hpp"
+#include "resident.hpp"
 #include "shared_types.clh"
 #include "shadowfilter/errors.hpp"
 #include "shadowfilter/footprint.hpp"
@@ -280,9 +280,7 @@ SoftFilter::SoftFilter(std::shared_ptr<Runtime> rt, SoftOptions opt, int width, 
     chain_ = alloc(mip_layout(W_, H_, 1).chain_values * sizeof(float));
   }
   // Every buffer's pages in before the first frame (resident.hpp).
-  const detail::PassEvents resident = detail::fault_in(*rt_, {&basis_, &chain_, &sat_, &bands_, &packed_});
-  resident_first_ = resident.first;
-  resident_done_ = resident.last;
+  resident_done_ = detail::fault_in(*rt_, {&basis_, &chain_, &sat_, &bands_, &packed_}, &resident_first_);
 } catch (const cl::Error& e) {
   detail::throw_device_error("SoftFilter::SoftFilter", e);
 }
@@ -404,7 +402,7 @@ StageTimes SoftFilter::times() const try {
   if (have_pyr_) t.pyramid = event_seconds(pyr_first_, pyr_done_);
   if (have_sat_) t.sat = event_seconds(sat_first_, pack_done_() ? pack_done_ : sat_done_);
   if (run_done_()) t.reconstruct = event_seconds(run_done_);
-  t.resident = detail::resident_seconds({resident_first_, resident_done_});
+  t.resident = detail::resident_seconds(resident_first_, resident_done_);
   return t;
 } catch (const cl::Error& e) {
   detail::throw_device_error("SoftFilter::times", e);

@@ -135,11 +135,13 @@ inline void sf_classify_one(__global const sf_stored* restrict basis, __global c
       const sf_method_params P, const sf_plane_params PP
 
 // One receiver per work-item: the SAT's box, and vector width 1.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_esm_classify_points)
 __kernel void sf_esm_classify_points(SF_CLASSIFY_POINTS_ARGS) {
   const int i = get_global_id(0);
   if (i < count)
     sf_classify_one(basis, chain, sat, depth, zbase, zchain, W, H, u, v, d, f, out, flags, count, &C, P, PP, i);
 }
+#endif
 
 #if SF_LOOKUP != SF_LOOKUP_SAT && SF_RX_VEC > 1
 // Max of the 2x2 texels that level k's bilinear lookup at (u, v) weighs, lane by lane k: the
@@ -296,6 +298,7 @@ SF_RX_INLINE void sf_rx_classify_fallback(int i0, sf_rxi flag, int count, __glob
 // lane: PoCL does not vectorise their branches across work-items). The same flags and values as
 // sf_esm_classify_points within float rounding (test_classify.cpp); the host launches
 // ceil(count / SF_RX_VEC) items.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_esm_classify_points_vec)
 __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
   const int i0 = get_global_id(0) * SF_RX_VEC;
   if (i0 >= count) return;
@@ -347,8 +350,10 @@ __kernel void sf_esm_classify_points_vec(SF_CLASSIFY_POINTS_ARGS) {
   if (any(flag)) sf_rx_classify_fallback(i0, flag, count, u, v, d, depth, W, H, uc, vc, dc, out, P, PP);
 }
 #endif
+#endif
 
 // --receiver-depth mode: receivers at texel centres, footprint 1.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_esm_classify_grid)
 __kernel void sf_esm_classify_grid(
     __global const sf_stored* restrict basis, __global const sf_stored* restrict chain,
     __global const float* restrict sat, __global const float* restrict depth,
@@ -376,3 +381,4 @@ __kernel void sf_esm_classify_grid(
     out[i] = clamp(sf_esm_pcf2x2(depth, W, H, &p, sf_plane_bias(&p, 0.0f, PP), P.c), 0.0f, 1.0f);
   }
 }
+#endif

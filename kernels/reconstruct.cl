@@ -28,6 +28,7 @@ inline void sf_reconstruct_one(__global const sf_stored* restrict basis, int wid
 // 16), without branches, so that the lookup's coordinate math and the method's visibility run
 // as vectors (methods without sf_visibility_vec call sf_visibility lane by lane). The host launches
 // ceil(count / SF_RX_VEC) work-items; the last one finishes a partial vector receiver by receiver.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_reconstruct_points)
 __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, const int width,
                                     const int height, const int plane_stride,
                                     __global const float* restrict u, __global const float* restrict v,
@@ -89,8 +90,10 @@ __kernel void sf_reconstruct_points(__global const sf_stored* restrict basis, co
 #endif
   sf_rx_vstore(select(one, clamp(vis, 0.0f, 1.0f), inside), out + i0);
 }
+#endif
 
 // --receiver-depth mode: one receiver per shadow-map texel, at the texel centre.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_reconstruct_grid)
 __kernel void sf_reconstruct_grid(__global const sf_stored* restrict basis, const int width,
                                   const int height, const int plane_stride,
                                   __global const float* restrict d, __global float* restrict out,
@@ -107,3 +110,4 @@ __kernel void sf_reconstruct_grid(__global const sf_stored* restrict basis, cons
   sf_lookup_texel(basis, width, plane_stride, x, y, b);
   out[i] = clamp(sf_visibility(b, clamp(di, 0.0f, 1.0f), P), 0.0f, 1.0f);
 }
+#endif

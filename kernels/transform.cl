@@ -79,6 +79,7 @@ inline void sf_store_planev(__global sf_stored* p, sf_xfloat v) {
 // one holding the end of a partial run finishes it texel by texel with the scalar basis and
 // sf_store (same values within an ulp of exp, see the method headers; unorm codes within one at
 // ties).
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_transformv)
 __kernel void sf_transformv(__global const float* restrict depth, __global sf_stored* restrict basis,
                             const int texels, const int plane_stride, const sf_method_params P) {
   const size_t i0 = get_global_id(0) * (size_t)(SF_XVEC * SF_XREP);
@@ -121,6 +122,7 @@ __kernel void sf_transformv(__global const float* restrict depth, __global sf_st
       sf_store_planev(basis + c * (size_t)plane_stride + i0 + r * SF_XVEC, b[r][c]);
 #endif
 }
+#endif
 
 // One texel per work-item (schedule transform_vector_width = 1): the scalar baseline the
 // benchmarks compare with. The global size is `texels`, or rounded up to a multiple of the
@@ -129,6 +131,7 @@ __kernel void sf_transformv(__global const float* restrict depth, __global sf_st
 // and the vectorised loop has no masked loads and stores. In the padded launch, padding items
 // transform 0 and store nothing; the two branches are written differently on purpose, so that
 // they are not merged back into one masked loop.
+#if !defined(SF_ONE_KERNEL) || defined(SF_ONLY_sf_transform)
 __kernel void sf_transform(__global const float* restrict depth, __global sf_stored* restrict basis,
                            const int texels, const int plane_stride, const sf_method_params P) {
   const size_t i = get_global_id(0);
@@ -142,3 +145,4 @@ __kernel void sf_transform(__global const float* restrict depth, __global sf_sto
   sf_basis(i < n ? depth[i] : 0.0f, P, b);
   if (i < n) sf_store_basis(basis, plane_stride, i, b);
 }
+#endif

@@ -32,7 +32,8 @@ done
 python3 - "$OUT" "$ROUNDS" <<'PY'
 import glob, json, statistics, sys
 out, rounds = sys.argv[1], int(sys.argv[2])
-runs = [json.loads(line)["device_ms"] for line in open(f"{out}/cli.jsonl")]
+lines = [json.loads(line) for line in open(f"{out}/cli.jsonl")]
+runs = [j["device_ms"] for j in lines]
 stages = [k for k in runs[0] if k not in ("upload", "download", "resident")]
 med = lambda xs: statistics.median(xs)
 for k in stages + ["resident"]:
@@ -41,6 +42,7 @@ one = med([sum(r[k] for k in stages) for r in runs])
 bench = med([b["real_time"] for f in glob.glob(f"{out}/bench_*.json") for b in json.load(open(f))["benchmarks"]
              if b.get("run_type") == "iteration"])
 print(f"one-shot stages      {one:8.2f} ms (median of {rounds} runs)")
+print(f"one-shot wall run    {med([j['wall_ms']['run'] for j in lines]):8.2f} ms (allocation, builds, enqueue, frame, readback)")
 print(f"bench frame          {bench:8.2f} ms (esm_classify/frame, the classified frame's device time)")
 print(f"one-shot / bench     {one / bench:8.2f}x")
 PY

@@ -34,7 +34,10 @@ cl::Kernel classify_kernel(Runtime& rt, const FilterOptions& opt, const char* na
   detail::validate_unless_planned(m, opt);
   detail::validate(opt.receiver_plane, "FilterOptions::receiver_plane");
   detail::BuildOptions b;
-  detail::add_method_options(b, m, opt).lookup(opt.lookup.kind).define("SF_RX_VEC", classify_vector_width(opt));
+  detail::add_method_options(b, m, opt)
+      .lookup(opt.lookup.kind)
+      .define("SF_RX_VEC", classify_vector_width(opt))
+      .only_kernel(name);
   cl::Program p = rt.program(
       {"common.clh", "storage.clh", m.header, "lookup.clh", "receiver_plane.clh", "esm_classify.cl"}, b.str());
   return cl::Kernel(p, name);

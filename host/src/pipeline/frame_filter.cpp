@@ -32,6 +32,34 @@ bool reads_jacobian(const Receivers& rx, const FilterOptions& o) {
   return !rx.grid && rx.has_jacobian && o.lookup.follows_jacobian();
 }
 
+// On a CPU device the host's program builds and the kernels share the cores: in a frame's first
+// run, a kernel enqueued while the host built the next stage's program took up to 2.5x its own
+// time (z-max 6.4 ms against 2.6 ms in a one-shot backyard frame, docs/batch.md). There the
+// commands of a frame that allocated (a new map size or receiver kind, whose programs may be new)
+// wait on this gate, which opens once all of them are enqueued, every program built: each
+// stage's device time is its own. The fills that fault in the new buffers (resident.hpp) were
+// enqueued before it and run beside the builds. Other devices, and frames that reuse their
+// buffers, start each command as it comes: no gate.
+class HostGate {
+ public:
+  HostGate(const Runtime& rt, bool building) {
+    if (building && rt.info().type == "CPU") wait_.push_back(cl::UserEvent(rt.context()));
+  }
+  HostGate(const HostGate&) = delete;
+  HostGate& operator=(const HostGate&) = delete;
+  // Open on every way out: an exception after the first gated command leaves none waiting.
+  ~HostGate() { open(); }
+  // What the frame's first commands wait on: the gate, or nothing.
+  const EventList* wait() const { return wait_.empty() ? nullptr : &wait_; }
+  void open() {
+    if (!wait_.empty()) clSetUserEventStatus(wait_.front()(), CL_COMPLETE);
+    wait_.clear();
+  }
+
+ private:
+  EventList wait_;
+};
+
 }  // namespace
 
 // The frame buffers of one map size and receiver count (copy mode; zero-copy mode wraps each
@@ -116,6 +144,7 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
   if (receivers.has_jacobian && (receivers.dudx.size() != count || receivers.dvdx.size() != count ||
                                  receivers.dudy.size() != count || receivers.dvdy.size() != count))
     throw InputError("receivers' Jacobian does not match their size");
+  const int allocations = allocations_;
   prepare(depth, receivers);
   // The map's depth range from the host copy, where the lookup's limit depends on it: a frame
   // the lookup cannot hold is refused before anything is enqueued, and prefilter() needs no
@@ -139,13 +168,14 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
   // The frame's inputs as device buffers: the host vectors themselves, or copies into the
   // buffers allocated for this size.
   Buffers& b = *buffers_;
+  HostGate gate(rt, allocations_ != allocations);
   EventList uploads;
   auto input = [&](const std::vector<float>& host, const cl::Buffer& allocated) {
     if (zero_copy_)
       return cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, host.size() * sizeof(float),
                         const_cast<float*>(host.data()));  // read only: the kernels never write it
     cl::Event e;
-    rt.queue().enqueueWriteBuffer(allocated, CL_FALSE, 0, host.size() * sizeof(float), host.data(), nullptr, &e);
+    rt.queue().enqueueWriteBuffer(allocated, CL_FALSE, 0, host.size() * sizeof(float), host.data(), gate.wait(), &e);
     uploads.push_back(e);
     return allocated;
   };
@@ -168,9 +198,10 @@ FilterResult FrameFilter::run(const HostImage& depth, const Receivers& given) tr
                                                  count * sizeof(float), result.visibility.data.data())
                                     : b.visibility;
 
-  cl::Event filtered = pipe_->prefilter(depth_buf, uploads.empty() ? nullptr : &uploads);
+  cl::Event filtered = pipe_->prefilter(depth_buf, uploads.empty() ? gate.wait() : &uploads);
   EventList after{filtered};
   cl::Event rec = pipe_->reconstruct(rx, vis, &after);
+  gate.open();
   EventList after_rec{rec};
   cl::Event download;
   if (zero_copy_) {

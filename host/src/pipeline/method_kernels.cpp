@@ -49,11 +49,12 @@ cl::NDRange global_1d(size_t n, const ScheduleOptions& s) {
   return cl::NDRange(s.work_group_size > 0 ? round_up(n, s.work_group_size) : n);
 }
 
-// A kernel of `file` built on the method's header, with the method's options and `extra`.
+// A kernel of `file` built on the method's header, with the method's options and `extra`, in a
+// program of that kernel alone (BuildOptions::only_kernel).
 cl::Kernel method_kernel(Runtime& rt, const MethodDesc& m, const FilterOptions& opt, const char* file, const char* name,
                          const detail::BuildOptions& extra = detail::BuildOptions::without_standard()) {
   detail::BuildOptions b;
-  detail::add_method_options(b, m, opt).append(extra.str());
+  detail::add_method_options(b, m, opt).append(extra.str()).only_kernel(name);
   cl::Program p = rt.program({"common.clh", "storage.clh", m.header, "lookup.clh", file}, b.str());
   return cl::Kernel(p, name);
 }

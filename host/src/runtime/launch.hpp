@@ -45,6 +45,9 @@ class BuildOptions {
   BuildOptions& define_if(bool on, const std::string& name, int value) { return on ? define(name, value) : *this; }
   BuildOptions& storage(Storage s) { return define("SF_STORAGE", static_cast<int>(s)); }
   BuildOptions& lookup(Lookup l) { return define("SF_LOOKUP", static_cast<int>(l)); }
+  // A program of one kernel of its file (common.clh, "One kernel per program"): the others are
+  // compiled out, and a driver that loads the program from its binary reads only that kernel.
+  BuildOptions& only_kernel(const std::string& name) { return flag("SF_ONE_KERNEL").flag("SF_ONLY_" + name); }
   BuildOptions& append(const std::string& options) {  // options another builder made (" -D...")
     const size_t first = options.find_first_not_of(' ');
     if (first != std::string::npos) s_ += (s_.empty() ? "" : " ") + options.substr(first);

@@ -140,7 +140,8 @@ bench: build deps-bench
 # docs/performance.md: the seeds' performance tables (bench/bench_tables.cpp) and the default
 # frame's stages against their floor or peer, measured in one sf_bench run (the copy bandwidth
 # first, ours beside each baseline under the same load) and written by
-# scripts/performance_tables.py; the run's JSON stays in $(BUILD)/performance.json. A GPU run
+# scripts/performance_tables.py; the run's JSON stays in $(BUILD)/performance.json, a one-shot
+# process's against the bench's frame (scripts/one_shot.sh) in $(BUILD)/one_shot.json. A GPU run
 # of the same filter fills the GPU column (docs/gpu.md, scripts/gpu/).
 PERF_FILTER ?= ^copy/|^table|^coherent/query_|^esm_classify/frame/size:2048/|^blur/(ours|opencv_GaussianBlur)/size:2048/|^mips/chain/size:2048/|^esm_vs_opencv/|^esm_reconstruct/points_on_2048/lookup:1/rx:./vec:16/joined:1/|^esm_reconstruct/bound/taps:8/rx:0/|^esm_classify/fresh_frame/size:2048/
 performance: build deps-bench
@@ -148,7 +149,8 @@ performance: build deps-bench
 	@cmake --build $(BUILD) -j $(JOBS) --target sf_bench
 	SF_BENCH_REPETITIONS=$(BENCH_REPETITIONS) $(BUILD)/sf_bench --benchmark_filter='$(PERF_FILTER)' \
 	    --benchmark_out=$(BUILD)/performance.json --benchmark_out_format=json
-	python3 scripts/performance_tables.py --cpu $(BUILD)/performance.json --out docs/performance.md
+	scripts/one_shot.sh $(BUILD) 5 $(BUILD)/one_shot.json
+	python3 scripts/performance_tables.py --cpu $(BUILD)/performance.json $(BUILD)/one_shot.json --out docs/performance.md
 
 # Every benchmark family and variant once, at the least time (1 repetition, one timed run after
 # the warm-up) and at a small size (SF_BENCH_SMOKE=1: maps of at most 512, 320x180 receivers;

@@ -239,6 +239,11 @@ def stage_ratios(run):
     if fresh is not None:
         row("default frame on a new Pipeline and new buffers in a warm process, backyard",
             f"{num(run.ms('esm_classify/fresh_frame', size=2048))} ms", "the same frame warm", f"{fresh:.2f}x")
+    one = run.ms("one_shot/filter", size=2048)
+    if one is not None:  # scripts/one_shot.sh: a new process per run, interleaved with the bench's frame
+        row("one `filter` run (a new process), backyard, the stages' device time", f"{num(one)} ms",
+            f"the same frame in the bench {num(run.counter('one_shot/filter', 'bench_frame_ms', size=2048))} ms",
+            f"{run.counter('one_shot/filter', 'over_bench', size=2048):.2f}x")
     for b in sorted(k for k in run.rows if k[0] == "esm_vs_opencv/ours"):
         args = dict(b[1])
         ours = run.ms("esm_vs_opencv/ours", **args)
@@ -290,7 +295,8 @@ def doc(cpu, gpu):
          "(`esm_classify/frame`, 2048² map, 1920x1080 receivers, R = 3), the blur and the mip chains against "
          "the device's measured copy bandwidth (`blur/ours`, `mips/chain`) and cv::GaussianBlur on both "
          "cores, the reconstruction against its streaming floor and its gathers (`esm_reconstruct/*`), a frame "
-         "on fresh buffers against the warm one (`esm_classify/fresh_frame`), the ESM pipeline against the "
+         "on fresh buffers against the warm one (`esm_classify/fresh_frame`), one `shadowfilter filter` process "
+         "against the bench's frame (`scripts/one_shot.sh`, rounds interleaved), the ESM pipeline against the "
          "OpenCV one (`esm_vs_opencv/*`, both unclassified)."),
     ]
     for title, fn, note in sections:
